@@ -1,0 +1,117 @@
+//! The one error type of the library.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong when loading, solving or writing.
+///
+/// Each variant names the file, line, object or setting at fault, so that the
+/// message alone tells a user what to fix.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the operating system said.
+        source: std::io::Error,
+    },
+    /// An OBJ file could not be parsed.
+    #[error("{path}{}: {message}", line_suffix(*.line))]
+    ObjParse {
+        /// The OBJ file.
+        path: PathBuf,
+        /// 1-based line number, where known.
+        line: Option<usize>,
+        /// What is wrong.
+        message: String,
+    },
+    /// An OBJ file names a material library that does not exist or cannot be read.
+    #[error("{path}: material library `{mtl}` cannot be read: {message}")]
+    MissingMtl {
+        /// The OBJ file that names the library.
+        path: PathBuf,
+        /// The library as named in the OBJ file.
+        mtl: String,
+        /// Why it cannot be read.
+        message: String,
+    },
+    /// A face uses a material that no material library defines, or no material at all.
+    #[error("{path}: object `{object}` uses material `{material}`, which no MTL file defines")]
+    MissingMaterial {
+        /// The OBJ file.
+        path: PathBuf,
+        /// The object or group whose faces use it.
+        object: String,
+        /// The missing material's name (empty when the faces have none).
+        material: String,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error("{path}{}: object `{object}` has a non-finite coordinate", line_suffix(*.line))]
+    NonFiniteCoordinate {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line number, where known.
+        line: Option<usize>,
+        /// The object holding the vertex.
+        object: String,
+    },
+    /// A material's reflectance or emission is out of range.
+    #[error("{path}: material `{material}`: {message}")]
+    InvalidMaterial {
+        /// The MTL (or OBJ) file.
+        path: PathBuf,
+        /// The material's name.
+        material: String,
+        /// What is wrong, with the offending value.
+        message: String,
+    },
+    /// A scene file (TOML) is malformed or inconsistent.
+    #[error("{path}: {message}")]
+    SceneFile {
+        /// The scene file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// A scene name is neither a file nor a built-in scene.
+    #[error("`{name}` is neither a readable file nor a built-in scene (built-in: {builtins})")]
+    UnknownScene {
+        /// The name given.
+        name: String,
+        /// The built-in scene names.
+        builtins: String,
+    },
+    /// A scene has no usable surface, or no emitter.
+    #[error("{path}: {message}")]
+    EmptyScene {
+        /// The file (or built-in name).
+        path: PathBuf,
+        /// What is missing.
+        message: String,
+    },
+    /// A setting or command-line value is out of range.
+    #[error("invalid setting `{name}`: {message}")]
+    InvalidSetting {
+        /// The setting's name, as a user writes it.
+        name: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// An output image or file could not be encoded.
+    #[error("{path}: cannot write: {message}")]
+    Output {
+        /// The output file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+fn line_suffix(line: Option<usize>) -> String {
+    line.map(|l| format!(":{l}")).unwrap_or_default()
+}
+
+/// The library's result type.
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,86 @@
+//! Scenes: planar surfaces with diffuse materials, a camera, and loaders.
+
+mod camera;
+mod material;
+mod surface;
+
+pub use camera::{Camera, CameraFrame};
+pub use material::{Material, Rgb};
+pub use surface::{PlaneFrame, Surface, newell_normal};
+
+use glam::DVec3;
+
+/// Something a loader noticed and repaired or skipped, for the user to read.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Warning {
+    /// What happened, naming the file and object.
+    pub message: String,
+}
+
+/// A diffuse polygonal scene: surfaces, their materials, and an optional camera.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    /// Planar one-sided polygons.
+    pub surfaces: Vec<Surface>,
+    /// Materials, indexed by [`Surface::material`].
+    pub materials: Vec<Material>,
+    /// The camera, if the scene defines one.
+    pub camera: Option<Camera>,
+    /// What the loader repaired or skipped.
+    pub warnings: Vec<Warning>,
+}
+
+impl Scene {
+    /// Axis-aligned bounds (min, max) of all surfaces; zero for an empty scene.
+    #[must_use]
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        let mut min = DVec3::splat(f64::INFINITY);
+        let mut max = DVec3::splat(f64::NEG_INFINITY);
+        for p in self.surfaces.iter().flat_map(|s| s.vertices()) {
+            min = min.min(*p);
+            max = max.max(*p);
+        }
+        if min.x > max.x {
+            (DVec3::ZERO, DVec3::ZERO)
+        } else {
+            (min, max)
+        }
+    }
+
+    /// Length of the bounding box's diagonal: the scene's length scale.
+    #[must_use]
+    pub fn diagonal(&self) -> f64 {
+        let (min, max) = self.bounds();
+        (max - min).length()
+    }
+
+    /// The scene's camera, or one that frames the scene.
+    #[must_use]
+    pub fn camera_or_default(&self) -> Camera {
+        self.camera.clone().unwrap_or_else(|| {
+            let (min, max) = self.bounds();
+            Camera::framing(min, max)
+        })
+    }
+
+    /// The material of a surface.
+    #[must_use]
+    pub fn material_of(&self, surface: &Surface) -> &Material {
+        &self.materials[surface.material]
+    }
+}
+
+/// Optional settings a scene file carries (its `[solver]` and `[mesh]`
+/// tables). Each is `None` when the file leaves it out; the caller applies
+/// its own defaults, then command-line flags.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SceneOptions {
+    /// `[solver] tolerance`: stop when unshot power < tolerance × emitted power.
+    pub tolerance: Option<f64>,
+    /// `[mesh] kind`: "square", "adaptive" or "contour".
+    pub mesh_kind: Option<String>,
+    /// `[mesh] max_edge`: longest element edge, scene units.
+    pub max_edge: Option<f64>,
+    /// `[mesh] elements_per_side`: N for an N × N grid on every quad.
+    pub elements_per_side: Option<usize>,
+}

@@ -1,0 +1,149 @@
+//! A planar, one-sided polygon with its material: the unit of geometry.
+
+use glam::{DVec2, DVec3};
+
+/// An orthonormal frame on a surface's plane: `origin` on the plane, `u` and
+/// `v` spanning it, `normal = u × v` the front side's normal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlaneFrame {
+    /// A point on the plane.
+    pub origin: DVec3,
+    /// First in-plane axis (unit).
+    pub u: DVec3,
+    /// Second in-plane axis (unit), `normal × u`.
+    pub v: DVec3,
+    /// Unit normal of the front side.
+    pub normal: DVec3,
+}
+
+impl PlaneFrame {
+    /// A frame with the given origin and unit normal; `u` is chosen stably.
+    #[must_use]
+    pub fn new(origin: DVec3, normal: DVec3) -> PlaneFrame {
+        let u = normal.any_orthonormal_vector();
+        let v = normal.cross(u);
+        PlaneFrame {
+            origin,
+            u,
+            v,
+            normal,
+        }
+    }
+
+    /// Plane coordinates of a world point (its projection onto the plane).
+    #[must_use]
+    pub fn to_plane(&self, world: DVec3) -> DVec2 {
+        let d = world - self.origin;
+        DVec2::new(d.dot(self.u), d.dot(self.v))
+    }
+
+    /// World position of plane coordinates.
+    #[must_use]
+    pub fn to_world(&self, plane: DVec2) -> DVec3 {
+        self.origin + self.u * plane.x + self.v * plane.y
+    }
+
+    /// Signed distance of a world point from the plane (positive in front).
+    #[must_use]
+    pub fn height(&self, world: DVec3) -> f64 {
+        (world - self.origin).dot(self.normal)
+    }
+}
+
+/// A planar polygon, counter-clockwise seen from its front (the OBJ
+/// convention), with one material. Surfaces are one-sided: they emit and
+/// reflect only on the front, but block light from both sides.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Surface {
+    /// The name of the object (or group) it came from, for messages.
+    pub name: String,
+    /// Index into [`crate::Scene::materials`].
+    pub material: usize,
+    vertices: Vec<DVec3>,
+    frame: PlaneFrame,
+    area: f64,
+}
+
+impl Surface {
+    /// A surface from the vertices of a planar polygon (counter-clockwise seen
+    /// from the front). The normal is Newell's; vertices are assumed to lie on
+    /// one plane already (the loaders project nearly planar polygons first).
+    ///
+    /// Returns `None` when the polygon has fewer than three vertices, a
+    /// non-finite coordinate or zero area.
+    #[must_use]
+    pub fn new(name: impl Into<String>, material: usize, vertices: Vec<DVec3>) -> Option<Surface> {
+        if vertices.len() < 3 || vertices.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let twice_area_normal = newell_normal(&vertices);
+        let area = 0.5 * twice_area_normal.length();
+        if !(area > 0.0) || !area.is_finite() {
+            return None;
+        }
+        let normal = twice_area_normal / (2.0 * area);
+        let centroid = vertices.iter().copied().sum::<DVec3>() / vertices.len() as f64;
+        Some(Surface {
+            name: name.into(),
+            material,
+            vertices,
+            frame: PlaneFrame::new(centroid, normal),
+            area,
+        })
+    }
+
+    /// The polygon's vertices, counter-clockwise seen from the front.
+    #[must_use]
+    pub fn vertices(&self) -> &[DVec3] {
+        &self.vertices
+    }
+
+    /// Unit normal of the front side.
+    #[must_use]
+    pub fn normal(&self) -> DVec3 {
+        self.frame.normal
+    }
+
+    /// The surface's plane frame (origin at the vertex centroid).
+    #[must_use]
+    pub fn frame(&self) -> &PlaneFrame {
+        &self.frame
+    }
+
+    /// Area, in the square of the scene's length unit.
+    #[must_use]
+    pub fn area(&self) -> f64 {
+        self.area
+    }
+
+    /// The polygon's vertices in plane coordinates (counter-clockwise).
+    #[must_use]
+    pub fn plane_vertices(&self) -> Vec<DVec2> {
+        self.vertices
+            .iter()
+            .map(|&p| self.frame.to_plane(p))
+            .collect()
+    }
+}
+
+/// Newell's normal: a vector along the polygon's normal whose length is twice
+/// its area. Robust for nearly planar and non-convex polygons.
+///
+/// # References
+/// Sutherland, Sproull, Schumacker, "A Characterization of Ten Hidden-Surface
+/// Algorithms" (1974), crediting M. Newell.
+#[must_use]
+pub fn newell_normal(vertices: &[DVec3]) -> DVec3 {
+    let Some(&base) = vertices.first() else {
+        return DVec3::ZERO;
+    };
+    let n = vertices.len();
+    let mut normal = DVec3::ZERO;
+    for i in 0..n {
+        // Relative to the first vertex, so far-from-origin polygons keep precision.
+        let a = vertices[i] - base;
+        let b = vertices[(i + 1) % n] - base;
+        normal += a.cross(b);
+    }
+    normal
+}
