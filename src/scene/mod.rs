@@ -3,10 +3,12 @@
 mod camera;
 mod material;
 mod surface;
+mod visibility;
 
 pub use camera::{Camera, CameraFrame};
 pub use material::{Material, Rgb};
 pub use surface::{PlaneFrame, Surface, newell_normal};
+pub use visibility::Visibility;
 
 use glam::DVec3;
 

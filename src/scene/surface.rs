@@ -78,7 +78,7 @@ impl Surface {
         }
         let twice_area_normal = newell_normal(&vertices);
         let area = 0.5 * twice_area_normal.length();
-        if !(area > 0.0) || !area.is_finite() {
+        if !area.is_finite() || area <= 0.0 {
             return None;
         }
         let normal = twice_area_normal / (2.0 * area);
@@ -114,6 +114,15 @@ impl Surface {
     #[must_use]
     pub fn area(&self) -> f64 {
         self.area
+    }
+
+    /// A triangulation of the polygon, as index triples into
+    /// [`Surface::vertices`], counter-clockwise like the polygon.
+    #[must_use]
+    pub fn triangles(&self) -> Vec<[usize; 3]> {
+        (1..self.vertices.len() - 1)
+            .map(|i| [0, i, i + 1])
+            .collect()
     }
 
     /// The polygon's vertices in plane coordinates (counter-clockwise).

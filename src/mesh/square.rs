@@ -1,0 +1,311 @@
+//! The square (uniform) mesher: the baseline the contour mesher is compared
+//! against.
+//!
+//! A convex quadrilateral is cut into a G × H bilinear grid of quad elements
+//! (N × N when asked, otherwise as many as keep every element edge under the
+//! maximum edge length). Triangles, n-gons and non-convex quads are
+//! triangulated, and every triangle is cut into the n² sub-triangles of a
+//! regular lattice, with one n per surface so that the triangles' shared edges
+//! are split at the same points: the subdivision is conforming, and adjacent
+//! elements of one surface share their vertices.
+//!
+//! Elements are grouped into shooting patches: blocks of the grid (or coarse
+//! lattice triangles) no longer than the patch edge length.
+
+use glam::DVec3;
+use std::collections::HashMap;
+
+use super::patch::{Cell, Patch};
+use super::topology::{Element, Mesh, MeshVertex};
+use crate::scene::{Scene, Surface};
+
+/// Settings of the square mesher.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct SquareMeshSettings {
+    /// Longest element edge, in scene units.
+    pub max_edge: f64,
+    /// N for an N × N grid on every quad (and N divisions of every triangle
+    /// edge), instead of `max_edge`.
+    pub elements_per_side: Option<usize>,
+    /// Longest shooting-patch edge, in scene units.
+    pub patch_max_edge: f64,
+}
+
+impl SquareMeshSettings {
+    /// Defaults scaled to a scene: elements of 1/40 and patches of 1/8 of its
+    /// bounding diagonal.
+    #[must_use]
+    pub fn for_scene(scene: &Scene) -> SquareMeshSettings {
+        let diagonal = scene.diagonal();
+        SquareMeshSettings {
+            max_edge: diagonal / 40.0,
+            elements_per_side: None,
+            patch_max_edge: diagonal / 8.0,
+        }
+    }
+}
+
+/// How far boundary vertices gather inside their surface, as a fraction of
+/// the scene's diagonal: ten times the shadow rays' surface offset, so a ray
+/// from a vertex at a wall's foot starts clear of the wall.
+const RECEIVER_INSET: f64 = 1e-4;
+
+/// Meshes every surface of the scene uniformly.
+#[must_use]
+pub fn mesh_square(scene: &Scene, settings: &SquareMeshSettings) -> Mesh {
+    let mut mesh = Mesh::default();
+    for (index, surface) in scene.surfaces.iter().enumerate() {
+        let mut builder = SurfaceBuilder::new(&mut mesh, index as u32);
+        match convex_quad(surface) {
+            Some(corners) => builder.quad_grid(corners, settings),
+            None => builder.triangle_lattices(surface, settings),
+        }
+    }
+    mesh.inset_boundary_receivers(RECEIVER_INSET * scene.diagonal());
+    mesh
+}
+
+/// The corners of a surface that is a strictly convex quadrilateral.
+fn convex_quad(surface: &Surface) -> Option<[DVec3; 4]> {
+    let points = surface.plane_vertices();
+    if points.len() != 4 {
+        return None;
+    }
+    let convex = (0..4).all(|k| {
+        let (a, b, c) = (points[k], points[(k + 1) % 4], points[(k + 2) % 4]);
+        (b - a).perp_dot(c - b) > 0.0
+    });
+    let v = surface.vertices();
+    convex.then(|| [v[0], v[1], v[2], v[3]])
+}
+
+/// Number of divisions of a length under a maximum step (at least 1, at most
+/// 4096 so that absurd settings cannot exhaust memory).
+fn divisions(length: f64, max_step: f64) -> usize {
+    let n = (length / max_step).ceil();
+    if n.is_finite() {
+        n.clamp(1.0, 4096.0) as usize
+    } else {
+        1
+    }
+}
+
+/// Where a lattice vertex sits, so that points shared by two triangles of one
+/// surface are created once.
+#[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
+enum LatticeKey {
+    Corner(usize),
+    /// On the polygon edge or diagonal (lo, hi), `step` divisions from lo.
+    Edge(usize, usize, usize),
+    Interior(usize, usize, usize),
+}
+
+struct SurfaceBuilder<'a> {
+    mesh: &'a mut Mesh,
+    surface: u32,
+}
+
+impl<'a> SurfaceBuilder<'a> {
+    fn new(mesh: &'a mut Mesh, surface: u32) -> Self {
+        SurfaceBuilder { mesh, surface }
+    }
+
+    fn add_vertex(&mut self, position: DVec3) -> u32 {
+        self.mesh.vertices.push(MeshVertex {
+            position,
+            receiver_position: position,
+            surface: self.surface,
+        });
+        (self.mesh.vertices.len() - 1) as u32
+    }
+
+    fn add_patch(&mut self, cell: Cell) -> u32 {
+        self.mesh.patches.push(Patch {
+            surface: self.surface as usize,
+            cell,
+            elements: Vec::new(),
+        });
+        (self.mesh.patches.len() - 1) as u32
+    }
+
+    fn add_element(&mut self, corners: &[u32], patch: u32) {
+        let p = |k: usize| self.mesh.vertices[corners[k] as usize].position;
+        let cell = if corners.len() == 3 {
+            Cell::triangle(p(0), p(1), p(2))
+        } else {
+            Cell::quad(p(0), p(1), p(2), p(3))
+        };
+        let mut vertices = [corners[0], corners[1], corners[2], corners[2]];
+        if corners.len() == 4 {
+            vertices[3] = corners[3];
+        }
+        let index = self.mesh.elements.len() as u32;
+        self.mesh.elements.push(Element {
+            vertices,
+            is_triangle: corners.len() == 3,
+            surface: self.surface,
+            patch,
+            area: cell.area,
+        });
+        self.mesh.patches[patch as usize].elements.push(index);
+    }
+
+    /// A G × H bilinear grid of quads over a convex quad, in patch blocks.
+    fn quad_grid(&mut self, corners: [DVec3; 4], settings: &SquareMeshSettings) {
+        let [a, b, c, d] = corners;
+        let length_u = (b - a).length().max((c - d).length());
+        let length_v = (d - a).length().max((c - b).length());
+        let (cols, rows) = match settings.elements_per_side {
+            Some(n) => (n.clamp(1, 4096), n.clamp(1, 4096)),
+            None => (
+                divisions(length_u, settings.max_edge),
+                divisions(length_v, settings.max_edge),
+            ),
+        };
+        let quad = Cell::quad(a, b, c, d);
+        let at = |i: usize, j: usize| quad.point(i as f64 / cols as f64, j as f64 / rows as f64);
+        // Grid vertices, row by row.
+        let first = self.mesh.vertices.len() as u32;
+        for j in 0..=rows {
+            for i in 0..=cols {
+                self.add_vertex(at(i, j));
+            }
+        }
+        let id = |i: usize, j: usize| first + (j * (cols + 1) + i) as u32;
+        // Patch blocks of about `patch_max_edge`.
+        let block_u = cols.div_ceil(divisions(length_u, settings.patch_max_edge));
+        let block_v = rows.div_ceil(divisions(length_v, settings.patch_max_edge));
+        for j0 in (0..rows).step_by(block_v) {
+            for i0 in (0..cols).step_by(block_u) {
+                let (i1, j1) = ((i0 + block_u).min(cols), (j0 + block_v).min(rows));
+                let patch =
+                    self.add_patch(Cell::quad(at(i0, j0), at(i1, j0), at(i1, j1), at(i0, j1)));
+                for j in j0..j1 {
+                    for i in i0..i1 {
+                        self.add_element(
+                            &[id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)],
+                            patch,
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// Triangulates the surface and cuts every triangle into an n × n lattice.
+    fn triangle_lattices(&mut self, surface: &Surface, settings: &SquareMeshSettings) {
+        let points = surface.vertices();
+        let triangles = surface.triangles();
+        let longest = triangles
+            .iter()
+            .flat_map(|t| (0..3).map(move |k| (points[t[k]] - points[t[(k + 1) % 3]]).length()))
+            .fold(0.0, f64::max);
+        let patch_divisions = divisions(longest, settings.patch_max_edge);
+        let element_divisions = settings.elements_per_side.map_or_else(
+            || divisions(longest, settings.max_edge),
+            |n| n.clamp(1, 4096),
+        );
+        let block = element_divisions.div_ceil(patch_divisions);
+        let n = block * patch_divisions;
+        let mut ids: HashMap<LatticeKey, u32> = HashMap::new();
+        for (t, &corners) in triangles.iter().enumerate() {
+            self.lattice(points, corners, t, n, block, &mut ids);
+        }
+    }
+
+    /// One triangle's lattice of n divisions, grouped into coarse triangles
+    /// of `block` divisions as patches.
+    fn lattice(
+        &mut self,
+        points: &[DVec3],
+        corners: [usize; 3],
+        t: usize,
+        n: usize,
+        block: usize,
+        ids: &mut HashMap<LatticeKey, u32>,
+    ) {
+        let mut vertex = |builder: &mut Self, i: usize, j: usize| {
+            let (key, position) = lattice_point(points, corners, t, n, i, j);
+            *ids.entry(key)
+                .or_insert_with(|| builder.add_vertex(position))
+        };
+        let coarse = n / block;
+        let at = |i: usize, j: usize| lattice_point(points, corners, t, n, i, j).1;
+        // Coarse triangles: patches, "up" ones then "down" ones per lattice cell.
+        let mut patch_of = HashMap::new();
+        for jc in 0..coarse {
+            for ic in 0..coarse - jc {
+                let (i, j) = (ic * block, jc * block);
+                let up =
+                    self.add_patch(Cell::triangle(at(i, j), at(i + block, j), at(i, j + block)));
+                patch_of.insert((ic, jc, true), up);
+                if ic + jc + 2 <= coarse {
+                    let down = self.add_patch(Cell::triangle(
+                        at(i + block, j),
+                        at(i + block, j + block),
+                        at(i, j + block),
+                    ));
+                    patch_of.insert((ic, jc, false), down);
+                }
+            }
+        }
+        // Fine triangles, each assigned to the coarse triangle holding its centroid.
+        for j in 0..n {
+            for i in 0..n - j {
+                let (ic, jc, ri, rj) = (i / block, j / block, i % block, j % block);
+                let up = [
+                    vertex(self, i, j),
+                    vertex(self, i + 1, j),
+                    vertex(self, i, j + 1),
+                ];
+                self.add_element(&up, patch_of[&(ic, jc, ri + rj < block)]);
+                if i + j + 2 <= n {
+                    let down = [
+                        vertex(self, i + 1, j),
+                        vertex(self, i + 1, j + 1),
+                        vertex(self, i, j + 1),
+                    ];
+                    self.add_element(&down, patch_of[&(ic, jc, ri + rj + 2 <= block)]);
+                }
+            }
+        }
+    }
+}
+
+/// Key and position of lattice point (i, j) of triangle `t` with polygon
+/// corners (c0, c1, c2): barycentric weights ((n − i − j), i, j) / n. Points on
+/// the triangle's sides are computed from the side's end points in a fixed
+/// order, so both triangles sharing a side get bit-identical positions.
+fn lattice_point(
+    points: &[DVec3],
+    corners: [usize; 3],
+    t: usize,
+    n: usize,
+    i: usize,
+    j: usize,
+) -> (LatticeKey, DVec3) {
+    let [c0, c1, c2] = corners;
+    let on_side = |from: usize, to: usize, step: usize| {
+        let (lo, hi, step) = if from < to {
+            (from, to, step)
+        } else {
+            (to, from, n - step)
+        };
+        let position = points[lo].lerp(points[hi], step as f64 / n as f64);
+        (LatticeKey::Edge(lo, hi, step), position)
+    };
+    match (i, j) {
+        (0, 0) => (LatticeKey::Corner(c0), points[c0]),
+        (i, 0) if i == n => (LatticeKey::Corner(c1), points[c1]),
+        (0, j) if j == n => (LatticeKey::Corner(c2), points[c2]),
+        (i, 0) => on_side(c0, c1, i),
+        (0, j) => on_side(c0, c2, j),
+        (i, j) if i + j == n => on_side(c1, c2, j),
+        (i, j) => {
+            let (a, b, c) = (points[c0], points[c1], points[c2]);
+            let position = a + (b - a) * (i as f64 / n as f64) + (c - a) * (j as f64 / n as f64);
+            (LatticeKey::Interior(t, i, j), position)
+        }
+    }
+}

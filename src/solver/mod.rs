@@ -1,0 +1,9 @@
+//! The progressive shooting solver and its source sampling.
+
+mod progressive;
+mod sampling;
+mod settings;
+mod source_sampling;
+
+pub use progressive::{EnergyBalance, Solver};
+pub use settings::SolverSettings;

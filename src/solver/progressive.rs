@@ -1,0 +1,317 @@
+//! The progressive shooting solver (Cohen, Chen, Wallace, Greenberg 1988).
+
+use rayon::prelude::*;
+
+use super::settings::SolverSettings;
+use super::source_sampling::{Receiver, Shooter};
+use crate::mesh::Mesh;
+use crate::scene::{Rgb, Scene, Visibility};
+
+/// Where the emitted power has gone so far, per RGB channel, in watts (or
+/// the scene's length unit squared times W/m²).
+///
+/// `absorbed + unshot + escaped = emitted` holds at every step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnergyBalance {
+    /// Power emitted by all emitters: Σ E·A.
+    pub emitted: Rgb,
+    /// Power absorbed by surfaces: Σ_e A_e (1 − ρ_e) H_e, with H_e the mean
+    /// irradiance of element e's vertices.
+    pub absorbed: Rgb,
+    /// Power waiting to be shot: Σ_p ΔB_p A_p.
+    pub unshot: Rgb,
+    /// Power shot that no surface received: it left an open scene (or is the
+    /// discretisation error of a closed one).
+    pub escaped: Rgb,
+}
+
+/// Radiosity at mesh vertices, solved by progressive refinement: the patch
+/// with the most unshot power shoots it to every receiving vertex, until the
+/// unshot power falls below the tolerance.
+///
+/// For every vertex v receiving from patch j: B_v += ρ_v ΔB_j F_{v→j}; each
+/// patch's unshot radiosity then grows by the area-weighted mean of what its
+/// elements' vertices reflected.
+///
+/// # References
+/// M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive
+/// Refinement Approach to Fast Radiosity Image Generation", SIGGRAPH 1988.
+pub struct Solver<'a> {
+    scene: &'a Scene,
+    mesh: &'a Mesh,
+    visibility: &'a Visibility,
+    settings: SolverSettings,
+    /// Radiosity B per vertex (emission included), W/m².
+    radiosity: Vec<Rgb>,
+    /// Irradiance H per vertex (light received), W/m².
+    irradiance: Vec<Rgb>,
+    /// Unshot radiosity ΔB per patch.
+    unshot: Vec<Rgb>,
+    emitted_power: Rgb,
+    shot_power: Rgb,
+    received_power: Rgb,
+    /// The largest power a single patch emits (sum of channels): the scale
+    /// for the number of samples a shot gets.
+    reference_power: f64,
+    shots: usize,
+    rays: u64,
+}
+
+impl<'a> Solver<'a> {
+    /// A solver with emitters' radiosity set and nothing yet shot.
+    pub fn new(
+        scene: &'a Scene,
+        mesh: &'a Mesh,
+        visibility: &'a Visibility,
+        settings: SolverSettings,
+    ) -> crate::Result<Self> {
+        settings.validate()?;
+        let emitted = |surface: usize| {
+            scene
+                .material_of(&scene.surfaces[surface])
+                .emitted_radiosity()
+        };
+        let radiosity: Vec<Rgb> = mesh
+            .vertices
+            .iter()
+            .map(|v| emitted(v.surface as usize))
+            .collect();
+        let unshot: Vec<Rgb> = mesh.patches.iter().map(|p| emitted(p.surface)).collect();
+        let powers = mesh
+            .patches
+            .iter()
+            .zip(&unshot)
+            .map(|(p, b)| *b * p.cell.area);
+        let emitted_power = powers.clone().sum::<Rgb>();
+        let reference_power = powers.map(|p| p.element_sum()).fold(0.0, f64::max);
+        Ok(Solver {
+            scene,
+            mesh,
+            visibility,
+            settings,
+            irradiance: vec![Rgb::ZERO; radiosity.len()],
+            radiosity,
+            unshot,
+            emitted_power,
+            shot_power: Rgb::ZERO,
+            received_power: Rgb::ZERO,
+            reference_power,
+            shots: 0,
+            rays: 0,
+        })
+    }
+
+    /// Shoots the patch with the most unshot power. Returns false when no
+    /// patch has any.
+    pub fn step(&mut self) -> bool {
+        let power = |(p, b): (usize, &Rgb)| (p, b.element_sum() * self.mesh.patches[p].cell.area);
+        let Some((j, power)) = self
+            .unshot
+            .iter()
+            .enumerate()
+            .map(power)
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+        else {
+            return false;
+        };
+        if power.is_nan() || power <= 0.0 {
+            return false;
+        }
+        let delta = std::mem::replace(&mut self.unshot[j], Rgb::ZERO);
+        let form_factors = self.form_factors_to(j, power);
+        self.receive(delta, &form_factors);
+        self.shot_power += delta * self.mesh.patches[j].cell.area;
+        self.shots += 1;
+        true
+    }
+
+    /// Form factor from every vertex to patch j, computed in parallel.
+    fn form_factors_to(&mut self, j: usize, power: f64) -> Vec<f64> {
+        let patch = &self.mesh.patches[j];
+        let surface = &self.scene.surfaces[patch.surface];
+        // Samples per side: from the shot's share of the strongest emitter's power.
+        let share = (power / self.reference_power.max(f64::MIN_POSITIVE)).min(1.0);
+        let max_side = (self.settings.max_samples as f64).sqrt().floor().max(1.0) as usize;
+        let min_side = ((self.settings.direct_samples as f64 * share).sqrt().round() as usize)
+            .clamp(1, max_side);
+        let shooter = Shooter::new(patch.cell, surface.normal(), min_side, max_side);
+        let (scene, mesh, visibility) = (self.scene, self.mesh, self.visibility);
+        let (density, shot) = (self.settings.sample_density, self.shots as u64);
+        let gathered: Vec<_> = mesh
+            .vertices
+            .par_iter()
+            .enumerate()
+            .map(|(index, vertex)| {
+                if vertex.surface as usize == patch.surface {
+                    return Default::default();
+                }
+                let receiver = Receiver {
+                    position: vertex.receiver_position,
+                    normal: scene.surfaces[vertex.surface as usize].normal(),
+                    key: index as u64,
+                };
+                shooter.gather(&receiver, density, shot, visibility)
+            })
+            .collect();
+        self.rays += gathered.iter().map(|g| u64::from(g.rays)).sum::<u64>();
+        gathered.into_iter().map(|g| g.form_factor).collect()
+    }
+
+    /// Adds a shot's light to vertices, and what elements reflect to their
+    /// patches' unshot radiosity.
+    fn receive(&mut self, delta: Rgb, form_factors: &[f64]) {
+        for (v, &f) in form_factors.iter().enumerate() {
+            if f > 0.0 {
+                let incident = delta * f;
+                self.irradiance[v] += incident;
+                let reflected = self.reflectance(v) * incident;
+                self.radiosity[v] += reflected;
+            }
+        }
+        for element in &self.mesh.elements {
+            let corners = element.corners();
+            let mean_factor = corners
+                .iter()
+                .map(|&v| form_factors[v as usize])
+                .sum::<f64>()
+                / corners.len() as f64;
+            if mean_factor <= 0.0 {
+                continue;
+            }
+            let incident_power = delta * mean_factor * element.area;
+            self.received_power += incident_power;
+            let patch = element.patch as usize;
+            let reflectance = self
+                .scene
+                .material_of(&self.scene.surfaces[element.surface as usize])
+                .reflectance;
+            self.unshot[patch] += reflectance * incident_power / self.mesh.patches[patch].cell.area;
+        }
+    }
+
+    fn reflectance(&self, vertex: usize) -> Rgb {
+        let surface = &self.scene.surfaces[self.mesh.vertices[vertex].surface as usize];
+        self.scene.material_of(surface).reflectance
+    }
+
+    /// Shoots until the unshot fraction is under the tolerance or the shot
+    /// budget is spent, calling `progress` after every shot.
+    pub fn run(&mut self, mut progress: impl FnMut(&Solver)) {
+        while self.unshot_fraction() > self.settings.tolerance
+            && self.shots < self.settings.max_shots
+        {
+            if !self.step() {
+                break;
+            }
+            progress(self);
+        }
+    }
+
+    /// Unshot power over emitted power (sums of channels); 0 for a dark scene.
+    #[must_use]
+    pub fn unshot_fraction(&self) -> f64 {
+        let emitted = self.emitted_power.element_sum();
+        if emitted > 0.0 {
+            self.unshot_power().element_sum() / emitted
+        } else {
+            0.0
+        }
+    }
+
+    fn unshot_power(&self) -> Rgb {
+        self.mesh
+            .patches
+            .iter()
+            .zip(&self.unshot)
+            .map(|(p, b)| *b * p.cell.area)
+            .sum()
+    }
+
+    /// Radiosity per vertex (W/m²) from the light shot so far.
+    #[must_use]
+    pub fn radiosity(&self) -> &[Rgb] {
+        &self.radiosity
+    }
+
+    /// Irradiance per vertex (W/m²) from the light shot so far.
+    #[must_use]
+    pub fn irradiance(&self) -> &[Rgb] {
+        &self.irradiance
+    }
+
+    /// Radiosity per vertex with the ambient term added: the light not yet
+    /// shot, spread evenly, B_v + ρ_v · A_mb, where
+    /// A_mb = Σ_p ΔB_p A_p / Σ A_p · 1 / (1 − ρ̄) and ρ̄ is the area-weighted
+    /// mean reflectance (Cohen et al. 1988, §4). For intermediate images.
+    #[must_use]
+    pub fn radiosity_with_ambient(&self) -> Vec<Rgb> {
+        let total_area: f64 = self.mesh.patches.iter().map(|p| p.cell.area).sum();
+        if total_area <= 0.0 {
+            return self.radiosity.clone();
+        }
+        let mean_reflectance = self
+            .mesh
+            .patches
+            .iter()
+            .map(|p| {
+                self.scene
+                    .material_of(&self.scene.surfaces[p.surface])
+                    .reflectance
+                    * p.cell.area
+            })
+            .sum::<Rgb>()
+            / total_area;
+        let interreflection = (Rgb::ONE - mean_reflectance).recip();
+        let ambient = self.unshot_power() / total_area * interreflection;
+        (0..self.radiosity.len())
+            .map(|v| self.radiosity[v] + self.reflectance(v) * ambient)
+            .collect()
+    }
+
+    /// The energy ledger; see [`EnergyBalance`].
+    #[must_use]
+    pub fn energy_balance(&self) -> EnergyBalance {
+        let absorbed = self
+            .mesh
+            .elements
+            .iter()
+            .map(|element| {
+                let corners = element.corners();
+                let mean = corners
+                    .iter()
+                    .map(|&v| self.irradiance[v as usize])
+                    .sum::<Rgb>()
+                    / corners.len() as f64;
+                let reflectance = self
+                    .scene
+                    .material_of(&self.scene.surfaces[element.surface as usize])
+                    .reflectance;
+                (Rgb::ONE - reflectance) * mean * element.area
+            })
+            .sum();
+        EnergyBalance {
+            emitted: self.emitted_power,
+            absorbed,
+            unshot: self.unshot_power(),
+            escaped: self.shot_power - self.received_power,
+        }
+    }
+
+    /// Shots made so far.
+    #[must_use]
+    pub fn shots(&self) -> usize {
+        self.shots
+    }
+
+    /// Shadow rays cast so far.
+    #[must_use]
+    pub fn rays(&self) -> u64 {
+        self.rays
+    }
+
+    /// The settings in use.
+    #[must_use]
+    pub fn settings(&self) -> &SolverSettings {
+        &self.settings
+    }
+}

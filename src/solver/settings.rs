@@ -1,0 +1,90 @@
+//! Settings of the progressive shooting solver.
+
+/// Settings of [`crate::Solver`]. Plain data: set the fields you need and
+/// keep the defaults for the rest.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct SolverSettings {
+    /// Stop when the unshot power falls below this fraction of the emitted
+    /// power.
+    pub tolerance: f64,
+    /// Stop after this many shots whatever the unshot power.
+    pub max_shots: usize,
+    /// Samples per shooting patch for the most powerful shooters (the
+    /// emitters' first shots): they draw the shadows, whose penumbrae need
+    /// many visibility samples. A shooter carrying a fraction f of that power
+    /// gets about `direct_samples · f` samples, and never fewer than one.
+    pub direct_samples: usize,
+    /// Upper bound on samples per shooting patch and receiver vertex.
+    pub max_samples: usize,
+    /// Samples grow as the shooter looks larger from the receiver: a patch of
+    /// area A at distance r gets at least (sample_density · √A / r)² samples
+    /// (Wallace et al. 1989, adaptive source sampling).
+    pub sample_density: f64,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        SolverSettings {
+            tolerance: 0.01,
+            max_shots: 1_000_000,
+            direct_samples: 64,
+            max_samples: 256,
+            sample_density: 3.0,
+        }
+    }
+}
+
+impl SolverSettings {
+    /// Quick, noisier images: 5 % tolerance, fewer shadow samples.
+    #[must_use]
+    pub fn preview() -> Self {
+        SolverSettings {
+            tolerance: 0.05,
+            direct_samples: 16,
+            max_samples: 64,
+            ..Self::default()
+        }
+    }
+
+    /// Converged, smooth images: 0.1 % tolerance, more shadow samples.
+    #[must_use]
+    pub fn final_quality() -> Self {
+        SolverSettings {
+            tolerance: 0.001,
+            direct_samples: 256,
+            max_samples: 1024,
+            ..Self::default()
+        }
+    }
+
+    /// Checks every field is in range; returns the first problem.
+    pub fn validate(&self) -> crate::Result<()> {
+        let invalid = |name: &str, message: String| crate::Error::InvalidSetting {
+            name: name.into(),
+            message,
+        };
+        if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
+            return Err(invalid(
+                "tolerance",
+                format!("{} is not in (0, 1)", self.tolerance),
+            ));
+        }
+        if self.direct_samples == 0 || self.max_samples == 0 || self.max_samples > 65_536 {
+            return Err(invalid(
+                "samples",
+                format!(
+                    "direct {} / max {} must be in 1..=65536",
+                    self.direct_samples, self.max_samples
+                ),
+            ));
+        }
+        if !(self.sample_density > 0.0 && self.sample_density.is_finite()) {
+            return Err(invalid(
+                "sample_density",
+                format!("{} is not positive", self.sample_density),
+            ));
+        }
+        Ok(())
+    }
+}

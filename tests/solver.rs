@@ -1,0 +1,132 @@
+//! The progressive solver against analytic references.
+
+mod support;
+
+use glam::DVec3;
+use isorad::{Scene, SolverSettings, SquareMeshSettings, Visibility, mesh_square};
+use std::f64::consts::PI;
+use support::*;
+
+fn settings(tolerance: f64) -> SolverSettings {
+    let mut settings = SolverSettings::default();
+    settings.tolerance = tolerance;
+    settings
+}
+
+fn mesh(scene: &Scene, max_edge: f64, patch_max_edge: f64) -> isorad::Mesh {
+    let mut s = SquareMeshSettings::for_scene(scene);
+    s.max_edge = max_edge;
+    s.patch_max_edge = patch_max_edge;
+    let mesh = mesh_square(scene, &s);
+    let areas: Vec<f64> = scene.surfaces.iter().map(|s| s.area()).collect();
+    mesh.validate(&areas).expect("valid mesh");
+    mesh
+}
+
+#[test]
+fn closed_cube_reaches_emission_over_one_minus_reflectance() {
+    // Ke = 1 (E = π) and ρ = 0.5 on every face: B = E/(1 − ρ) = 2π everywhere.
+    let scene = closed_cube(0.5, 1.0);
+    let mesh = mesh(&scene, 0.1, 0.25);
+    let visibility = Visibility::new(&scene);
+    let mut solver = isorad::Solver::new(&scene, &mesh, &visibility, settings(1e-3)).unwrap();
+    solver.run(|_| {});
+    let expected = PI / (1.0 - 0.5);
+    let worst = solver
+        .radiosity()
+        .iter()
+        .map(|b| (b.x - expected).abs() / expected)
+        .fold(0.0, f64::max);
+    assert!(worst < 0.01, "worst relative error {worst}");
+}
+
+#[test]
+fn energy_is_conserved() {
+    let scene = closed_cube(0.6, 1.0);
+    let mesh = mesh(&scene, 0.125, 0.5);
+    let visibility = Visibility::new(&scene);
+    let mut solver = isorad::Solver::new(&scene, &mesh, &visibility, settings(1e-3)).unwrap();
+    for _ in 0..40 {
+        solver.step();
+        let e = solver.energy_balance();
+        let sum = e.absorbed + e.unshot + e.escaped;
+        assert!(
+            (sum - e.emitted).abs().max_element() < 1e-6 * e.emitted.max_element(),
+            "{e:?}"
+        );
+        // A closed box lets nothing escape, up to the form factors' error.
+        assert!(
+            e.escaped.abs().max_element() < 0.01 * e.emitted.max_element(),
+            "{e:?}"
+        );
+    }
+}
+
+#[test]
+fn small_disc_over_a_floor_matches_the_exact_form_factor() {
+    let (radius, height, reflectance) = (1.0, 2.0, 0.5);
+    let mut b = SceneBuilder::default();
+    let floor = b.material("floor", reflectance, 0.0);
+    let light = b.material("light", 0.0, 10.0);
+    b.polygon("floor", floor, square_z(-10.0, 10.0, 0.0, true));
+    b.polygon(
+        "light",
+        light,
+        disc_facing_down(64, radius, DVec3::new(0.0, 0.0, height)),
+    );
+    let scene = b.scene;
+    let mesh = mesh(&scene, 0.25, 2.0);
+    let visibility = Visibility::new(&scene);
+    let mut solver = isorad::Solver::new(&scene, &mesh, &visibility, settings(1e-3)).unwrap();
+    solver.run(|_| {});
+    let emitted = PI * 10.0;
+    let peak = coaxial_disc_form_factor(radius, height, 0.0);
+    let mut checked = 0;
+    for (vertex, b) in mesh.vertices.iter().zip(solver.radiosity()) {
+        if vertex.surface != 0 {
+            continue;
+        }
+        let x = vertex.position.truncate().length();
+        let f = coaxial_disc_form_factor(radius, height, x);
+        if f > 0.01 * peak {
+            let expected = reflectance * emitted * f;
+            assert!(
+                (b.x - expected).abs() < 0.02 * expected,
+                "x = {x}: {} vs {expected}",
+                b.x
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 100, "{checked} vertices checked");
+}
+
+#[test]
+fn a_blocker_casts_an_exactly_black_umbra() {
+    let mut b = SceneBuilder::default();
+    let floor = b.material("floor", 0.5, 0.0);
+    let black = b.material("blocker", 0.0, 0.0);
+    let light = b.material("light", 0.0, 5.0);
+    b.polygon("floor", floor, square_z(-4.0, 4.0, 0.0, true));
+    b.polygon("blocker", black, square_z(-1.5, 1.5, 1.0, false));
+    b.polygon("light", light, square_z(-0.25, 0.25, 2.0, false));
+    let scene = b.scene;
+    let mesh = mesh(&scene, 0.2, 1.0);
+    let visibility = Visibility::new(&scene);
+    let mut solver = isorad::Solver::new(&scene, &mesh, &visibility, settings(1e-3)).unwrap();
+    solver.run(|_| {});
+    // Umbra: |x|, |y| < 1.5·2 − 0.25·... — points whose whole view of the light passes the blocker.
+    // A ray from (x, 0) to the light edge at 0.25 crosses z = 1 at (x + 0.25)/2; inside if < 1.5.
+    let mut dark = 0;
+    for (vertex, h) in mesh.vertices.iter().zip(solver.irradiance()) {
+        let p = vertex.position;
+        if vertex.surface == 0 && p.x.abs() < 2.5 && p.y.abs() < 2.5 {
+            assert_eq!(h.x, 0.0, "lit umbra vertex at {p}");
+            dark += 1;
+        }
+        if vertex.surface == 0 && p.x.abs() > 3.5 {
+            assert!(h.x > 0.0, "unlit vertex at {p}");
+        }
+    }
+    assert!(dark > 100);
+}

@@ -1,0 +1,101 @@
+//! Scenes built in code for the integration tests.
+#![allow(dead_code)]
+
+use glam::DVec3;
+use isorad::{Material, Rgb, Scene, Surface};
+
+/// A scene builder: materials by name, polygons oriented as given.
+#[derive(Default)]
+pub struct SceneBuilder {
+    pub scene: Scene,
+}
+
+impl SceneBuilder {
+    pub fn material(&mut self, name: &str, reflectance: f64, emitted_radiance: f64) -> usize {
+        self.scene.materials.push(Material {
+            name: name.into(),
+            reflectance: Rgb::splat(reflectance),
+            emitted_radiance: Rgb::splat(emitted_radiance),
+        });
+        self.scene.materials.len() - 1
+    }
+
+    pub fn polygon(&mut self, name: &str, material: usize, vertices: Vec<DVec3>) {
+        let surface = Surface::new(name, material, vertices).expect("valid test polygon");
+        self.scene.surfaces.push(surface);
+    }
+
+    /// A polygon whose front faces `towards`.
+    pub fn polygon_facing(
+        &mut self,
+        name: &str,
+        material: usize,
+        mut vertices: Vec<DVec3>,
+        towards: DVec3,
+    ) {
+        let normal = isorad::newell_normal(&vertices);
+        let centre = vertices.iter().copied().sum::<DVec3>() / vertices.len() as f64;
+        if normal.dot(towards - centre) < 0.0 {
+            vertices.reverse();
+        }
+        self.polygon(name, material, vertices);
+    }
+}
+
+/// Unit cube [0, 1]³, every face facing inwards with the same material.
+pub fn closed_cube(reflectance: f64, emitted_radiance: f64) -> Scene {
+    let mut b = SceneBuilder::default();
+    let m = b.material("wall", reflectance, emitted_radiance);
+    let centre = DVec3::splat(0.5);
+    for axis in 0..3 {
+        for side in [0.0, 1.0] {
+            let corner = |s: f64, t: f64| {
+                let mut p = [0.0; 3];
+                p[axis] = side;
+                p[(axis + 1) % 3] = s;
+                p[(axis + 2) % 3] = t;
+                DVec3::from_array(p)
+            };
+            let quad = vec![
+                corner(0.0, 0.0),
+                corner(1.0, 0.0),
+                corner(1.0, 1.0),
+                corner(0.0, 1.0),
+            ];
+            b.polygon_facing("face", m, quad, centre);
+        }
+    }
+    b.scene
+}
+
+/// A regular n-gon of radius r centred at `centre` in the plane z = centre.z,
+/// facing down (−z).
+pub fn disc_facing_down(sides: usize, radius: f64, centre: DVec3) -> Vec<DVec3> {
+    (0..sides)
+        .rev()
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / sides as f64;
+            centre + DVec3::new(radius * a.cos(), radius * a.sin(), 0.0)
+        })
+        .collect()
+}
+
+/// An axis-aligned square in the plane z = height, facing `up` or down.
+pub fn square_z(min: f64, max: f64, height: f64, facing_up: bool) -> Vec<DVec3> {
+    let mut v = vec![
+        DVec3::new(min, min, height),
+        DVec3::new(max, min, height),
+        DVec3::new(max, max, height),
+        DVec3::new(min, max, height),
+    ];
+    if !facing_up {
+        v.reverse();
+    }
+    v
+}
+
+/// Parallel coaxial disc form factor (DESIGN.md).
+pub fn coaxial_disc_form_factor(radius: f64, height: f64, x: f64) -> f64 {
+    let (r2, h2, x2) = (radius * radius, height * height, x * x);
+    0.5 * (1.0 - (x2 + h2 - r2) / ((x2 + h2 + r2).powi(2) - 4.0 * r2 * x2).sqrt())
+}
