@@ -1,0 +1,38 @@
+//! Turning a solved mesh into triangles with vertex radiance.
+
+use super::rasterizer::ShadedTriangle;
+use crate::mesh::Mesh;
+use crate::scene::Rgb;
+
+/// The triangles of a mesh with per-vertex radiance L = B/π, from the
+/// radiosity B (W/m²) of each mesh vertex.
+///
+/// A quadrilateral element is split along the diagonal whose two end
+/// vertices have the closer radiosities: splitting across a bright corner
+/// instead would draw a visible diagonal streak in Gouraud shading.
+#[must_use]
+pub fn mesh_triangles(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<ShadedTriangle> {
+    let radiance = |v: u32| radiosity[v as usize] / std::f64::consts::PI;
+    let position = |v: u32| mesh.vertices[v as usize].position;
+    let triangle = |a: u32, b: u32, c: u32| ShadedTriangle {
+        positions: [position(a), position(b), position(c)],
+        radiance: [radiance(a), radiance(b), radiance(c)],
+    };
+    let mut triangles = Vec::with_capacity(2 * mesh.elements.len());
+    for element in &mesh.elements {
+        let [a, b, c, d] = element.vertices;
+        if element.is_triangle {
+            triangles.push(triangle(a, b, c));
+            continue;
+        }
+        let gap = |p: u32, q: u32| (radiosity[p as usize] - radiosity[q as usize]).abs().element_sum();
+        if gap(a, c) <= gap(b, d) {
+            triangles.push(triangle(a, b, c));
+            triangles.push(triangle(a, c, d));
+        } else {
+            triangles.push(triangle(a, b, d));
+            triangles.push(triangle(b, c, d));
+        }
+    }
+    triangles
+}
