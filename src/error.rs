@@ -38,10 +38,16 @@ pub enum Error {
         message: String,
     },
     /// A face uses a material that no material library defines, or no material at all.
-    #[error("{path}: object `{object}` uses material `{material}`, which no MTL file defines")]
+    #[error(
+        "{path}{}: object `{object}` {}",
+        line_suffix(*.line),
+        missing_material_phrase(material)
+    )]
     MissingMaterial {
         /// The OBJ file.
         path: PathBuf,
+        /// 1-based line of the `usemtl` (or of the first face without a material), where known.
+        line: Option<usize>,
         /// The object or group whose faces use it.
         object: String,
         /// The missing material's name (empty when the faces have none).
@@ -57,11 +63,23 @@ pub enum Error {
         /// The object holding the vertex.
         object: String,
     },
+    /// A material library (MTL file) could not be parsed.
+    #[error("{path}{}: {message}", line_suffix(*.line))]
+    MtlParse {
+        /// The MTL file.
+        path: PathBuf,
+        /// 1-based line number, where known.
+        line: Option<usize>,
+        /// What is wrong.
+        message: String,
+    },
     /// A material's reflectance or emission is out of range.
-    #[error("{path}: material `{material}`: {message}")]
+    #[error("{path}{}: material `{material}`: {message}", line_suffix(*.line))]
     InvalidMaterial {
         /// The MTL (or OBJ) file.
         path: PathBuf,
+        /// 1-based line of the offending statement, where known.
+        line: Option<usize>,
         /// The material's name.
         material: String,
         /// What is wrong, with the offending value.
@@ -111,6 +129,14 @@ pub enum Error {
 
 fn line_suffix(line: Option<usize>) -> String {
     line.map(|l| format!(":{l}")).unwrap_or_default()
+}
+
+fn missing_material_phrase(material: &str) -> String {
+    if material.is_empty() {
+        "has faces without a material (no `usemtl` before them)".to_owned()
+    } else {
+        format!("uses material `{material}`, which no MTL file defines")
+    }
 }
 
 /// The library's result type.

@@ -10,7 +10,8 @@ pub use error::{Error, Result};
 pub use mesh::{Cell, Element, Mesh, MeshVertex, Patch, SquareMeshSettings, mesh_square};
 pub use radiometry::{disc_form_factor, polygon_form_factor};
 pub use scene::{
-    Camera, CameraFrame, Material, PlaneFrame, Rgb, Scene, SceneOptions, Surface, Visibility,
-    Warning, newell_normal,
+    Camera, CameraFrame, LoadedScene, Material, PlaneFrame, PolygonPlane, Rgb, Scene, SceneOptions,
+    Surface, Visibility, Warning, best_fit_plane, builtin_names, load_obj, load_scene,
+    load_scene_file, newell_normal, triangulate_polygon,
 };
 pub use solver::{EnergyBalance, Solver, SolverSettings};

@@ -1,13 +1,28 @@
 //! Scenes: planar surfaces with diffuse materials, a camera, and loaders.
 
+mod builtin;
 mod camera;
+mod load;
 mod material;
+mod mtl;
+mod obj;
+mod obj_scan;
+mod polygon;
+mod scene_file;
+mod source;
 mod surface;
+mod triangulate;
 mod visibility;
 
+pub use builtin::builtin_names;
 pub use camera::{Camera, CameraFrame};
+pub use load::{LoadedScene, load_scene};
 pub use material::{Material, Rgb};
+pub use obj::load_obj;
+pub use polygon::{PolygonPlane, best_fit_plane};
+pub use scene_file::load_scene_file;
 pub use surface::{PlaneFrame, Surface, newell_normal};
+pub use triangulate::triangulate_polygon;
 pub use visibility::Visibility;
 
 use glam::DVec3;
@@ -69,6 +84,16 @@ impl Scene {
     #[must_use]
     pub fn material_of(&self, surface: &Surface) -> &Material {
         &self.materials[surface.material]
+    }
+
+    /// Total emitted power Φ = Σ π L_e A over emitting surfaces, per channel
+    /// (W when lengths are in metres and L_e in W/(m²·sr)).
+    #[must_use]
+    pub fn emitted_power(&self) -> Rgb {
+        self.surfaces
+            .iter()
+            .map(|s| self.material_of(s).emitted_radiosity() * s.area())
+            .sum()
     }
 }
 

@@ -1,0 +1,62 @@
+//! The one entry point for loading a scene: a scene file, an OBJ file, or a
+//! built-in scene's name.
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+
+use super::builtin::{builtin_names, load_builtin};
+use super::obj::load_obj;
+use super::scene_file::load_scene_file;
+use super::{Scene, SceneOptions};
+
+/// A loaded scene with the settings its file carries.
+#[derive(Clone, Debug)]
+pub struct LoadedScene {
+    /// The scene.
+    pub scene: Scene,
+    /// The scene file's `[solver]` and `[mesh]` settings (all `None` for an
+    /// OBJ file).
+    pub options: SceneOptions,
+    /// Where the scene came from, for messages: the path as given, or the
+    /// built-in scene's name.
+    pub source: String,
+}
+
+/// Loads a scene from `spec`: a `.toml` scene file, an `.obj` file (with its
+/// MTL libraries), or the name of a built-in scene (see [`builtin_names`]).
+///
+/// A file takes precedence over a built-in name. Anything else is
+/// [`Error::UnknownScene`].
+///
+/// ```
+/// let loaded = isorad::load_scene("cornell")?;
+/// assert_eq!(loaded.scene.surfaces.len(), 16);
+/// # Ok::<(), isorad::Error>(())
+/// ```
+pub fn load_scene(spec: &str) -> Result<LoadedScene> {
+    let path = Path::new(spec);
+    if path.is_file() {
+        let extension = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        return match extension.as_deref() {
+            Some("toml") => load_scene_file(path),
+            Some("obj") => Ok(LoadedScene {
+                scene: load_obj(path)?,
+                options: SceneOptions::default(),
+                source: spec.to_owned(),
+            }),
+            _ => Err(Error::SceneFile {
+                path: path.to_path_buf(),
+                message: "expected a `.toml` scene file or an `.obj` file".into(),
+            }),
+        };
+    }
+    load_builtin(spec).unwrap_or_else(|| {
+        Err(Error::UnknownScene {
+            name: spec.to_owned(),
+            builtins: builtin_names().join(", "),
+        })
+    })
+}

@@ -1,0 +1,159 @@
+//! MTL material libraries: a line-by-line check with line numbers, parsing
+//! through tobj, and conversion to [`Material`].
+//!
+//! Only `Kd` (diffuse reflectance ρ, 0 ≤ ρ < 1 per channel) and `Ke`
+//! (emitted radiance L_e ≥ 0) matter to isorad; other statements are checked
+//! only as far as tobj needs them to be well formed.
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+
+use super::material::{Material, Rgb};
+
+/// Checks an MTL text before tobj parses it, so that errors carry a line
+/// number and out-of-range colours are caught (tobj itself would panic on a
+/// colour with fewer than three numbers).
+pub(crate) fn check_mtl(path: &Path, text: &str) -> Result<()> {
+    let mut material = String::new();
+    for (index, line) in text.lines().enumerate() {
+        let number = index + 1;
+        let mut words = line.split_whitespace();
+        let Some(keyword) = words.next() else {
+            continue;
+        };
+        let parse_error = |message: String| Error::MtlParse {
+            path: path.to_path_buf(),
+            line: Some(number),
+            message,
+        };
+        match keyword {
+            "newmtl" => {
+                material = line.trim()["newmtl".len()..].trim().to_owned();
+                if material.is_empty() {
+                    return Err(parse_error("`newmtl` without a material name".into()));
+                }
+            }
+            "Ka" | "Kd" | "Ks" | "Ke" => {
+                let Some(rgb) = parse_rgb(&mut words) else {
+                    return Err(parse_error(format!(
+                        "`{keyword}` needs three numbers (r g b)"
+                    )));
+                };
+                check_colour(keyword, rgb).map_err(|message| Error::InvalidMaterial {
+                    path: path.to_path_buf(),
+                    line: Some(number),
+                    material: material.clone(),
+                    message,
+                })?;
+            }
+            "Ns" | "Ni" | "d" if words.next().and_then(|w| w.parse::<f32>().ok()).is_none() => {
+                return Err(parse_error(format!("`{keyword}` needs a number")));
+            }
+            "illum" if words.next().and_then(|w| w.parse::<u8>().ok()).is_none() => {
+                return Err(parse_error("`illum` needs an integer in 0..=255".into()));
+            }
+            _ if (keyword.starts_with("map_") || keyword == "bump") && words.next().is_none() => {
+                return Err(parse_error(format!("`{keyword}` needs a file name")));
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// The first three words as numbers, read as tobj reads them (f32).
+fn parse_rgb(words: &mut std::str::SplitWhitespace) -> Option<[f32; 3]> {
+    let mut rgb = [0.0; 3];
+    for c in &mut rgb {
+        *c = words.next()?.parse().ok()?;
+    }
+    Some(rgb)
+}
+
+/// Range checks: `Kd` finite and in [0, 1), `Ke` finite and ≥ 0.
+fn check_colour(keyword: &str, rgb: [f32; 3]) -> Result<(), String> {
+    let shown = || format!("{keyword} = ({} {} {})", rgb[0], rgb[1], rgb[2]);
+    if rgb.iter().any(|c| !c.is_finite()) {
+        return Err(format!("{}: not a finite colour", shown()));
+    }
+    match keyword {
+        "Kd" if rgb.iter().any(|&c| !(0.0..1.0).contains(&c)) => Err(format!(
+            "{}: diffuse reflectance must be at least 0 and below 1 in every channel",
+            shown()
+        )),
+        "Ke" if rgb.iter().any(|&c| c < 0.0) => Err(format!(
+            "{}: emitted radiance must not be negative",
+            shown()
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// Checks an MTL text, then parses it with tobj. The result is tobj's
+/// (always `Ok` here), ready to hand back to tobj's OBJ loader.
+pub(crate) fn parse_mtl(path: &Path, text: &str) -> Result<tobj::MTLLoadResult> {
+    check_mtl(path, text)?;
+    let parsed = tobj::load_mtl_buf(&mut text.as_bytes());
+    if let Err(e) = &parsed {
+        return Err(Error::MtlParse {
+            path: path.to_path_buf(),
+            line: None,
+            message: e.to_string(),
+        });
+    }
+    Ok(parsed)
+}
+
+/// Converts a (checked) tobj material: `Kd` → reflectance, `Ke` → emitted
+/// radiance, a missing one taken as zero. Also returns a warning when `Kd`
+/// is missing.
+#[must_use]
+pub(crate) fn to_material(m: &tobj::Material) -> (Material, Option<String>) {
+    let rgb = |c: [f32; 3]| Rgb::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]));
+    let warning = m
+        .diffuse
+        .is_none()
+        .then(|| format!("material `{}` has no `Kd`: it reflects nothing", m.name));
+    let material = Material {
+        name: m.name.clone(),
+        reflectance: m.diffuse.map_or(Rgb::ZERO, rgb),
+        emitted_radiance: m.emissive.map_or(Rgb::ZERO, rgb),
+    };
+    (material, warning)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check(text: &str) -> Result<()> {
+        check_mtl(Path::new("t.mtl"), text)
+    }
+
+    #[test]
+    fn good_library_passes() {
+        let text = "# comment\nnewmtl white\nKd 0.7 0.7 0.7\nKe 0 0 0\nNs 10\nillum 1\n";
+        assert!(check(text).is_ok());
+        let (m, _) = parse_mtl(Path::new("t.mtl"), text).unwrap().unwrap();
+        let (material, warning) = to_material(&m[0]);
+        assert!((material.reflectance.x - 0.7).abs() < 1e-6);
+        assert!(warning.is_none());
+    }
+
+    #[test]
+    fn errors_carry_line_and_material() {
+        let e = check("newmtl a\n\nKd 0.5 0.5\n").unwrap_err().to_string();
+        assert!(e.contains("t.mtl:3") && e.contains("three numbers"), "{e}");
+        let e = check("newmtl wall\nKd 1 0.5 0.5\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("t.mtl:2") && e.contains("`wall`"), "{e}");
+        let e = check("newmtl lamp\nKe 1 -1 1\n").unwrap_err().to_string();
+        assert!(e.contains("`lamp`") && e.contains("negative"), "{e}");
+        let e = check("newmtl x\nKd nan 0 0\n").unwrap_err().to_string();
+        assert!(e.contains("finite"), "{e}");
+        assert!(check("newmtl\n").is_err());
+        assert!(check("newmtl x\nillum\n").is_err());
+    }
+}

@@ -1,0 +1,310 @@
+//! Wavefront OBJ + MTL scenes, read with tobj.
+//!
+//! Every face (`f`) becomes one [`Surface`] — quads and n-gons stay whole —
+//! named after its object or group (`o`/`g`), with the material of the last
+//! `usemtl`. MTL `Kd` is the diffuse reflectance ρ (0 ≤ ρ < 1 per channel),
+//! `Ke` the emitted radiance L_e (≥ 0), as in pbrt and Mitsuba.
+//!
+//! Faces that are slightly off plane are projected onto their best-fit
+//! plane; clearly non-planar faces are split into triangles and degenerate
+//! ones skipped, with a warning in [`Scene::warnings`] (see
+//! [`clean_polygon`]). Polylines (`l`) are ignored with a warning.
+//!
+//! Errors name the file and the line or object: malformed statements,
+//! non-finite coordinates, out-of-range `Kd`/`Ke`, an unreadable MTL file, a
+//! face without a known material, and a scene without surfaces or without
+//! an emitter.
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+
+use crate::error::{Error, Result};
+
+use super::Scene;
+use super::Warning;
+use super::material::Material;
+use super::mtl::{parse_mtl, to_material};
+use super::obj_scan::{ObjScan, scan_obj};
+use super::polygon::clean_polygon;
+use super::source::{Disk, SourceFiles};
+use super::surface::Surface;
+
+/// Warnings kept per object before the rest are only counted.
+const WARNINGS_PER_OBJECT: usize = 10;
+
+/// Loads an OBJ file and the MTL libraries it names (relative to the OBJ's
+/// directory). The scene has no camera; see [`Scene::camera_or_default`].
+pub fn load_obj(path: &Path) -> Result<Scene> {
+    load_obj_from(path, &Disk)
+}
+
+/// [`load_obj`] reading the OBJ and its MTL files from `files`.
+pub(crate) fn load_obj_from(path: &Path, files: &dyn SourceFiles) -> Result<Scene> {
+    // Read and check the text, with line numbers.
+    let text = files.read_to_string(path)?;
+    let scan = scan_obj(path, &text)?;
+    // Parse with tobj, loading each MTL through our checks.
+    let parsed = parse_with_tobj(path, &text, &scan, files)?;
+    let mut scene = Scene {
+        materials: parsed.materials,
+        warnings: parsed.warnings,
+        ..Scene::default()
+    };
+    if !scan.polyline_lines.is_empty() {
+        scene.warnings.push(Warning {
+            message: format!(
+                "{}:{}: {} polyline (`l`) statement(s) ignored",
+                path.display(),
+                scan.polyline_lines[0],
+                scan.polyline_lines.len()
+            ),
+        });
+    }
+    // One face, one or more surfaces.
+    add_surfaces(path, &scan, &parsed.models, &mut scene)?;
+    check_not_empty(path, &scene)?;
+    Ok(scene)
+}
+
+/// tobj's output, with materials converted.
+struct Parsed {
+    models: Vec<tobj::Model>,
+    materials: Vec<Material>,
+    warnings: Vec<Warning>,
+}
+
+/// Runs tobj on the text (polylines blanked out), with a material loader
+/// that reads MTL files through `files` and checks them.
+fn parse_with_tobj(
+    path: &Path,
+    text: &str,
+    scan: &ObjScan,
+    files: &dyn SourceFiles,
+) -> Result<Parsed> {
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let failure: RefCell<Option<Error>> = RefCell::new(None);
+    let warnings: RefCell<Vec<Warning>> = RefCell::new(Vec::new());
+    let loader = |mtl: &Path| -> tobj::MTLLoadResult {
+        let mtl_path = dir.join(mtl);
+        match load_mtl(path, mtl, &mtl_path, files) {
+            Ok((parsed, mut w)) => {
+                warnings.borrow_mut().append(&mut w);
+                parsed
+            }
+            Err(e) => {
+                failure.borrow_mut().get_or_insert(e);
+                Err(tobj::LoadError::OpenFileFailed)
+            }
+        }
+    };
+    let options = tobj::LoadOptions {
+        single_index: true,
+        triangulate: false,
+        ..Default::default()
+    };
+    let source = without_polylines(text, scan);
+    let result = tobj::load_obj_buf(&mut source.as_bytes(), &options, loader);
+    // A failed MTL is the first thing to report.
+    if let Some(e) = failure.into_inner() {
+        return Err(e);
+    }
+    let tobj_error = |e: tobj::LoadError| Error::ObjParse {
+        path: path.to_path_buf(),
+        line: None,
+        message: e.to_string(),
+    };
+    let (models, materials) = result.map_err(tobj_error)?;
+    let materials = materials.map_err(tobj_error)?;
+    Ok(Parsed {
+        models,
+        materials: materials.iter().map(|m| to_material(m).0).collect(),
+        warnings: warnings.into_inner(),
+    })
+}
+
+/// The OBJ text with polyline statements commented out (tobj would read an
+/// `l` of three or more points as a face); line numbers are kept.
+fn without_polylines<'a>(text: &'a str, scan: &ObjScan) -> std::borrow::Cow<'a, str> {
+    if scan.polyline_lines.is_empty() {
+        return text.into();
+    }
+    text.lines()
+        .map(|line| match line.split_whitespace().next() {
+            Some("l") => "# polyline ignored",
+            _ => line,
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        .into()
+}
+
+/// Reads, checks and parses one MTL library named `mtl` by the OBJ at `obj`.
+fn load_mtl(
+    obj: &Path,
+    mtl: &Path,
+    mtl_path: &Path,
+    files: &dyn SourceFiles,
+) -> Result<(tobj::MTLLoadResult, Vec<Warning>)> {
+    let text = files
+        .read_to_string(mtl_path)
+        .map_err(|e| Error::MissingMtl {
+            path: obj.to_path_buf(),
+            mtl: mtl.display().to_string(),
+            message: match e {
+                Error::Io { path, source } => format!("{}: {source}", path.display()),
+                other => other.to_string(),
+            },
+        })?;
+    let parsed = parse_mtl(mtl_path, &text)?;
+    let materials = parsed.as_ref().map(|p| p.0.as_slice()).unwrap_or_default();
+    let warnings = materials
+        .iter()
+        .filter_map(|m| to_material(m).1)
+        .map(|message| Warning {
+            message: format!("{}: {message}", mtl_path.display()),
+        })
+        .collect();
+    Ok((parsed, warnings))
+}
+
+/// Turns every face of every model into surfaces, in file order.
+fn add_surfaces(
+    path: &Path,
+    scan: &ObjScan,
+    models: &[tobj::Model],
+    scene: &mut Scene,
+) -> Result<()> {
+    let mut face = 0; // index into scan.face_lines
+    let mut warned: HashMap<&str, usize> = HashMap::new();
+    for model in models {
+        let mesh = &model.mesh;
+        let arities = face_arities(mesh);
+        let first_line = scan.face_lines.get(face).copied();
+        if arities.is_empty() {
+            continue;
+        }
+        // Every face needs a material that a library defines.
+        let material = mesh
+            .material_id
+            .filter(|&m| m < scene.materials.len())
+            .ok_or_else(|| missing_material(path, scan, &model.name, first_line))?;
+        let mut start = 0;
+        for arity in arities {
+            let line = scan.face_lines.get(face).copied();
+            let vertices = face_vertices(mesh, start, arity).ok_or_else(|| Error::ObjParse {
+                path: path.to_path_buf(),
+                line,
+                message: format!("object `{}`: face refers to a missing vertex", model.name),
+            })?;
+            if vertices.iter().any(|v| !v.is_finite()) {
+                return Err(Error::NonFiniteCoordinate {
+                    path: path.to_path_buf(),
+                    line,
+                    object: model.name.clone(),
+                });
+            }
+            let cleaned = clean_polygon(&model.name, material, &vertices);
+            if let Some(message) = cleaned.warning {
+                let count = warned.entry(model.name.as_str()).or_default();
+                *count += 1;
+                if *count <= WARNINGS_PER_OBJECT {
+                    scene.warnings.push(located(path, line, &message));
+                }
+            }
+            scene.surfaces.extend(cleaned.surfaces);
+            start += arity;
+            face += 1;
+        }
+    }
+    summarise_warnings(path, &warned, &mut scene.warnings);
+    Ok(())
+}
+
+/// The number of vertices of each face; tobj leaves `face_arities` empty
+/// when every face is a triangle.
+fn face_arities(mesh: &tobj::Mesh) -> Vec<usize> {
+    if mesh.face_arities.is_empty() {
+        vec![3; mesh.indices.len() / 3]
+    } else {
+        mesh.face_arities.iter().map(|&a| a as usize).collect()
+    }
+}
+
+/// The positions of the face whose indices start at `start`.
+fn face_vertices(mesh: &tobj::Mesh, start: usize, arity: usize) -> Option<Vec<DVec3>> {
+    let indices = mesh.indices.get(start..start + arity)?;
+    indices
+        .iter()
+        .map(|&i| {
+            let i = i as usize * 3;
+            let p = mesh.positions.get(i..i + 3)?;
+            Some(DVec3::new(
+                f64::from(p[0]),
+                f64::from(p[1]),
+                f64::from(p[2]),
+            ))
+        })
+        .collect()
+}
+
+/// The error for a model without a known material: names the `usemtl` in
+/// force at its first face, or that face when there is none.
+fn missing_material(path: &Path, scan: &ObjScan, object: &str, face_line: Option<usize>) -> Error {
+    let usemtl = face_line.and_then(|l| scan.material_at(l));
+    Error::MissingMaterial {
+        path: path.to_path_buf(),
+        line: usemtl.map(|(l, _)| *l).or(face_line),
+        object: object.to_owned(),
+        material: usemtl.map(|(_, m)| m.clone()).unwrap_or_default(),
+    }
+}
+
+/// A warning prefixed with the file and line.
+fn located(path: &Path, line: Option<usize>, message: &str) -> Warning {
+    let place = match line {
+        Some(l) => format!("{}:{l}", path.display()),
+        None => path.display().to_string(),
+    };
+    Warning {
+        message: format!("{place}: {message}"),
+    }
+}
+
+/// One warning per object whose warnings were cut at [`WARNINGS_PER_OBJECT`].
+fn summarise_warnings(path: &Path, warned: &HashMap<&str, usize>, warnings: &mut Vec<Warning>) {
+    let mut over: Vec<(&str, usize)> = warned
+        .iter()
+        .filter(|&(_, &n)| n > WARNINGS_PER_OBJECT)
+        .map(|(&o, &n)| (o, n - WARNINGS_PER_OBJECT))
+        .collect();
+    over.sort_unstable();
+    for (object, more) in over {
+        warnings.push(Warning {
+            message: format!(
+                "{}: object `{object}`: {more} more faces repaired or skipped",
+                path.display()
+            ),
+        });
+    }
+}
+
+/// A scene needs a surface and an emitting surface.
+fn check_not_empty(path: &Path, scene: &Scene) -> Result<()> {
+    let empty = |message: &str| Error::EmptyScene {
+        path: PathBuf::from(path),
+        message: message.to_owned(),
+    };
+    if scene.surfaces.is_empty() {
+        return Err(empty("the scene has no usable faces"));
+    }
+    let emits = |s: &Surface| scene.material_of(s).is_emitter();
+    if !scene.surfaces.iter().any(emits) {
+        return Err(empty(
+            "the scene has no emitter: no face uses a material with a positive `Ke`",
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,284 @@
+//! Polygon geometry for loaders: best-fit planes, projection, and the
+//! clean-up that turns a raw face into planar [`Surface`]s.
+//!
+//! A face read from a file is a list of 3D points. Radiosity needs planar
+//! polygons, so each face is
+//! - cleaned of consecutive repeated vertices;
+//! - **skipped** when fewer than three distinct vertices remain or its area
+//!   is below [`DEGENERATE_AREA_RATIO`] × diameter²;
+//! - **projected** onto its best-fit plane when nearly planar (every vertex
+//!   within [`PLANARITY_TOLERANCE`] × diameter of the plane: measured scenes
+//!   such as the Cornell box have walls a millimetre off plane);
+//! - **split into triangles** (ear clipping in the best-fit plane) otherwise.
+//!
+//! Skips and splits come back with a warning naming the object.
+
+use glam::{DVec2, DVec3};
+
+use super::surface::{PlaneFrame, Surface, newell_normal};
+use super::triangulate::triangulate_polygon;
+
+/// Largest distance of a vertex from the best-fit plane, as a fraction of the
+/// polygon's diameter, for the polygon to count as planar (1 %).
+pub const PLANARITY_TOLERANCE: f64 = 0.01;
+
+/// Smallest area, as a fraction of the squared diameter, for a polygon not
+/// to count as degenerate.
+pub const DEGENERATE_AREA_RATIO: f64 = 1e-12;
+
+/// Relative distance under which consecutive vertices count as repeated.
+const DUPLICATE_RATIO: f64 = 1e-10;
+
+/// The best-fit plane of a 3D polygon and how far the polygon is from it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PolygonPlane {
+    /// Plane frame: origin at the vertex centroid, normal along Newell's
+    /// normal (so the polygon is counter-clockwise in (u, v)).
+    pub frame: PlaneFrame,
+    /// Area of the polygon projected on the plane, |N_newell| / 2.
+    pub area: f64,
+    /// Largest distance of a vertex from the plane.
+    pub max_deviation: f64,
+    /// Largest distance between two vertices.
+    pub diameter: f64,
+}
+
+/// The best-fit plane of a polygon: through the vertex centroid
+/// c = (1/n) Σ p_i, with Newell's normal N = Σ p_i × p_{i+1} (normalised).
+///
+/// For a non-planar polygon this is the plane of its "vector area"; the
+/// polygon's projection onto it has area |N| / 2. Returns `None` for fewer
+/// than three vertices, a non-finite coordinate or a zero normal.
+///
+/// # References
+/// Sutherland, Sproull, Schumacker (1974), Newell's method; Tampieri,
+/// "Newell's Method for Computing the Plane Equation of a Polygon",
+/// *Graphics Gems III* (1992).
+#[must_use]
+pub fn best_fit_plane(vertices: &[DVec3]) -> Option<PolygonPlane> {
+    if vertices.len() < 3 || vertices.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let twice_area_normal = newell_normal(vertices);
+    let length = twice_area_normal.length();
+    if !length.is_finite() || length <= 0.0 {
+        return None;
+    }
+    let centroid = vertices.iter().copied().sum::<DVec3>() / vertices.len() as f64;
+    let frame = PlaneFrame::new(centroid, twice_area_normal / length);
+    let max_deviation = vertices
+        .iter()
+        .map(|&p| frame.height(p).abs())
+        .fold(0.0, f64::max);
+    Some(PolygonPlane {
+        frame,
+        area: 0.5 * length,
+        max_deviation,
+        diameter: polygon_diameter(vertices),
+    })
+}
+
+/// The largest distance between two vertices, max |p_i − p_j| (O(n²)).
+#[must_use]
+pub fn polygon_diameter(vertices: &[DVec3]) -> f64 {
+    let mut diameter_squared: f64 = 0.0;
+    for (i, a) in vertices.iter().enumerate() {
+        for b in &vertices[i + 1..] {
+            diameter_squared = diameter_squared.max(a.distance_squared(*b));
+        }
+    }
+    diameter_squared.sqrt()
+}
+
+/// Orthogonal projection of points onto a plane: p − ((p − o)·n) n.
+#[must_use]
+pub fn project_onto_plane(vertices: &[DVec3], frame: &PlaneFrame) -> Vec<DVec3> {
+    vertices
+        .iter()
+        .map(|&p| p - frame.normal * frame.height(p))
+        .collect()
+}
+
+/// Removes consecutive repeated vertices (including the last against the
+/// first): those closer than `tolerance`.
+#[must_use]
+pub fn remove_repeated_vertices(vertices: &[DVec3], tolerance: f64) -> Vec<DVec3> {
+    let mut kept: Vec<DVec3> = Vec::with_capacity(vertices.len());
+    for &p in vertices {
+        if kept.last().is_none_or(|q| q.distance(p) > tolerance) {
+            kept.push(p);
+        }
+    }
+    while kept.len() > 1 && kept[0].distance(kept[kept.len() - 1]) <= tolerance {
+        kept.pop();
+    }
+    kept
+}
+
+/// What [`clean_polygon`] made of a raw face.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CleanedPolygon {
+    /// Zero (skipped), one (planar) or several (split) planar surfaces.
+    pub surfaces: Vec<Surface>,
+    /// What was repaired or skipped, naming the object; `None` when the face
+    /// was used as it is (or projected by less than the tolerance).
+    pub warning: Option<String>,
+}
+
+/// Turns a raw face into planar surfaces named `object` with `material`.
+///
+/// The face's vertices are counter-clockwise seen from its front. Repeated
+/// consecutive vertices are dropped; a face with fewer than three distinct
+/// vertices or area < [`DEGENERATE_AREA_RATIO`] · d² (d its diameter) is
+/// skipped; a face within [`PLANARITY_TOLERANCE`] · d of its best-fit plane
+/// is projected onto it; any other face is split into triangles by ear
+/// clipping in that plane, each triangle keeping the original vertices (a
+/// triangle is always planar). Skips and splits carry a warning.
+#[must_use]
+pub fn clean_polygon(object: &str, material: usize, vertices: &[DVec3]) -> CleanedPolygon {
+    let skipped = |why: String| CleanedPolygon {
+        surfaces: Vec::new(),
+        warning: Some(format!("object `{object}`: face skipped: {why}")),
+    };
+    if vertices.iter().any(|v| !v.is_finite()) {
+        return skipped("it has a non-finite coordinate".into());
+    }
+    // Drop repeated vertices, relative to the face's size.
+    let raw_diameter = polygon_diameter(vertices);
+    let distinct = remove_repeated_vertices(vertices, DUPLICATE_RATIO * raw_diameter);
+    if distinct.len() < 3 {
+        return skipped(format!(
+            "it has {} distinct vertices, fewer than 3",
+            distinct.len()
+        ));
+    }
+    // Degenerate: no plane, or an area negligible against the diameter².
+    let plane = match best_fit_plane(&distinct) {
+        Some(p) if p.area >= DEGENERATE_AREA_RATIO * p.diameter * p.diameter => p,
+        _ => return skipped("its area is zero".into()),
+    };
+    // Nearly planar: project onto the best-fit plane.
+    if plane.max_deviation <= PLANARITY_TOLERANCE * plane.diameter {
+        let projected = project_onto_plane(&distinct, &plane.frame);
+        return match Surface::new(object, material, projected) {
+            Some(s) => CleanedPolygon {
+                surfaces: vec![s],
+                warning: None,
+            },
+            None => skipped("its area is zero".into()),
+        };
+    }
+    // Clearly non-planar: ear-clip in the best-fit plane.
+    let surfaces = split_into_triangles(object, material, &distinct, &plane.frame);
+    let warning = format!(
+        "object `{object}`: face is not planar (a vertex lies {:.3} off its best-fit plane, \
+         {:.1} % of its size); split into {} triangles",
+        plane.max_deviation,
+        100.0 * plane.max_deviation / plane.diameter,
+        surfaces.len()
+    );
+    CleanedPolygon {
+        surfaces,
+        warning: Some(warning),
+    }
+}
+
+/// Triangulates a non-planar polygon in the plane `frame` (where it is
+/// counter-clockwise) and makes a surface of each non-degenerate triangle.
+fn split_into_triangles(
+    object: &str,
+    material: usize,
+    vertices: &[DVec3],
+    frame: &PlaneFrame,
+) -> Vec<Surface> {
+    let plane_points: Vec<DVec2> = vertices.iter().map(|&p| frame.to_plane(p)).collect();
+    triangulate_polygon(&plane_points)
+        .into_iter()
+        .filter_map(|[a, b, c]| {
+            Surface::new(
+                object,
+                material,
+                vec![vertices[a], vertices[b], vertices[c]],
+            )
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(x: f64, y: f64, z: f64) -> DVec3 {
+        DVec3::new(x, y, z)
+    }
+
+    #[test]
+    fn plane_of_a_tilted_square() {
+        let square = [v(0., 0., 0.), v(2., 0., 0.), v(2., 2., 1.), v(0., 2., 1.)];
+        let plane = best_fit_plane(&square).unwrap();
+        assert!(plane.max_deviation < 1e-12);
+        assert!((plane.area - 2.0 * 5f64.sqrt()).abs() < 1e-12);
+        assert!((plane.diameter - 3.0).abs() < 1e-12);
+        let n = plane.frame.normal;
+        assert!((n - v(0., -1., 2.).normalize()).length() < 1e-12);
+    }
+
+    #[test]
+    fn projection_lands_on_the_plane() {
+        let quad = [v(0., 0., 0.), v(1., 0., 0.1), v(1., 1., 0.), v(0., 1., 0.1)];
+        let plane = best_fit_plane(&quad).unwrap();
+        assert!((plane.max_deviation - 0.05).abs() < 1e-12);
+        for p in project_onto_plane(&quad, &plane.frame) {
+            assert!(plane.frame.height(p).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn nearly_planar_face_is_projected_silently() {
+        let quad = [
+            v(0., 0., 0.),
+            v(10., 0., 0.05),
+            v(10., 10., 0.),
+            v(0., 10., 0.05),
+        ];
+        let cleaned = clean_polygon("wall", 3, &quad);
+        assert_eq!(cleaned.surfaces.len(), 1);
+        assert!(cleaned.warning.is_none());
+        assert_eq!(cleaned.surfaces[0].material, 3);
+        assert!((cleaned.surfaces[0].area() - 100.0).abs() < 0.01);
+    }
+
+    #[test]
+    fn non_planar_face_is_split_with_warning() {
+        let quad = [v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.3), v(0., 1., 0.)];
+        let cleaned = clean_polygon("bent", 0, &quad);
+        assert_eq!(cleaned.surfaces.len(), 2);
+        let warning = cleaned.warning.unwrap();
+        assert!(warning.contains("`bent`") && warning.contains("2 triangles"));
+        for s in &cleaned.surfaces {
+            assert!(s.normal().z > 0.9, "triangles keep the face's front side");
+        }
+    }
+
+    #[test]
+    fn repeated_and_degenerate_faces() {
+        let repeated = [
+            v(0., 0., 0.),
+            v(0., 0., 0.),
+            v(1., 0., 0.),
+            v(0., 1., 0.),
+            v(0., 0., 0.),
+        ];
+        let cleaned = clean_polygon("r", 0, &repeated);
+        assert_eq!(cleaned.surfaces[0].vertices().len(), 3);
+        assert!(cleaned.warning.is_none());
+        let two = [v(0., 0., 0.), v(1., 0., 0.), v(1., 0., 0.)];
+        let cleaned = clean_polygon("two", 0, &two);
+        assert!(cleaned.surfaces.is_empty());
+        assert!(cleaned.warning.unwrap().contains("`two`"));
+        let line = [v(0., 0., 0.), v(1., 0., 0.), v(2., 0., 0.)];
+        let cleaned = clean_polygon("line", 0, &line);
+        assert!(cleaned.surfaces.is_empty());
+        assert!(cleaned.warning.unwrap().contains("area is zero"));
+    }
+}
