@@ -78,7 +78,7 @@ impl Surface {
         }
         let twice_area_normal = newell_normal(&vertices);
         let area = 0.5 * twice_area_normal.length();
-        if !(area > 0.0) || !area.is_finite() {
+        if !area.is_finite() || area <= 0.0 {
             return None;
         }
         let normal = twice_area_normal / (2.0 * area);
