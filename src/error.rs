@@ -117,6 +117,15 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// An image file could be opened but not decoded (malformed, or not the
+    /// expected kind of image).
+    #[error("{path}: cannot read image: {message}")]
+    InvalidImage {
+        /// The image file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
     /// An output image or file could not be encoded.
     #[error("{path}: cannot write: {message}")]
     Output {

@@ -82,16 +82,30 @@ fn main() -> ExitCode {
 
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
-    let LoadedScene { scene, options, source } = load_scene(&args.scene)?;
+    let LoadedScene {
+        scene,
+        options,
+        source,
+    } = load_scene(&args.scene)?;
     for warning in &scene.warnings {
         eprintln!("warning: {}", warning.message);
     }
     // Mesh: the scene file's settings, then the flags.
-    let mesh_kind = args.mesh.as_deref().or(options.mesh_kind.as_deref()).unwrap_or("square");
-    anyhow::ensure!(mesh_kind == "square", "--mesh {mesh_kind}: only \"square\" is available");
+    let mesh_kind = args
+        .mesh
+        .as_deref()
+        .or(options.mesh_kind.as_deref())
+        .unwrap_or("square");
+    anyhow::ensure!(
+        mesh_kind == "square",
+        "--mesh {mesh_kind}: only \"square\" is available"
+    );
     let mut mesh_settings = SquareMeshSettings::for_scene(&scene);
     if let Some(max_edge) = args.max_edge.or(options.max_edge) {
-        anyhow::ensure!(max_edge > 0.0 && max_edge.is_finite(), "--max-edge {max_edge} is not positive");
+        anyhow::ensure!(
+            max_edge > 0.0 && max_edge.is_finite(),
+            "--max-edge {max_edge} is not positive"
+        );
         mesh_settings.max_edge = max_edge;
         mesh_settings.patch_max_edge = mesh_settings.patch_max_edge.max(max_edge);
     }
@@ -111,7 +125,10 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let mut camera = scene.camera_or_default();
     camera.width = args.width.unwrap_or(camera.width);
     camera.height = args.height.unwrap_or(camera.height);
-    camera.validate().map_err(anyhow::Error::msg).context("camera")?;
+    camera
+        .validate()
+        .map_err(anyhow::Error::msg)
+        .context("camera")?;
     let triangles = mesh_triangles(&mesh, &solver.radiosity_with_ambient());
     let mut render_settings = RenderSettings::default();
     render_settings.supersampling = args.supersampling.clamp(1, 16);
@@ -148,7 +165,11 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
 /// scale from 100 % down to the tolerance.
 fn solve_with_progress(solver: &mut Solver, quiet: bool) {
     let tolerance = solver.settings().tolerance;
-    let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new(1000) };
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(1000)
+    };
     bar.set_style(
         ProgressStyle::with_template("{spinner} solving [{bar:40}] {msg} ({elapsed})")
             .unwrap_or_else(|_| ProgressStyle::default_bar())
@@ -159,7 +180,11 @@ fn solve_with_progress(solver: &mut Solver, quiet: bool) {
         let unshot = solver.unshot_fraction().max(1e-12);
         let done = (unshot.ln() / tolerance.ln()).clamp(0.0, 1.0);
         bar.set_position((1000.0 * done) as u64);
-        bar.set_message(format!("unshot {:.2} %, {} shots", 100.0 * unshot, solver.shots()));
+        bar.set_message(format!(
+            "unshot {:.2} %, {} shots",
+            100.0 * unshot,
+            solver.shots()
+        ));
     });
     bar.finish_and_clear();
 }

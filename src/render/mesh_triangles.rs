@@ -25,7 +25,11 @@ pub fn mesh_triangles(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<ShadedTriangle> {
             triangles.push(triangle(a, b, c));
             continue;
         }
-        let gap = |p: u32, q: u32| (radiosity[p as usize] - radiosity[q as usize]).abs().element_sum();
+        let gap = |p: u32, q: u32| {
+            (radiosity[p as usize] - radiosity[q as usize])
+                .abs()
+                .element_sum()
+        };
         if gap(a, c) <= gap(b, d) {
             triangles.push(triangle(a, b, c));
             triangles.push(triangle(a, c, d));
