@@ -162,7 +162,7 @@ pub fn clean_polygon(object: &str, material: usize, vertices: &[DVec3]) -> Clean
         let projected = project_onto_plane(&distinct, &plane.frame);
         return match Surface::new(object, material, projected) {
             Some(s) => CleanedPolygon {
-                surfaces: vec![s],
+                surfaces: vec![s.with_occluder(distinct)],
                 warning: None,
             },
             None => skipped("its area is zero".into()),

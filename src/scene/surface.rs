@@ -60,6 +60,8 @@ pub struct Surface {
     /// Index into [`crate::Scene::materials`].
     pub material: usize,
     vertices: Vec<DVec3>,
+    /// The polygon as the file gave it, before projection onto its plane.
+    occluder: Option<Vec<DVec3>>,
     frame: PlaneFrame,
     area: f64,
 }
@@ -87,9 +89,43 @@ impl Surface {
             name: name.into(),
             material,
             vertices,
+            occluder: None,
             frame: PlaneFrame::new(centroid, normal),
             area,
         })
+    }
+
+    /// Keeps `original`, the polygon as its file gave it (same vertex count
+    /// and order, before projection onto its best-fit plane), as the shape
+    /// that blocks light. Neighbouring faces share their edges with the
+    /// original, not with the projection: shadow rays tested against the
+    /// original shapes neither leak through nor stop short at the joins.
+    /// Ignored when the vertex counts differ.
+    #[must_use]
+    pub fn with_occluder(mut self, original: Vec<DVec3>) -> Surface {
+        if original.len() == self.vertices.len() && original != self.vertices {
+            self.occluder = Some(original);
+        }
+        self
+    }
+
+    /// The polygon that blocks light: the original vertices of a face that
+    /// was projected onto its plane, otherwise [`Surface::vertices`].
+    #[must_use]
+    pub fn occluder_vertices(&self) -> &[DVec3] {
+        self.occluder.as_deref().unwrap_or(&self.vertices)
+    }
+
+    /// How far the projection moved the file's vertices: the largest
+    /// distance between [`Surface::occluder_vertices`] and
+    /// [`Surface::vertices`] (zero for a face that was planar).
+    #[must_use]
+    pub fn projection_offset(&self) -> f64 {
+        self.occluder_vertices()
+            .iter()
+            .zip(&self.vertices)
+            .map(|(a, b)| a.distance(*b))
+            .fold(0.0, f64::max)
     }
 
     /// The polygon's vertices, counter-clockwise seen from the front.

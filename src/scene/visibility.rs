@@ -17,13 +17,19 @@ use super::Scene;
 /// from the origin keep their precision. The structure is plain data and is
 /// shared by all rayon workers.
 ///
-/// Callers offset segment end points off their surfaces (see
-/// [`Visibility::surface_offset`]), so that a ray never hits the surface it
-/// starts or ends on: no self-shadowing speckle on flat walls.
+/// The BVH holds each face as its file gave it ([`Surface::occluder_vertices`]),
+/// so faces meet exactly where the file says they do. A segment's two end
+/// surfaces never block it (a planar surface cannot block a segment leaving
+/// its front), and callers also lift end points off their surfaces (see
+/// [`Visibility::surface_offset`]): no self-shadowing speckle on flat walls.
+///
+/// [`Surface::occluder_vertices`]: crate::Surface::occluder_vertices
 pub struct Visibility {
     bvh: CwBvh,
     /// Triangles in the BVH's primitive order (`bvh.primitive_indices` applied).
     triangles: Vec<RtTriangle>,
+    /// The surface of each triangle, in the same order.
+    triangle_surfaces: Vec<u32>,
     centre: DVec3,
     surface_offset: f64,
 }
@@ -39,14 +45,16 @@ impl Visibility {
             Vec3A::new(q.x as f32, q.y as f32, q.z as f32)
         };
         let mut triangles = Vec::new();
-        for surface in &scene.surfaces {
-            let points = surface.vertices();
+        let mut surfaces = Vec::new();
+        for (index, surface) in scene.surfaces.iter().enumerate() {
+            let points = surface.occluder_vertices();
             for [a, b, c] in surface.triangles() {
                 triangles.push(Triangle {
                     v0: to_local(points[a]),
                     v1: to_local(points[b]),
                     v2: to_local(points[c]),
                 });
+                surfaces.push(index as u32);
             }
         }
         let bvh = build_cwbvh_from_tris(
@@ -54,14 +62,16 @@ impl Visibility {
             BvhBuildParams::medium_build(),
             &mut Duration::default(),
         );
-        let triangles = bvh
-            .primitive_indices
+        let order = &bvh.primitive_indices;
+        let triangle_surfaces = order.iter().map(|&i| surfaces[i as usize]).collect();
+        let triangles = order
             .iter()
             .map(|&i| RtTriangle::from(&triangles[i as usize]))
             .collect();
         Visibility {
             bvh,
             triangles,
+            triangle_surfaces,
             centre,
             surface_offset: 1e-5 * (max - min).length().max(f64::MIN_POSITIVE),
         }
@@ -75,10 +85,10 @@ impl Visibility {
         self.surface_offset
     }
 
-    /// True when nothing blocks the segment from `from` to `to`, end points
-    /// excluded.
+    /// True when no surface but the two given ones blocks the segment from
+    /// `from` to `to`, end points excluded.
     #[must_use]
-    pub fn is_unblocked(&self, from: DVec3, to: DVec3) -> bool {
+    pub fn is_unblocked(&self, from: DVec3, to: DVec3, end_surfaces: [u32; 2]) -> bool {
         let origin = from - self.centre;
         let direction = to - from;
         let ray = Ray::new(
@@ -87,8 +97,13 @@ impl Visibility {
             0.0,
             1.0,
         );
-        self.bvh
-            .ray_traverse_miss(ray, |ray, id| self.triangles[id].intersect(ray))
+        self.bvh.ray_traverse_miss(ray, |ray, id| {
+            if end_surfaces.contains(&self.triangle_surfaces[id]) {
+                f32::INFINITY
+            } else {
+                self.triangles[id].intersect(ray)
+            }
+        })
     }
 
     /// Number of triangles in the BVH (after any splitting by the builder).

@@ -134,7 +134,13 @@ impl<'a> Solver<'a> {
         let max_side = (self.settings.max_samples as f64).sqrt().floor().max(1.0) as usize;
         let min_side = ((self.settings.direct_samples as f64 * share).sqrt().round() as usize)
             .clamp(1, max_side);
-        let shooter = Shooter::new(patch.cell, surface.normal(), min_side, max_side);
+        let shooter = Shooter::new(
+            patch.cell,
+            surface.normal(),
+            patch.surface as u32,
+            min_side,
+            max_side,
+        );
         let (scene, mesh, visibility) = (self.scene, self.mesh, self.visibility);
         let (density, shot) = (self.settings.sample_density, self.shots as u64);
         let gathered: Vec<_> = mesh
@@ -148,6 +154,7 @@ impl<'a> Solver<'a> {
                 let receiver = Receiver {
                     position: vertex.receiver_position,
                     normal: scene.surfaces[vertex.surface as usize].normal(),
+                    surface: vertex.surface,
                     key: index as u64,
                 };
                 shooter.gather(&receiver, density, shot, visibility)

@@ -20,6 +20,8 @@ pub struct Shooter {
     pub cell: Cell,
     /// Unit normal of its front.
     pub normal: DVec3,
+    /// Index of its surface.
+    pub surface: u32,
     /// Stratified subdivisions: `strata[m]` holds the m² cells for m samples per side.
     strata: Vec<Vec<Cell>>,
     /// Fewest samples per side, from the shot's power.
@@ -33,6 +35,8 @@ pub struct Receiver {
     pub position: DVec3,
     /// Unit normal of the front.
     pub normal: DVec3,
+    /// Index of its surface.
+    pub surface: u32,
     /// Identifies the receiver in the random streams.
     pub key: u64,
 }
@@ -49,7 +53,13 @@ pub struct Gathered {
 impl Shooter {
     /// Prepares a patch to shoot with between `min_side²` and `max_side²` samples.
     #[must_use]
-    pub fn new(cell: Cell, normal: DVec3, min_side: usize, max_side: usize) -> Shooter {
+    pub fn new(
+        cell: Cell,
+        normal: DVec3,
+        surface: u32,
+        min_side: usize,
+        max_side: usize,
+    ) -> Shooter {
         let max_side = max_side.max(1);
         let min_side = min_side.clamp(1, max_side);
         let mut strata = vec![Vec::new(); max_side + 1];
@@ -59,6 +69,7 @@ impl Shooter {
         Shooter {
             cell,
             normal,
+            surface,
             strata,
             min_side,
         }
@@ -111,7 +122,11 @@ impl Shooter {
                 continue;
             };
             gathered.rays += 1;
-            if visibility.is_unblocked(origin, target + self.normal * offset) {
+            if visibility.is_unblocked(
+                origin,
+                target + self.normal * offset,
+                [receiver.surface, self.surface],
+            ) {
                 gathered.form_factor += factor;
             }
         }
