@@ -1,4 +1,69 @@
-//! isorad: progressive hierarchical radiosity with a radial contour-level mesher.
+//! isorad computes global illumination of diffuse polygonal scenes by
+//! **progressive radiosity**, and renders the view-independent solution with
+//! a Gouraud rasterizer to linear-radiance EXR and tone-mapped PNG.
+//!
+//! Units follow pbrt and Mitsuba, so that renders are comparable with a path
+//! tracer's: MTL `Kd` is diffuse reflectance, `Ke` emitted radiance L_e
+//! (exitance E = π L_e); radiosity B is in W/m²; images hold radiance B/π.
+//!
+//! # Example
+//!
+//! A closed cube whose faces all emit E = π and reflect half: the radiosity
+//! everywhere is E/(1 − ρ) = 2π.
+//!
+//! ```
+//! use glam::DVec3;
+//! use isorad::{Material, Rgb, Scene, Solver, SolverSettings, SquareMeshSettings, Surface, Visibility, mesh_square};
+//!
+//! let mut scene = Scene::default();
+//! scene.materials.push(Material {
+//!     name: "glowing wall".into(),
+//!     reflectance: Rgb::splat(0.5),
+//!     emitted_radiance: Rgb::splat(1.0),
+//! });
+//! // Six faces of the unit cube, counter-clockwise seen from inside.
+//! let corner = |axis: usize, side: f64, s: f64, t: f64| {
+//!     let mut p = [0.0; 3];
+//!     p[axis] = side;
+//!     p[(axis + 1) % 3] = s;
+//!     p[(axis + 2) % 3] = t;
+//!     DVec3::from_array(p)
+//! };
+//! for axis in 0..3 {
+//!     let low = vec![corner(axis, 0.0, 0.0, 0.0), corner(axis, 0.0, 1.0, 0.0), corner(axis, 0.0, 1.0, 1.0), corner(axis, 0.0, 0.0, 1.0)];
+//!     let high: Vec<DVec3> = low.iter().rev().map(|p| *p + DVec3::from_array({ let mut d = [0.0; 3]; d[axis] = 1.0; d })).collect();
+//!     scene.surfaces.push(Surface::new("face", 0, low).unwrap());
+//!     scene.surfaces.push(Surface::new("face", 0, high).unwrap());
+//! }
+//!
+//! let mut mesh_settings = SquareMeshSettings::for_scene(&scene);
+//! mesh_settings.max_edge = 0.125;
+//! let mesh = mesh_square(&scene, &mesh_settings);
+//! let visibility = Visibility::new(&scene);
+//! let mut settings = SolverSettings::default();
+//! settings.tolerance = 1e-3;
+//! let mut solver = Solver::new(&scene, &mesh, &visibility, settings)?;
+//! solver.run(|_| {});
+//! for radiosity in solver.radiosity() {
+//!     assert!((radiosity.x / (2.0 * std::f64::consts::PI) - 1.0).abs() < 0.01);
+//! }
+//! # Ok::<(), isorad::Error>(())
+//! ```
+//!
+//! To load files instead, use [`load_scene`] with a scene TOML, an OBJ path or
+//! the built-in name `"cornell"`; to look at the result, [`mesh_triangles`],
+//! [`rasterize`], [`write_exr`] and [`write_png`].
+//!
+//! # References
+//! - M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive
+//!   Refinement Approach to Fast Radiosity Image Generation", SIGGRAPH 1988.
+//! - J. R. Wallace, K. A. Elmquist, E. A. Haines, "A Ray Tracing Algorithm for
+//!   Progressive Radiosity", SIGGRAPH 1989.
+//! - J. H. Lambert, *Photometria*, 1760 (the exact polygon form factor).
+//! - P. Arquès, V. Biri, S. Derpierre, "A new formulation of differential
+//!   radiosity and a rendering application", WSCG 2005 (the contour mesher to come).
+//! - Y. Ylitie, T. Karras, S. Laine, "Efficient Incoherent Ray Traversal on
+//!   GPUs Through Compressed Wide BVHs", HPG 2017 (obvhs's CWBVH).
 
 mod error;
 mod mesh;

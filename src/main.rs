@@ -82,6 +82,10 @@ fn main() -> ExitCode {
 
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
+    // Outputs are checked first, so that a typo costs no solve.
+    for path in [&args.output, &args.png] {
+        ensure_directory_exists(path)?;
+    }
     let LoadedScene {
         scene,
         options,
@@ -157,6 +161,21 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         args.output.display(),
         args.png.display(),
         start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// Fails unless the directory that would hold `path` exists.
+fn ensure_directory_exists(path: &std::path::Path) -> anyhow::Result<()> {
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => std::path::Path::new("."),
+    };
+    anyhow::ensure!(
+        parent.is_dir(),
+        "{}: cannot write: directory {} does not exist",
+        path.display(),
+        parent.display()
     );
     Ok(())
 }

@@ -1,0 +1,108 @@
+//! The `isorad` binary, run for real on files in a temporary directory.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn isorad(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_isorad"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("the isorad binary runs")
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+#[test]
+fn render_with_no_scene_writes_the_cornell_box() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = isorad(
+        dir.path(),
+        &[
+            "render",
+            "--width",
+            "48",
+            "--height",
+            "48",
+            "--tolerance",
+            "0.05",
+            "-q",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let image = isorad::read_exr(&dir.path().join("isorad.exr")).unwrap();
+    assert_eq!((image.width(), image.height()), (48, 48));
+    let mean = image.mean();
+    assert!(mean.x > mean.z && mean.z > 0.0, "a warm, lit box: {mean}");
+    assert!(dir.path().join("isorad.png").is_file());
+    let summary = String::from_utf8_lossy(&out.stdout);
+    for word in [
+        "surfaces",
+        "elements",
+        "vertices",
+        "shots",
+        "shadow rays",
+        "rays/s",
+    ] {
+        assert!(summary.contains(word), "summary lacks `{word}`: {summary}");
+    }
+}
+
+#[test]
+fn an_unknown_scene_fails_with_its_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = isorad(dir.path(), &["render", "no-such-scene", "-q"]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("no-such-scene"), "{}", stderr(&out));
+}
+
+#[test]
+fn a_nan_vertex_fails_naming_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("bad.mtl"),
+        "newmtl m\nKd 0.5 0.5 0.5\nKe 1 1 1\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("bad.obj"),
+        "mtllib bad.mtl\no quad\nusemtl m\nv 0 0 0\nv 1 0 0\nv nan 1 0\nv 0 1 0\nf 1 2 3 4\n",
+    )
+    .unwrap();
+    let out = isorad(dir.path(), &["render", "bad.obj", "-q"]);
+    assert!(!out.status.success());
+    let message = stderr(&out);
+    assert!(
+        message.contains("bad.obj") && message.contains(":6"),
+        "{message}"
+    );
+}
+
+#[test]
+fn an_unwritable_output_fails_before_solving_and_keeps_existing_files() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("isorad.png"), b"precious").unwrap();
+    let out = isorad(dir.path(), &["render", "-o", "missing/dir/out.exr", "-q"]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("missing/dir"), "{}", stderr(&out));
+    assert_eq!(
+        std::fs::read(dir.path().join("isorad.png")).unwrap(),
+        b"precious"
+    );
+}
+
+#[test]
+fn a_bad_flag_value_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [
+        &["render", "--tolerance", "2", "-q"][..],
+        &["render", "--max-edge", "-1", "-q"],
+        &["render", "--width", "0", "-q"],
+    ] {
+        let out = isorad(dir.path(), args);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(!stderr(&out).contains("panicked"), "{}", stderr(&out));
+    }
+}
