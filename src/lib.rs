@@ -84,4 +84,4 @@ pub use scene::{
     Surface, Visibility, Warning, best_fit_plane, builtin_names, load_obj, load_scene,
     load_scene_file, newell_normal, triangulate_polygon,
 };
-pub use solver::{EnergyBalance, Solver, SolverSettings};
+pub use solver::{EnergyBalance, FormFactorKernel, Solver, SolverSettings};

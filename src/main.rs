@@ -46,6 +46,9 @@ struct RenderArgs {
     /// Stop when unshot power < TOLERANCE × emitted power.
     #[arg(long)]
     tolerance: Option<f64>,
+    /// Form-factor kernel: mixed (default), wallace or exact.
+    #[arg(long, value_name = "KERNEL")]
+    form_factor: Option<String>,
     /// Mesher: only "square" so far.
     #[arg(long)]
     mesh: Option<String>,
@@ -120,6 +123,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let mut solver_settings = SolverSettings::default();
     if let Some(tolerance) = args.tolerance.or(options.tolerance) {
         solver_settings.tolerance = tolerance;
+    }
+    if let Some(kernel) = &args.form_factor {
+        solver_settings.kernel = kernel.parse()?;
     }
     let mut solver = Solver::new(&scene, &mesh, &visibility, solver_settings)?;
     let solve_start = Instant::now();

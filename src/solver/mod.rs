@@ -6,4 +6,4 @@ mod settings;
 mod source_sampling;
 
 pub use progressive::{EnergyBalance, Solver};
-pub use settings::SolverSettings;
+pub use settings::{FormFactorKernel, SolverSettings};

@@ -142,7 +142,11 @@ impl<'a> Solver<'a> {
             max_side,
         );
         let (scene, mesh, visibility) = (self.scene, self.mesh, self.visibility);
-        let (density, shot) = (self.settings.sample_density, self.shots as u64);
+        let (density, shot, kernel) = (
+            self.settings.sample_density,
+            self.shots as u64,
+            self.settings.kernel,
+        );
         let gathered: Vec<_> = mesh
             .vertices
             .par_iter()
@@ -157,7 +161,7 @@ impl<'a> Solver<'a> {
                     surface: vertex.surface,
                     key: index as u64,
                 };
-                shooter.gather(&receiver, density, shot, visibility)
+                shooter.gather(&receiver, density, shot, kernel, visibility)
             })
             .collect();
         self.rays += gathered.iter().map(|g| u64::from(g.rays)).sum::<u64>();

@@ -3,6 +3,7 @@
 use glam::DVec3;
 
 use super::sampling::SampleStream;
+use super::settings::FormFactorKernel;
 use crate::mesh::Cell;
 use crate::radiometry::{disc_form_factor, polygon_form_factor};
 use crate::scene::Visibility;
@@ -94,6 +95,7 @@ impl Shooter {
         receiver: &Receiver,
         density: f64,
         shot: u64,
+        kernel: FormFactorKernel,
         visibility: &Visibility,
     ) -> Gathered {
         let x = receiver.position;
@@ -112,32 +114,67 @@ impl Shooter {
         } else {
             self.strata.len() - 1
         };
-        let offset = visibility.surface_offset();
-        let origin = x + n * offset;
+        let strata = &self.strata[side];
         let mut random = SampleStream::new(receiver.key, shot);
         let mut gathered = Gathered::default();
-        for stratum in &self.strata[side] {
+        // Each stratum: an unoccluded factor (or, for `Exact`, a weight), and
+        // a shadow ray to a jittered point of it.
+        let mut visible_weight = 0.0;
+        for stratum in strata {
             let y = stratum.point(random.next_f64(), random.next_f64());
-            let Some((factor, target)) = self.stratum_factor(x, n, stratum, y) else {
+            let Some((factor, target)) = self.stratum_factor(x, n, stratum, y, kernel) else {
                 continue;
             };
             gathered.rays += 1;
-            if visibility.is_unblocked(
-                origin,
-                target + self.normal * offset,
-                [receiver.surface, self.surface],
-            ) {
-                gathered.form_factor += factor;
+            gathered.form_factor += factor;
+            if self.is_visible(receiver, target, visibility) {
+                visible_weight += factor;
             }
+        }
+        if kernel == FormFactorKernel::Exact {
+            // Lambert's factor of the whole patch times the unoccluded fraction.
+            let fraction = if gathered.form_factor > 0.0 {
+                visible_weight / gathered.form_factor
+            } else {
+                0.0
+            };
+            gathered.form_factor = fraction * polygon_form_factor(x, n, self.cell.polygon());
+        } else {
+            gathered.form_factor = visible_weight;
         }
         gathered
     }
 
-    /// A stratum's unoccluded factor and the point to test visibility against.
-    fn stratum_factor(&self, x: DVec3, n: DVec3, stratum: &Cell, y: DVec3) -> Option<(f64, DVec3)> {
+    /// Whether a shadow ray from the receiver reaches `target` on this patch,
+    /// both ends lifted off their surfaces.
+    fn is_visible(&self, receiver: &Receiver, target: DVec3, visibility: &Visibility) -> bool {
+        let offset = visibility.surface_offset();
+        visibility.is_unblocked(
+            receiver.position + receiver.normal * offset,
+            target + self.normal * offset,
+            [receiver.surface, self.surface],
+        )
+    }
+
+    /// A stratum's unoccluded factor and the point to test visibility
+    /// against. For the `Exact` kernel the factor is only a weight: the
+    /// stratum's area, when its sample lies above the receiver's plane.
+    fn stratum_factor(
+        &self,
+        x: DVec3,
+        n: DVec3,
+        stratum: &Cell,
+        y: DVec3,
+        kernel: FormFactorKernel,
+    ) -> Option<(f64, DVec3)> {
         let d = y - x;
         let r2 = d.length_squared();
-        if r2 < NEAR_FIELD * stratum.area {
+        let near = match kernel {
+            FormFactorKernel::Mixed => r2 < NEAR_FIELD * stratum.area,
+            FormFactorKernel::Wallace => false,
+            FormFactorKernel::Exact => return (n.dot(d) > 0.0).then_some((stratum.area, y)),
+        };
+        if near {
             let factor = polygon_form_factor(x, n, stratum.polygon());
             // Aim the shadow ray at a part of the stratum above the receiver's plane.
             let target = [y, stratum.centre()]
