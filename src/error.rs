@@ -109,6 +109,16 @@ pub enum Error {
         /// What is missing.
         message: String,
     },
+    /// A probe-points file is malformed, or one of its points lies on no surface.
+    #[error("{path}:{line}: {message}")]
+    ProbePoint {
+        /// The points file.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
     /// A setting or command-line value is out of range.
     #[error("invalid setting `{name}`: {message}")]
     InvalidSetting {

@@ -80,8 +80,11 @@ pub use render::{
     read_exr, srgb_encode, write_exr, write_png,
 };
 pub use scene::{
-    Camera, CameraFrame, LoadedScene, Material, PlaneFrame, PolygonPlane, Rgb, Scene, SceneOptions,
-    Surface, Visibility, Warning, best_fit_plane, builtin_names, load_obj, load_scene,
-    load_scene_file, newell_normal, triangulate_polygon,
+    Camera, CameraFrame, LoadedScene, Material, PlaneFrame, PolygonPlane, ProbePoint, Rgb, Scene,
+    SceneOptions, Surface, Visibility, Warning, best_fit_plane, builtin_names, load_obj,
+    load_probe_points, load_scene, load_scene_file, newell_normal, parse_probe_points,
+    triangulate_polygon,
 };
-pub use solver::{EnergyBalance, FormFactorKernel, Solver, SolverSettings};
+pub use solver::{
+    EnergyBalance, FormFactorKernel, Probe, ProbeMode, Solution, Solver, SolverSettings,
+};

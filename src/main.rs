@@ -1,15 +1,17 @@
 //! The `isorad` command-line program: a thin layer over the library.
 
 use anyhow::Context;
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::PathBuf;
+use std::io::Write;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use isorad::{
-    LoadedScene, RenderSettings, Solver, SolverSettings, SquareMeshSettings, ToneMap, Visibility,
-    auto_exposure, load_scene, mesh_square, mesh_triangles, rasterize, write_exr, write_png,
+    LoadedScene, Mesh, ProbeMode, RenderSettings, Scene, Solver, SolverSettings,
+    SquareMeshSettings, ToneMap, Visibility, auto_exposure, load_probe_points, load_scene,
+    mesh_square, mesh_triangles, rasterize, write_exr, write_png,
 };
 
 /// Global illumination by progressive radiosity.
@@ -24,25 +26,16 @@ struct Cli {
 enum Command {
     /// Solve a scene and render it to EXR (linear radiance) and PNG.
     Render(RenderArgs),
+    /// Solve a scene and read irradiance and radiosity at points (CSV on stdout).
+    Probe(ProbeArgs),
 }
 
+/// What to solve, and how: shared by every command.
 #[derive(Args)]
-struct RenderArgs {
+struct SolveArgs {
     /// A scene file (.toml), an OBJ file, or a built-in scene name.
     #[arg(default_value = "cornell")]
     scene: String,
-    /// Output EXR of linear radiance, W/(m²·sr).
-    #[arg(short, long, default_value = "isorad.exr")]
-    output: PathBuf,
-    /// Output PNG, tone-mapped with the sRGB curve.
-    #[arg(long, default_value = "isorad.png")]
-    png: PathBuf,
-    /// Image width in pixels (overrides the scene's camera).
-    #[arg(long)]
-    width: Option<u32>,
-    /// Image height in pixels (overrides the scene's camera).
-    #[arg(long)]
-    height: Option<u32>,
     /// Stop when unshot power < TOLERANCE × emitted power.
     #[arg(long)]
     tolerance: Option<f64>,
@@ -58,21 +51,61 @@ struct RenderArgs {
     /// N × N elements on every quad instead of --max-edge.
     #[arg(long)]
     elements_per_side: Option<usize>,
+    /// No progress bar.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    #[command(flatten)]
+    solve: SolveArgs,
+    /// Output EXR of linear radiance, W/(m²·sr).
+    #[arg(short, long, default_value = "isorad.exr")]
+    output: PathBuf,
+    /// Output PNG, tone-mapped with the sRGB curve.
+    #[arg(long, default_value = "isorad.png")]
+    png: PathBuf,
+    /// Image width in pixels (overrides the scene's camera).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels (overrides the scene's camera).
+    #[arg(long)]
+    height: Option<u32>,
     /// PNG exposure in stops; automatic when left out.
     #[arg(long, allow_hyphen_values = true)]
     exposure: Option<f64>,
     /// Anti-aliasing: S × S samples per pixel.
     #[arg(long, default_value_t = 3)]
     supersampling: u32,
-    /// No progress bar.
-    #[arg(long, short)]
-    quiet: bool,
+}
+
+#[derive(Args)]
+struct ProbeArgs {
+    #[command(flatten)]
+    solve: SolveArgs,
+    /// CSV of points, one per line: x,y,z or x,y,z,nx,ny,nz.
+    #[arg(long)]
+    points: PathBuf,
+    /// gather: final gather at the exact point; mesh: the rendered mesh's value.
+    #[arg(long, value_enum, default_value_t = Mode::Gather)]
+    mode: Mode,
+    /// Also print the in-plane radiosity gradient of each channel.
+    #[arg(long)]
+    gradient: bool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Mode {
+    Gather,
+    Mesh,
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render(&args),
+        Command::Probe(args) => probe(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -83,21 +116,21 @@ fn main() -> ExitCode {
     }
 }
 
-fn render(args: &RenderArgs) -> anyhow::Result<()> {
-    let start = Instant::now();
-    // Outputs are checked first, so that a typo costs no solve.
-    for path in [&args.output, &args.png] {
-        ensure_directory_exists(path)?;
-    }
-    let LoadedScene {
-        scene,
-        options,
-        source,
-    } = load_scene(&args.scene)?;
+/// A loaded and meshed scene, ready to solve.
+struct Prepared {
+    loaded: LoadedScene,
+    mesh: Mesh,
+    visibility: Visibility,
+    settings: SolverSettings,
+}
+
+/// Loads and meshes a scene: the scene file's settings, then the flags.
+fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
+    let loaded = load_scene(&args.scene)?;
+    let (scene, options) = (&loaded.scene, &loaded.options);
     for warning in &scene.warnings {
         eprintln!("warning: {}", warning.message);
     }
-    // Mesh: the scene file's settings, then the flags.
     let mesh_kind = args
         .mesh
         .as_deref()
@@ -107,7 +140,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         mesh_kind == "square",
         "--mesh {mesh_kind}: only \"square\" is available"
     );
-    let mut mesh_settings = SquareMeshSettings::for_scene(&scene);
+    let mut mesh_settings = SquareMeshSettings::for_scene(scene);
     if let Some(max_edge) = args.max_edge.or(options.max_edge) {
         anyhow::ensure!(
             max_edge > 0.0 && max_edge.is_finite(),
@@ -117,21 +150,32 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         mesh_settings.patch_max_edge = mesh_settings.patch_max_edge.max(max_edge);
     }
     mesh_settings.elements_per_side = args.elements_per_side.or(options.elements_per_side);
-    let mesh = mesh_square(&scene, &mesh_settings);
-    let visibility = Visibility::new(&scene);
-    // Solve.
-    let mut solver_settings = SolverSettings::default();
+    let mut settings = SolverSettings::default();
     if let Some(tolerance) = args.tolerance.or(options.tolerance) {
-        solver_settings.tolerance = tolerance;
+        settings.tolerance = tolerance;
     }
     if let Some(kernel) = &args.form_factor {
-        solver_settings.kernel = kernel.parse()?;
+        settings.kernel = kernel.parse()?;
     }
-    let mut solver = Solver::new(&scene, &mesh, &visibility, solver_settings)?;
-    let solve_start = Instant::now();
-    solve_with_progress(&mut solver, args.quiet);
-    let solve_seconds = solve_start.elapsed().as_secs_f64();
-    // Render.
+    settings.validate()?;
+    let mesh = mesh_square(scene, &mesh_settings);
+    let visibility = Visibility::new(scene);
+    Ok(Prepared {
+        loaded,
+        mesh,
+        visibility,
+        settings,
+    })
+}
+
+fn render(args: &RenderArgs) -> anyhow::Result<()> {
+    let start = Instant::now();
+    // Outputs are checked first, so that a typo costs no solve.
+    for path in [&args.output, &args.png] {
+        ensure_directory_exists(path)?;
+    }
+    let prepared = prepare(&args.solve)?;
+    let scene = &prepared.loaded.scene;
     let mut camera = scene.camera_or_default();
     camera.width = args.width.unwrap_or(camera.width);
     camera.height = args.height.unwrap_or(camera.height);
@@ -139,30 +183,23 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         .validate()
         .map_err(anyhow::Error::msg)
         .context("camera")?;
-    let triangles = mesh_triangles(&mesh, &solver.radiosity_with_ambient());
+    let mut solver = Solver::new(
+        scene,
+        &prepared.mesh,
+        &prepared.visibility,
+        prepared.settings.clone(),
+    )?;
+    let solve_seconds = solve_with_progress(&mut solver, args.solve.quiet);
+    // Render, with the ambient term standing in for the light not yet shot.
+    let triangles = mesh_triangles(&prepared.mesh, &solver.radiosity_with_ambient());
     let mut render_settings = RenderSettings::default();
     render_settings.supersampling = args.supersampling.clamp(1, 16);
     let image = rasterize(&triangles, &camera, &render_settings);
     write_exr(&image, &args.output)?;
     let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
     write_png(&image, &ToneMap { exposure }, &args.png)?;
-    // Summary.
-    let rays = solver.rays();
-    println!(
-        "{source}: {} surfaces, {} patches, {} elements, {} vertices",
-        scene.surfaces.len(),
-        mesh.patches.len(),
-        mesh.elements.len(),
-        mesh.vertices.len()
-    );
-    println!(
-        "solved: {} shots, {} shadow rays in {solve_seconds:.2} s ({:.2} M rays/s), unshot {:.3} %",
-        solver.shots(),
-        rays,
-        rays as f64 / solve_seconds.max(1e-9) / 1e6,
-        100.0 * solver.unshot_fraction()
-    );
-    println!(
+    print_summary(&prepared, &solver, solve_seconds);
+    eprintln!(
         "wrote {} and {} (exposure {exposure:+.2}) in {:.2} s total",
         args.output.display(),
         args.png.display(),
@@ -171,11 +208,90 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
+    let points = load_probe_points(&args.points)?;
+    let prepared = prepare(&args.solve)?;
+    let scene: &Scene = &prepared.loaded.scene;
+    let mut solver = Solver::new(
+        scene,
+        &prepared.mesh,
+        &prepared.visibility,
+        prepared.settings.clone(),
+    )?;
+    solve_with_progress(&mut solver, args.solve.quiet);
+    let solution = solver.solution(true);
+    let mode = match args.mode {
+        Mode::Gather => ProbeMode::Gather,
+        Mode::Mesh => ProbeMode::Mesh,
+    };
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    let mut header = String::from(
+        "x,y,z,irradiance_r,irradiance_g,irradiance_b,radiosity_r,radiosity_g,radiosity_b",
+    );
+    if args.gradient {
+        for channel in ["r", "g", "b"] {
+            for axis in ["x", "y", "z"] {
+                header.push_str(&format!(",grad_{channel}_{axis}"));
+            }
+        }
+    }
+    writeln!(out, "{header}")?;
+    for point in &points {
+        let probe = solution
+            .probe(point, mode)
+            .map_err(|error| with_points_path(error, &args.points))?;
+        let p = probe.position;
+        let (h, b) = (probe.irradiance, probe.radiosity);
+        let mut row = format!(
+            "{},{},{},{},{},{},{},{},{}",
+            p.x, p.y, p.z, h.x, h.y, h.z, b.x, b.y, b.z
+        );
+        if args.gradient {
+            for g in probe.gradient {
+                row.push_str(&format!(",{},{},{}", g.x, g.y, g.z));
+            }
+        }
+        writeln!(out, "{row}")?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// A probe error names the points file the user gave.
+fn with_points_path(error: isorad::Error, path: &Path) -> anyhow::Error {
+    match error {
+        isorad::Error::ProbePoint { line, message, .. } => {
+            anyhow::anyhow!("{}:{line}: {message}", path.display())
+        }
+        other => other.into(),
+    }
+}
+
+fn print_summary(prepared: &Prepared, solver: &Solver, solve_seconds: f64) {
+    let (scene, mesh) = (&prepared.loaded.scene, &prepared.mesh);
+    let rays = solver.rays();
+    eprintln!(
+        "{}: {} surfaces, {} patches, {} elements, {} vertices",
+        prepared.loaded.source,
+        scene.surfaces.len(),
+        mesh.patches.len(),
+        mesh.elements.len(),
+        mesh.vertices.len()
+    );
+    eprintln!(
+        "solved: {} shots, {} shadow rays in {solve_seconds:.2} s ({:.2} M rays/s), unshot {:.3} %",
+        solver.shots(),
+        rays,
+        rays as f64 / solve_seconds.max(1e-9) / 1e6,
+        100.0 * solver.unshot_fraction()
+    );
+}
+
 /// Fails unless the directory that would hold `path` exists.
-fn ensure_directory_exists(path: &std::path::Path) -> anyhow::Result<()> {
+fn ensure_directory_exists(path: &Path) -> anyhow::Result<()> {
     let parent = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
-        _ => std::path::Path::new("."),
+        _ => Path::new("."),
     };
     anyhow::ensure!(
         parent.is_dir(),
@@ -187,8 +303,9 @@ fn ensure_directory_exists(path: &std::path::Path) -> anyhow::Result<()> {
 }
 
 /// Runs the solver with a progress bar of the unshot fraction, on a log
-/// scale from 100 % down to the tolerance.
-fn solve_with_progress(solver: &mut Solver, quiet: bool) {
+/// scale from 100 % down to the tolerance. Returns the seconds it took.
+fn solve_with_progress(solver: &mut Solver, quiet: bool) -> f64 {
+    let start = Instant::now();
     let tolerance = solver.settings().tolerance;
     let bar = if quiet {
         ProgressBar::hidden()
@@ -212,4 +329,5 @@ fn solve_with_progress(solver: &mut Solver, quiet: bool) {
         ));
     });
     bar.finish_and_clear();
+    start.elapsed().as_secs_f64()
 }

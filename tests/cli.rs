@@ -37,7 +37,7 @@ fn render_with_no_scene_writes_the_cornell_box() {
     let mean = image.mean();
     assert!(mean.x > mean.z && mean.z > 0.0, "a warm, lit box: {mean}");
     assert!(dir.path().join("isorad.png").is_file());
-    let summary = String::from_utf8_lossy(&out.stdout);
+    let summary = stderr(&out);
     for word in [
         "surfaces",
         "elements",
@@ -105,4 +105,47 @@ fn a_bad_flag_value_is_an_error() {
         assert!(!out.status.success(), "{args:?} succeeded");
         assert!(!stderr(&out).contains("panicked"), "{}", stderr(&out));
     }
+}
+
+#[test]
+fn probe_prints_a_csv_row_per_point() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("points.csv"),
+        "x,y,z\n278,0,279.5\n278,0,279.5,0,1,0\n",
+    )
+    .unwrap();
+    let out = isorad(
+        dir.path(),
+        &[
+            "probe",
+            "--points",
+            "points.csv",
+            "--gradient",
+            "--tolerance",
+            "0.05",
+            "-q",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let csv = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 3, "{csv}");
+    assert!(lines[0].starts_with(
+        "x,y,z,irradiance_r,irradiance_g,irradiance_b,radiosity_r,radiosity_g,radiosity_b,grad_r_x"
+    ));
+    let row: Vec<f64> = lines[1].split(',').map(|v| v.parse().unwrap()).collect();
+    assert_eq!(row.len(), 18);
+    assert!(
+        row[3] > 0.0 && row[6] > 0.0,
+        "the floor under the light is lit: {csv}"
+    );
+
+    std::fs::write(dir.path().join("off.csv"), "278,0,279.5\n278,100,279.5\n").unwrap();
+    let out = isorad(
+        dir.path(),
+        &["probe", "--points", "off.csv", "--tolerance", "0.05", "-q"],
+    );
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("off.csv:2"), "{}", stderr(&out));
 }

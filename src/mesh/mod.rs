@@ -7,5 +7,5 @@ mod square;
 mod topology;
 
 pub use patch::{Cell, Patch};
-pub use square::{SquareMeshSettings, mesh_square};
+pub use square::{SquareMeshSettings, mesh_square, receiver_inset};
 pub use topology::{Element, Mesh, MeshVertex};

@@ -47,6 +47,22 @@ impl Element {
             &self.vertices
         }
     }
+
+    /// The element as triangles, counter-clockwise. A quad is split along
+    /// the diagonal whose end vertices differ least by `gap`: with vertex
+    /// values, this avoids Gouraud's streak across a bright corner. The
+    /// renderer and the probes split the same way, so they agree.
+    #[must_use]
+    pub fn triangles(&self, gap: impl Fn(u32, u32) -> f64) -> ([[u32; 3]; 2], usize) {
+        let [a, b, c, d] = self.vertices;
+        if self.is_triangle {
+            ([[a, b, c], [a, b, c]], 1)
+        } else if gap(a, c) <= gap(b, d) {
+            ([[a, b, c], [a, c, d]], 2)
+        } else {
+            ([[a, b, d], [b, c, d]], 2)
+        }
+    }
 }
 
 /// A mesh of a whole scene.

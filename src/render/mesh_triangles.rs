@@ -19,23 +19,15 @@ pub fn mesh_triangles(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<ShadedTriangle> {
         radiance: [radiance(a), radiance(b), radiance(c)],
     };
     let mut triangles = Vec::with_capacity(2 * mesh.elements.len());
+    let gap = |p: u32, q: u32| {
+        (radiosity[p as usize] - radiosity[q as usize])
+            .abs()
+            .element_sum()
+    };
     for element in &mesh.elements {
-        let [a, b, c, d] = element.vertices;
-        if element.is_triangle {
+        let (split, count) = element.triangles(gap);
+        for &[a, b, c] in &split[..count] {
             triangles.push(triangle(a, b, c));
-            continue;
-        }
-        let gap = |p: u32, q: u32| {
-            (radiosity[p as usize] - radiosity[q as usize])
-                .abs()
-                .element_sum()
-        };
-        if gap(a, c) <= gap(b, d) {
-            triangles.push(triangle(a, b, c));
-            triangles.push(triangle(a, c, d));
-        } else {
-            triangles.push(triangle(a, b, d));
-            triangles.push(triangle(b, c, d));
         }
     }
     triangles

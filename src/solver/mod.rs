@@ -3,7 +3,9 @@
 mod progressive;
 mod sampling;
 mod settings;
+mod solution;
 mod source_sampling;
 
 pub use progressive::{EnergyBalance, Solver};
 pub use settings::{FormFactorKernel, SolverSettings};
+pub use solution::{Probe, ProbeMode, Solution};

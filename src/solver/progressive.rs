@@ -3,6 +3,7 @@
 use rayon::prelude::*;
 
 use super::settings::SolverSettings;
+use super::solution::Solution;
 use super::source_sampling::{Receiver, Shooter};
 use crate::mesh::Mesh;
 use crate::scene::{Rgb, Scene, Visibility};
@@ -251,14 +252,18 @@ impl<'a> Solver<'a> {
     }
 
     /// Radiosity per vertex with the ambient term added: the light not yet
-    /// shot, spread evenly, B_v + ρ_v · A_mb, where
-    /// A_mb = Σ_p ΔB_p A_p / Σ A_p · 1 / (1 − ρ̄) and ρ̄ is the area-weighted
-    /// mean reflectance (Cohen et al. 1988, §4). For intermediate images.
+    /// shot, spread evenly, B_v + ρ_v · A_mb. For intermediate images.
     #[must_use]
     pub fn radiosity_with_ambient(&self) -> Vec<Rgb> {
+        self.solution(true).radiosity
+    }
+
+    /// Cohen's ambient irradiance: A_mb = Σ_p ΔB_p A_p / Σ A_p · 1/(1 − ρ̄),
+    /// with ρ̄ the area-weighted mean reflectance (Cohen et al. 1988, §4).
+    fn ambient_irradiance(&self) -> Rgb {
         let total_area: f64 = self.mesh.patches.iter().map(|p| p.cell.area).sum();
         if total_area <= 0.0 {
-            return self.radiosity.clone();
+            return Rgb::ZERO;
         }
         let mean_reflectance = self
             .mesh
@@ -272,11 +277,31 @@ impl<'a> Solver<'a> {
             })
             .sum::<Rgb>()
             / total_area;
-        let interreflection = (Rgb::ONE - mean_reflectance).recip();
-        let ambient = self.unshot_power() / total_area * interreflection;
-        (0..self.radiosity.len())
-            .map(|v| self.radiosity[v] + self.reflectance(v) * ambient)
-            .collect()
+        let interreflection = (Rgb::ONE - mean_reflectance).max(Rgb::splat(1e-6)).recip();
+        self.unshot_power() / total_area * interreflection
+    }
+
+    /// The solution so far, with the ambient term for unshot light added
+    /// (`with_ambient`) or not.
+    #[must_use]
+    pub fn solution(&self, with_ambient: bool) -> Solution<'a> {
+        let (radiosity, irradiance) = if with_ambient {
+            let ambient = self.ambient_irradiance();
+            let irradiance: Vec<Rgb> = self.irradiance.iter().map(|h| *h + ambient).collect();
+            let radiosity = (0..self.radiosity.len())
+                .map(|v| self.radiosity[v] + self.reflectance(v) * ambient)
+                .collect();
+            (radiosity, irradiance)
+        } else {
+            (self.radiosity.clone(), self.irradiance.clone())
+        };
+        Solution {
+            scene: self.scene,
+            mesh: self.mesh,
+            visibility: self.visibility,
+            radiosity,
+            irradiance,
+        }
     }
 
     /// The energy ledger; see [`EnergyBalance`].

@@ -1,0 +1,335 @@
+//! A solved scene, and reading it at any point (the probes).
+
+use glam::DVec3;
+
+use crate::error::{Error, Result};
+use crate::mesh::{Cell, Mesh, receiver_inset};
+use crate::radiometry::{polygon_form_factor, polygon_form_factor_gradient};
+use crate::scene::{ProbePoint, Rgb, Scene, Visibility};
+
+/// How a probe reads the solution.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ProbeMode {
+    /// A final gather at the exact point: the light of every element, with
+    /// Lambert's exact form factor and stratified shadow rays.
+    #[default]
+    Gather,
+    /// The value interpolated on the rendered mesh: what a viewer sees.
+    Mesh,
+}
+
+/// What a probe read at a point, per RGB channel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Probe {
+    /// The point.
+    pub position: DVec3,
+    /// Index of the surface it lies on.
+    pub surface: usize,
+    /// Irradiance H, W/m²: light arriving on the surface's front.
+    pub irradiance: Rgb,
+    /// Radiosity B = E + ρ H, W/m².
+    pub radiosity: Rgb,
+    /// In-plane gradient of the radiosity of each channel (r, g, b), as
+    /// world-space vectors, W/m³ (per scene unit).
+    pub gradient: [DVec3; 3],
+}
+
+/// A solution: radiosity and irradiance at every mesh vertex, with the scene,
+/// mesh and visibility needed to read it anywhere.
+pub struct Solution<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// Its mesh.
+    pub mesh: &'a Mesh,
+    /// Its shadow-ray structure.
+    pub visibility: &'a Visibility,
+    /// Radiosity per mesh vertex, W/m².
+    pub radiosity: Vec<Rgb>,
+    /// Irradiance per mesh vertex, W/m².
+    pub irradiance: Vec<Rgb>,
+}
+
+impl Solution<'_> {
+    /// Reads the solution at a point on a surface.
+    ///
+    /// Fails with [`Error::ProbePoint`] (naming the point's line) when the
+    /// point lies on no surface, or on none facing along its normal.
+    pub fn probe(&self, point: &ProbePoint, mode: ProbeMode) -> Result<Probe> {
+        let surface = self.locate(point).ok_or_else(|| Error::ProbePoint {
+            path: "points".into(),
+            line: point.line,
+            message: format!(
+                "({}, {}, {}) lies on no surface{}",
+                point.position.x,
+                point.position.y,
+                point.position.z,
+                if point.normal.is_some() {
+                    " facing along its normal"
+                } else {
+                    ""
+                }
+            ),
+        })?;
+        Ok(match mode {
+            ProbeMode::Gather => self.gather(point.position, surface),
+            ProbeMode::Mesh => self.interpolate(point.position, surface),
+        })
+    }
+
+    /// The surface a point lies on: within 10⁻⁴ of the scene's diagonal of
+    /// its plane and inside (or on the edge of) its polygon, facing along
+    /// the point's normal if it has one; the nearest plane wins.
+    fn locate(&self, point: &ProbePoint) -> Option<usize> {
+        let tolerance = 1e-4 * self.scene.diagonal();
+        let mut best: Option<(usize, f64)> = None;
+        for (index, surface) in self.scene.surfaces.iter().enumerate() {
+            if point.normal.is_some_and(|n| n.dot(surface.normal()) < 0.99) {
+                continue;
+            }
+            let height = surface.frame().height(point.position).abs();
+            if height > tolerance || best.is_some_and(|(_, h)| h <= height) {
+                continue;
+            }
+            let plane_point = surface.frame().to_plane(point.position);
+            if distance_outside_polygon(plane_point, &surface.plane_vertices()) <= tolerance {
+                best = Some((index, height));
+            }
+        }
+        best.map(|(index, _)| index)
+    }
+
+    /// The final gather at a point of a surface.
+    fn gather(&self, position: DVec3, surface: usize) -> Probe {
+        let s = &self.scene.surfaces[surface];
+        let material = self.scene.material_of(s);
+        let normal = s.normal();
+        let x = self.gather_point(position, surface);
+        let mut irradiance = Rgb::ZERO;
+        let mut gradient = [DVec3::ZERO; 3];
+        for (index, element) in self.mesh.elements.iter().enumerate() {
+            if element.surface as usize == surface {
+                continue;
+            }
+            let corners: Vec<DVec3> = element
+                .corners()
+                .iter()
+                .map(|&v| self.mesh.vertices[v as usize].position)
+                .collect();
+            let source_normal = self.scene.surfaces[element.surface as usize].normal();
+            // One-sided: the element must face the point.
+            if source_normal.dot(x - corners[0]) <= 0.0 {
+                continue;
+            }
+            let factor = polygon_form_factor(x, normal, &corners);
+            if factor <= 0.0 {
+                continue;
+            }
+            let visible = self.visible_fraction(x, surface, index, &corners);
+            if visible <= 0.0 {
+                continue;
+            }
+            let mean_radiosity = element
+                .corners()
+                .iter()
+                .map(|&v| self.radiosity[v as usize])
+                .sum::<Rgb>()
+                / corners.len() as f64;
+            irradiance += mean_radiosity * factor * visible;
+            let factor_gradient = polygon_form_factor_gradient(x, normal, &corners);
+            let in_plane = factor_gradient - normal * factor_gradient.dot(normal);
+            for (channel, g) in gradient.iter_mut().enumerate() {
+                *g +=
+                    in_plane * (mean_radiosity[channel] * visible * material.reflectance[channel]);
+            }
+        }
+        Probe {
+            position,
+            surface,
+            irradiance,
+            radiosity: material.emitted_radiosity() + material.reflectance * irradiance,
+            gradient,
+        }
+    }
+
+    /// Where a probe on a surface gathers: the point itself, moved inside its
+    /// polygon when it is on (or within the inset of) the polygon's edge, as
+    /// mesh vertices are.
+    fn gather_point(&self, position: DVec3, surface: usize) -> DVec3 {
+        let s = &self.scene.surfaces[surface];
+        let inset = receiver_inset(self.scene);
+        let plane_vertices = s.plane_vertices();
+        let p = s.frame().to_plane(position);
+        let on_plane = s.frame().to_world(p);
+        if distance_inside_polygon(p, &plane_vertices) >= inset {
+            return on_plane;
+        }
+        let centroid =
+            plane_vertices.iter().copied().sum::<glam::DVec2>() / plane_vertices.len() as f64;
+        let towards = (centroid - p).normalize_or_zero();
+        s.frame().to_world(p + towards * inset)
+    }
+
+    /// The fraction of stratified shadow rays from `x` to an element that are
+    /// unblocked: m × m rays, m growing with the element's apparent size.
+    fn visible_fraction(&self, x: DVec3, surface: usize, element: usize, corners: &[DVec3]) -> f64 {
+        let e = &self.mesh.elements[element];
+        let cell = if corners.len() == 3 {
+            Cell::triangle(corners[0], corners[1], corners[2])
+        } else {
+            Cell::quad(corners[0], corners[1], corners[2], corners[3])
+        };
+        let normal = self.scene.surfaces[surface].normal();
+        let source_normal = self.scene.surfaces[e.surface as usize].normal();
+        let distance = (cell.centre() - x).length().max(f64::MIN_POSITIVE);
+        let m = ((3.0 * cell.area.sqrt() / distance).ceil() as usize).clamp(2, 8);
+        let offset = self.visibility.surface_offset();
+        let (mut tested, mut unblocked) = (0u32, 0u32);
+        for j in 0..m {
+            for i in 0..m {
+                let y = cell.point((i as f64 + 0.5) / m as f64, (j as f64 + 0.5) / m as f64);
+                if normal.dot(y - x) <= 0.0 {
+                    continue;
+                }
+                tested += 1;
+                if self.visibility.is_unblocked(
+                    x + normal * offset,
+                    y + source_normal * offset,
+                    [surface as u32, e.surface],
+                ) {
+                    unblocked += 1;
+                }
+            }
+        }
+        if tested == 0 {
+            1.0
+        } else {
+            f64::from(unblocked) / f64::from(tested)
+        }
+    }
+
+    /// The mesh's piecewise-linear value at a point of a surface, split into
+    /// triangles as the renderer splits it.
+    fn interpolate(&self, position: DVec3, surface: usize) -> Probe {
+        let normal = self.scene.surfaces[surface].normal();
+        let gap = |p: u32, q: u32| {
+            (self.radiosity[p as usize] - self.radiosity[q as usize])
+                .abs()
+                .element_sum()
+        };
+        let mut best: Option<(f64, [u32; 3], [f64; 3])> = None;
+        for element in self
+            .mesh
+            .elements
+            .iter()
+            .filter(|e| e.surface as usize == surface)
+        {
+            let (split, count) = element.triangles(gap);
+            for &triangle in &split[..count] {
+                let [a, b, c] = triangle.map(|v| self.mesh.vertices[v as usize].position);
+                let weights = barycentric(position, a, b, c, normal);
+                // How far outside the triangle (0 inside): the smallest negative weight.
+                let outside = -weights.iter().copied().fold(0.0, f64::min);
+                if best.is_none_or(|(o, _, _)| outside < o) {
+                    best = Some((outside, triangle, weights));
+                }
+            }
+        }
+        let Some((_, triangle, weights)) = best else {
+            return Probe {
+                position,
+                surface,
+                irradiance: Rgb::ZERO,
+                radiosity: Rgb::ZERO,
+                gradient: [DVec3::ZERO; 3],
+            };
+        };
+        let weights = weights.map(|w| w.max(0.0));
+        let total: f64 = weights.iter().sum();
+        let value = |values: &[Rgb]| {
+            (0..3)
+                .map(|k| values[triangle[k] as usize] * (weights[k] / total))
+                .sum::<Rgb>()
+        };
+        let [a, b, c] = triangle.map(|v| self.mesh.vertices[v as usize].position);
+        let gradients = barycentric_gradients(a, b, c, normal);
+        let gradient = [0, 1, 2].map(|channel| {
+            (0..3)
+                .map(|k| gradients[k] * self.radiosity[triangle[k] as usize][channel])
+                .sum()
+        });
+        Probe {
+            position,
+            surface,
+            irradiance: value(&self.irradiance),
+            radiosity: value(&self.radiosity),
+            gradient,
+        }
+    }
+}
+
+/// Barycentric weights of `p` (projected onto the triangle's plane) in the
+/// triangle (a, b, c) whose front normal is `normal`.
+fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3, normal: DVec3) -> [f64; 3] {
+    let twice_area = (b - a).cross(c - a).dot(normal);
+    if twice_area.abs() <= f64::MIN_POSITIVE {
+        return [-f64::INFINITY; 3];
+    }
+    let wa = (c - b).cross(p - b).dot(normal) / twice_area;
+    let wb = (a - c).cross(p - c).dot(normal) / twice_area;
+    [wa, wb, 1.0 - wa - wb]
+}
+
+/// Gradients of the barycentric coordinates of a counter-clockwise triangle:
+/// ∇λ_a = n × (c − b) / (2A), and cyclically.
+fn barycentric_gradients(a: DVec3, b: DVec3, c: DVec3, normal: DVec3) -> [DVec3; 3] {
+    let twice_area = (b - a).cross(c - a).dot(normal);
+    if twice_area.abs() <= f64::MIN_POSITIVE {
+        return [DVec3::ZERO; 3];
+    }
+    [
+        normal.cross(c - b) / twice_area,
+        normal.cross(a - c) / twice_area,
+        normal.cross(b - a) / twice_area,
+    ]
+}
+
+/// Distance from a point outside a polygon to it (0 when inside).
+fn distance_outside_polygon(p: glam::DVec2, polygon: &[glam::DVec2]) -> f64 {
+    if contains(p, polygon) {
+        0.0
+    } else {
+        distance_to_boundary(p, polygon)
+    }
+}
+
+/// Distance from a point inside a polygon to its boundary (0 when outside).
+fn distance_inside_polygon(p: glam::DVec2, polygon: &[glam::DVec2]) -> f64 {
+    if contains(p, polygon) {
+        distance_to_boundary(p, polygon)
+    } else {
+        0.0
+    }
+}
+
+/// Even-odd point-in-polygon test.
+fn contains(p: glam::DVec2, polygon: &[glam::DVec2]) -> bool {
+    let mut inside = false;
+    for k in 0..polygon.len() {
+        let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+fn distance_to_boundary(p: glam::DVec2, polygon: &[glam::DVec2]) -> f64 {
+    (0..polygon.len())
+        .map(|k| {
+            let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+            let t = ((p - a).dot(b - a) / (b - a).length_squared().max(f64::MIN_POSITIVE))
+                .clamp(0.0, 1.0);
+            p.distance(a + (b - a) * t)
+        })
+        .fold(f64::INFINITY, f64::min)
+}

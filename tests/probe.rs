@@ -1,0 +1,210 @@
+//! Probes: the solution read at points, against analytic references.
+
+mod support;
+
+use glam::DVec3;
+use isorad::{
+    Mesh, ProbeMode, ProbePoint, Scene, Solver, SolverSettings, SquareMeshSettings, Visibility,
+    mesh_square,
+};
+use std::f64::consts::PI;
+use support::*;
+
+const RADIUS: f64 = 1.0;
+const HEIGHT: f64 = 2.0;
+const LIGHT_RADIANCE: f64 = 10.0;
+const FLOOR_REFLECTANCE: f64 = 0.5;
+
+/// A 64-gon emitter (ρ = 0) facing down over a floor, and optionally a black
+/// blocker half-way.
+fn disc_scene(blocker: bool) -> Scene {
+    let mut b = SceneBuilder::default();
+    let floor = b.material("floor", FLOOR_REFLECTANCE, 0.0);
+    let light = b.material("light", 0.0, LIGHT_RADIANCE);
+    let black = b.material("black", 0.0, 0.0);
+    b.polygon("floor", floor, square_z(-10.0, 10.0, 0.0, true));
+    b.polygon(
+        "light",
+        light,
+        disc_facing_down(64, RADIUS, DVec3::new(0.0, 0.0, HEIGHT)),
+    );
+    if blocker {
+        b.polygon("blocker", black, square_z(-1.0, 1.0, 1.0, false));
+    }
+    b.scene
+}
+
+fn solve(scene: &Scene, run: impl FnOnce(&Solver)) {
+    let mut mesh_settings = SquareMeshSettings::for_scene(scene);
+    mesh_settings.max_edge = 0.5;
+    mesh_settings.patch_max_edge = 2.0;
+    let mesh: Mesh = mesh_square(scene, &mesh_settings);
+    let visibility = Visibility::new(scene);
+    let mut settings = SolverSettings::default();
+    settings.tolerance = 1e-3;
+    let mut solver = Solver::new(scene, &mesh, &visibility, settings).unwrap();
+    solver.run(|_| {});
+    run(&solver);
+}
+
+fn at(x: f64, y: f64) -> ProbePoint {
+    ProbePoint {
+        position: DVec3::new(x, y, 0.0),
+        normal: None,
+        line: 1,
+    }
+}
+
+#[test]
+fn gather_matches_the_exact_disc_formula() {
+    let scene = disc_scene(false);
+    solve(&scene, |solver| {
+        let solution = solver.solution(true);
+        for x in [0.0, 0.3, 0.77, 1.0, 1.9, 3.3, 5.0] {
+            let probe = solution.probe(&at(x, 0.1), ProbeMode::Gather).unwrap();
+            let r = (x * x + 0.01_f64).sqrt();
+            let expected = PI * LIGHT_RADIANCE * coaxial_disc_form_factor(RADIUS, HEIGHT, r);
+            let error = (probe.irradiance.x - expected).abs() / expected;
+            assert!(
+                error < 0.005,
+                "x = {x}: irradiance {} vs {expected} ({error:e})",
+                probe.irradiance.x
+            );
+            let radiosity = FLOOR_REFLECTANCE * expected;
+            assert!((probe.radiosity.x - radiosity).abs() < 0.005 * radiosity);
+        }
+    });
+}
+
+#[test]
+fn gather_gradient_agrees_with_finite_differences() {
+    let scene = disc_scene(false);
+    solve(&scene, |solver| {
+        let solution = solver.solution(true);
+        let value = |x: f64, y: f64| {
+            solution
+                .probe(&at(x, y), ProbeMode::Gather)
+                .unwrap()
+                .radiosity
+                .x
+        };
+        for (x, y) in [(0.4, 0.2), (1.3, -0.7), (2.5, 1.5), (-3.0, 0.5)] {
+            let probe = solution.probe(&at(x, y), ProbeMode::Gather).unwrap();
+            let h = 1e-4;
+            let fd = DVec3::new(
+                (value(x + h, y) - value(x - h, y)) / (2.0 * h),
+                (value(x, y + h) - value(x, y - h)) / (2.0 * h),
+                0.0,
+            );
+            let g = probe.gradient[0];
+            assert!(
+                (g - fd).length() <= 1e-4 * fd.length() + 1e-9,
+                "({x}, {y}): {g} vs {fd}"
+            );
+            assert!(g.z.abs() < 1e-12, "the gradient lies in the floor's plane");
+        }
+    });
+}
+
+#[test]
+fn a_shadowed_point_gets_no_direct_light() {
+    let scene = disc_scene(true);
+    solve(&scene, |solver| {
+        let solution = solver.solution(false);
+        for mode in [ProbeMode::Gather, ProbeMode::Mesh] {
+            let probe = solution.probe(&at(0.05, -0.1), mode).unwrap();
+            assert_eq!(probe.irradiance, isorad::Rgb::ZERO, "{mode:?}");
+        }
+        let lit = solution.probe(&at(6.0, 0.0), ProbeMode::Gather).unwrap();
+        assert!(lit.irradiance.x > 0.0);
+    });
+}
+
+#[test]
+fn mesh_mode_interpolates_vertices_and_has_the_interpolant_gradient() {
+    let scene = disc_scene(false);
+    solve(&scene, |solver| {
+        let solution = solver.solution(true);
+        let mesh = solution.mesh;
+        // At a vertex, the value is the vertex's.
+        let (index, vertex) = mesh
+            .vertices
+            .iter()
+            .enumerate()
+            .find(|(_, v)| v.surface == 0 && v.position.x > 1.0 && v.position.y > 1.0)
+            .unwrap();
+        let probe = solution
+            .probe(
+                &ProbePoint {
+                    position: vertex.position,
+                    normal: None,
+                    line: 1,
+                },
+                ProbeMode::Mesh,
+            )
+            .unwrap();
+        assert!(
+            (probe.radiosity - solution.radiosity[index])
+                .abs()
+                .max_element()
+                < 1e-12
+        );
+        // Inside one triangle the value is linear: the gradient predicts a small step exactly.
+        let p = DVec3::new(1.61, 1.13, 0.0);
+        let probe = solution
+            .probe(
+                &ProbePoint {
+                    position: p,
+                    normal: None,
+                    line: 1,
+                },
+                ProbeMode::Mesh,
+            )
+            .unwrap();
+        let step = DVec3::new(1e-3, -5e-4, 0.0);
+        let moved = solution
+            .probe(
+                &ProbePoint {
+                    position: p + step,
+                    normal: None,
+                    line: 1,
+                },
+                ProbeMode::Mesh,
+            )
+            .unwrap();
+        let predicted = probe.radiosity.x + probe.gradient[0].dot(step);
+        assert!(
+            (moved.radiosity.x - predicted).abs() < 1e-9 * probe.radiosity.x,
+            "{} vs {predicted}",
+            moved.radiosity.x
+        );
+    });
+}
+
+#[test]
+fn a_point_on_no_surface_is_an_error_naming_its_line() {
+    let scene = disc_scene(false);
+    solve(&scene, |solver| {
+        let solution = solver.solution(true);
+        let point = ProbePoint {
+            position: DVec3::new(0.0, 0.0, 0.5),
+            normal: None,
+            line: 7,
+        };
+        let message = solution
+            .probe(&point, ProbeMode::Gather)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains(":7:") && message.contains("no surface"),
+            "{message}"
+        );
+        // The right place but facing the wrong way.
+        let point = ProbePoint {
+            position: DVec3::new(0.0, 0.0, 0.0),
+            normal: Some(-DVec3::Z),
+            line: 9,
+        };
+        assert!(solution.probe(&point, ProbeMode::Gather).is_err());
+    });
+}
