@@ -60,8 +60,11 @@
 //! - J. R. Wallace, K. A. Elmquist, E. A. Haines, "A Ray Tracing Algorithm for
 //!   Progressive Radiosity", SIGGRAPH 1989.
 //! - J. H. Lambert, *Photometria*, 1760 (the exact polygon form factor).
+//! - J. Arvo, "The Irradiance Jacobian for Partially Occluded Polyhedral
+//!   Sources", SIGGRAPH 1994 (the form factor's gradient).
 //! - P. Arquès, V. Biri, S. Derpierre, "A new formulation of differential
-//!   radiosity and a rendering application", WSCG 2005 (the contour mesher to come).
+//!   radiosity and a rendering application", WSCG 2005 (the small-disc emitter
+//!   model and its maximum; the contour mesher to come).
 //! - Y. Ylitie, T. Karras, S. Laine, "Efficient Incoherent Ray Traversal on
 //!   GPUs Through Compressed Wide BVHs", HPG 2017 (obvhs's CWBVH).
 
@@ -74,7 +77,10 @@ mod solver;
 
 pub use error::{Error, Result};
 pub use mesh::{Cell, Element, Mesh, MeshVertex, Patch, SquareMeshSettings, mesh_square};
-pub use radiometry::{disc_form_factor, polygon_form_factor};
+pub use radiometry::{
+    DiscModel, ReceiverPlane, SmallDisc, TiltFrame, disc_form_factor, polygon_form_factor,
+    polygon_form_factor_gradient, polygon_form_factor_with_gradient, tilt_line_maximum,
+};
 pub use render::{
     Image, RenderSettings, ShadedTriangle, ToneMap, auto_exposure, mesh_triangles, rasterize,
     read_exr, srgb_encode, write_exr, write_png,

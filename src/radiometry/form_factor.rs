@@ -55,6 +55,35 @@ pub fn disc_form_factor(
 /// Partially Occluded Polyhedral Sources", SIGGRAPH 1994 (eq. 1).
 #[must_use]
 pub fn polygon_form_factor(point: DVec3, normal: DVec3, polygon: &[DVec3]) -> f64 {
+    with_clipped(point, normal, polygon, |clipped| {
+        if clipped.len() < 3 {
+            return 0.0;
+        }
+        let mut sum = 0.0;
+        for i in 0..clipped.len() {
+            let a = clipped[i] - point;
+            let b = clipped[(i + 1) % clipped.len()] - point;
+            let cross = a.cross(b);
+            let cross_length = cross.length();
+            // Coincident or collinear directions: the edge subtends no angle.
+            if cross_length <= 1e-300 {
+                continue;
+            }
+            let gamma = cross_length.atan2(a.dot(b));
+            sum += gamma * normal.dot(cross) / cross_length;
+        }
+        (sum.abs() / (2.0 * PI)).min(1.0)
+    })
+}
+
+/// Calls `body` with the polygon clipped to the half-space in front of the
+/// receiver, n · (x − point) ≥ 0.
+pub(super) fn with_clipped<R>(
+    point: DVec3,
+    normal: DVec3,
+    polygon: &[DVec3],
+    body: impl FnOnce(&[DVec3]) -> R,
+) -> R {
     // Clipping adds at most one vertex per edge: a stack buffer serves the
     // cells the solver integrates, a heap one any larger polygon.
     let mut small = [DVec3::ZERO; 16];
@@ -66,24 +95,7 @@ pub fn polygon_form_factor(point: DVec3, normal: DVec3, polygon: &[DVec3]) -> f6
         &mut large
     };
     let count = clip_to_half_space(point, normal, polygon, buffer);
-    let clipped = &buffer[..count];
-    if clipped.len() < 3 {
-        return 0.0;
-    }
-    let mut sum = 0.0;
-    for i in 0..clipped.len() {
-        let a = clipped[i] - point;
-        let b = clipped[(i + 1) % clipped.len()] - point;
-        let cross = a.cross(b);
-        let cross_length = cross.length();
-        // Coincident or collinear directions: the edge subtends no angle.
-        if cross_length <= 1e-300 {
-            continue;
-        }
-        let gamma = cross_length.atan2(a.dot(b));
-        sum += gamma * normal.dot(cross) / cross_length;
-    }
-    (sum.abs() / (2.0 * PI)).min(1.0)
+    body(&buffer[..count])
 }
 
 /// Sutherland–Hodgman clip of a polygon to n · (x − point) ≥ 0. `out` must
