@@ -2,6 +2,8 @@
 //!
 //! The mesh knows nothing of light.
 
+mod constrained;
+mod contacts;
 mod patch;
 mod square;
 mod topology;

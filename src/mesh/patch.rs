@@ -120,10 +120,13 @@ impl Cell {
 pub struct Patch {
     /// Index of the surface it lies on.
     pub surface: usize,
-    /// Its shape.
+    /// Its shape, over which shots are sampled.
     pub cell: Cell,
     /// Indices of its elements in [`crate::Mesh::elements`].
     pub elements: Vec<u32>,
+    /// The area of its elements: the cell's area, less any part hidden
+    /// under an object standing on it. Power is radiosity times this area.
+    pub area: f64,
 }
 
 #[cfg(test)]

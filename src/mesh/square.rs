@@ -15,8 +15,9 @@
 use glam::DVec3;
 use std::collections::HashMap;
 
-use super::patch::{Cell, Patch};
-use super::topology::{Element, Mesh, MeshVertex};
+use super::contacts::{contact_segments, remesh_along_contacts, remove_hidden_elements};
+use super::patch::Cell;
+use super::topology::Mesh;
 use crate::scene::{Scene, Surface};
 
 /// Settings of the square mesher.
@@ -70,20 +71,45 @@ pub fn receiver_inset(scene: &Scene) -> f64 {
     (2.0 * offset).clamp(RECEIVER_INSET * diagonal, MAX_RECEIVER_INSET * diagonal)
 }
 
-/// Meshes every surface of the scene uniformly.
+/// Meshes every surface of the scene uniformly. Where another surface
+/// stands on one (a block on a floor), the grid is re-triangulated with
+/// element edges along the contact lines, and the elements hidden under the
+/// object are dropped (see [`super::contacts`]).
 #[must_use]
 pub fn mesh_square(scene: &Scene, settings: &SquareMeshSettings) -> Mesh {
     let mut mesh = Mesh::default();
+    let tolerance = CONTACT_TOLERANCE * scene.diagonal();
+    let mut touched = Vec::new();
     for (index, surface) in scene.surfaces.iter().enumerate() {
-        let mut builder = SurfaceBuilder::new(&mut mesh, index as u32);
+        let mut grid = Mesh::default();
+        let mut builder = SurfaceBuilder::new(&mut grid, index as u32);
         match convex_quad(surface) {
             Some(corners) => builder.quad_grid(corners, settings),
             None => builder.triangle_lattices(surface, settings),
         }
+        let contacts = contact_segments(scene, index, tolerance);
+        if contacts.is_empty() {
+            mesh.append(grid);
+        } else {
+            mesh.append(remesh_along_contacts(
+                surface,
+                &grid,
+                &contacts,
+                settings.max_edge,
+            ));
+            touched.push(index as u32);
+        }
+    }
+    if !touched.is_empty() {
+        remove_hidden_elements(&mut mesh, scene, &touched);
     }
     mesh.inset_boundary_receivers(receiver_inset(scene));
     mesh
 }
+
+/// How close to a plane, as a fraction of the scene's diagonal, another
+/// surface's edge must lie to stand on it.
+const CONTACT_TOLERANCE: f64 = 1e-3;
 
 /// The corners of a surface that is a strictly convex quadrilateral.
 fn convex_quad(surface: &Surface) -> Option<[DVec3; 4]> {
@@ -131,43 +157,15 @@ impl<'a> SurfaceBuilder<'a> {
     }
 
     fn add_vertex(&mut self, position: DVec3) -> u32 {
-        self.mesh.vertices.push(MeshVertex {
-            position,
-            receiver_position: position,
-            surface: self.surface,
-        });
-        (self.mesh.vertices.len() - 1) as u32
+        self.mesh.add_vertex(position, self.surface)
     }
 
     fn add_patch(&mut self, cell: Cell) -> u32 {
-        self.mesh.patches.push(Patch {
-            surface: self.surface as usize,
-            cell,
-            elements: Vec::new(),
-        });
-        (self.mesh.patches.len() - 1) as u32
+        self.mesh.add_patch(self.surface, cell)
     }
 
     fn add_element(&mut self, corners: &[u32], patch: u32) {
-        let p = |k: usize| self.mesh.vertices[corners[k] as usize].position;
-        let cell = if corners.len() == 3 {
-            Cell::triangle(p(0), p(1), p(2))
-        } else {
-            Cell::quad(p(0), p(1), p(2), p(3))
-        };
-        let mut vertices = [corners[0], corners[1], corners[2], corners[2]];
-        if corners.len() == 4 {
-            vertices[3] = corners[3];
-        }
-        let index = self.mesh.elements.len() as u32;
-        self.mesh.elements.push(Element {
-            vertices,
-            is_triangle: corners.len() == 3,
-            surface: self.surface,
-            patch,
-            area: cell.area,
-        });
-        self.mesh.patches[patch as usize].elements.push(index);
+        self.mesh.add_element(corners, patch);
     }
 
     /// A G × H bilinear grid of quads over a convex quad, in patch blocks.

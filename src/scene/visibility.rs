@@ -2,8 +2,12 @@
 
 use glam::{DVec3, Vec3A};
 use obvhs::{
-    BvhBuildParams, cwbvh::CwBvh, cwbvh::builder::build_cwbvh_from_tris, ray::Ray,
-    rt_triangle::RtTriangle, triangle::Triangle,
+    BvhBuildParams,
+    cwbvh::CwBvh,
+    cwbvh::builder::build_cwbvh_from_tris,
+    ray::{Ray, RayHit},
+    rt_triangle::RtTriangle,
+    triangle::Triangle,
 };
 use std::time::Duration;
 
@@ -104,6 +108,34 @@ impl Visibility {
                 self.triangles[id].intersect(ray)
             }
         })
+    }
+
+    /// The surface a ray from `origin` along the unit `direction` hits
+    /// first within `reach`, ignoring surface `ignore`.
+    #[must_use]
+    pub fn first_hit(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        reach: f64,
+        ignore: u32,
+    ) -> Option<u32> {
+        let origin = origin - self.centre;
+        let ray = Ray::new(
+            Vec3A::new(origin.x as f32, origin.y as f32, origin.z as f32),
+            Vec3A::new(direction.x as f32, direction.y as f32, direction.z as f32),
+            0.0,
+            reach as f32,
+        );
+        let mut hit = RayHit::none();
+        let found = self.bvh.ray_traverse(ray, &mut hit, |ray, id| {
+            if self.triangle_surfaces[id] == ignore {
+                f32::INFINITY
+            } else {
+                self.triangles[id].intersect(ray)
+            }
+        });
+        found.then(|| self.triangle_surfaces[hit.primitive_id as usize])
     }
 
     /// Number of triangles in the BVH (after any splitting by the builder).

@@ -78,11 +78,7 @@ impl<'a> Solver<'a> {
             .map(|v| emitted(v.surface as usize))
             .collect();
         let unshot: Vec<Rgb> = mesh.patches.iter().map(|p| emitted(p.surface)).collect();
-        let powers = mesh
-            .patches
-            .iter()
-            .zip(&unshot)
-            .map(|(p, b)| *b * p.cell.area);
+        let powers = mesh.patches.iter().zip(&unshot).map(|(p, b)| *b * p.area);
         let emitted_power = powers.clone().sum::<Rgb>();
         let reference_power = powers.map(|p| p.element_sum()).fold(0.0, f64::max);
         Ok(Solver {
@@ -105,7 +101,7 @@ impl<'a> Solver<'a> {
     /// Shoots the patch with the most unshot power. Returns false when no
     /// patch has any.
     pub fn step(&mut self) -> bool {
-        let power = |(p, b): (usize, &Rgb)| (p, b.element_sum() * self.mesh.patches[p].cell.area);
+        let power = |(p, b): (usize, &Rgb)| (p, b.element_sum() * self.mesh.patches[p].area);
         let Some((j, power)) = self
             .unshot
             .iter()
@@ -121,7 +117,7 @@ impl<'a> Solver<'a> {
         let delta = std::mem::replace(&mut self.unshot[j], Rgb::ZERO);
         let form_factors = self.form_factors_to(j, power);
         self.receive(delta, &form_factors);
-        self.shot_power += delta * self.mesh.patches[j].cell.area;
+        self.shot_power += delta * self.mesh.patches[j].area;
         self.shots += 1;
         true
     }
@@ -197,7 +193,7 @@ impl<'a> Solver<'a> {
                 .scene
                 .material_of(&self.scene.surfaces[element.surface as usize])
                 .reflectance;
-            self.unshot[patch] += reflectance * incident_power / self.mesh.patches[patch].cell.area;
+            self.unshot[patch] += reflectance * incident_power / self.mesh.patches[patch].area;
         }
     }
 
@@ -235,7 +231,7 @@ impl<'a> Solver<'a> {
             .patches
             .iter()
             .zip(&self.unshot)
-            .map(|(p, b)| *b * p.cell.area)
+            .map(|(p, b)| *b * p.area)
             .sum()
     }
 
@@ -261,7 +257,7 @@ impl<'a> Solver<'a> {
     /// Cohen's ambient irradiance: A_mb = Σ_p ΔB_p A_p / Σ A_p · 1/(1 − ρ̄),
     /// with ρ̄ the area-weighted mean reflectance (Cohen et al. 1988, §4).
     fn ambient_irradiance(&self) -> Rgb {
-        let total_area: f64 = self.mesh.patches.iter().map(|p| p.cell.area).sum();
+        let total_area: f64 = self.mesh.patches.iter().map(|p| p.area).sum();
         if total_area <= 0.0 {
             return Rgb::ZERO;
         }
@@ -273,7 +269,7 @@ impl<'a> Solver<'a> {
                 self.scene
                     .material_of(&self.scene.surfaces[p.surface])
                     .reflectance
-                    * p.cell.area
+                    * p.area
             })
             .sum::<Rgb>()
             / total_area;

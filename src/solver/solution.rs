@@ -1,11 +1,11 @@
 //! A solved scene, and reading it at any point (the probes).
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use crate::error::{Error, Result};
 use crate::mesh::{Cell, Mesh, receiver_inset};
 use crate::radiometry::{polygon_form_factor, polygon_form_factor_gradient};
-use crate::scene::{ProbePoint, Rgb, Scene, Visibility};
+use crate::scene::{ProbePoint, Rgb, Scene, Visibility, distance_to_boundary, polygon_contains};
 
 /// How a probe reads the solution.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -163,8 +163,7 @@ impl Solution<'_> {
         if distance_inside_polygon(p, &plane_vertices) >= inset {
             return on_plane;
         }
-        let centroid =
-            plane_vertices.iter().copied().sum::<glam::DVec2>() / plane_vertices.len() as f64;
+        let centroid = plane_vertices.iter().copied().sum::<DVec2>() / plane_vertices.len() as f64;
         let towards = (centroid - p).normalize_or_zero();
         s.frame().to_world(p + towards * inset)
     }
@@ -294,42 +293,19 @@ fn barycentric_gradients(a: DVec3, b: DVec3, c: DVec3, normal: DVec3) -> [DVec3;
 }
 
 /// Distance from a point outside a polygon to it (0 when inside).
-fn distance_outside_polygon(p: glam::DVec2, polygon: &[glam::DVec2]) -> f64 {
-    if contains(p, polygon) {
+fn distance_outside_polygon(p: DVec2, polygon: &[DVec2]) -> f64 {
+    if polygon_contains(polygon, p) {
         0.0
     } else {
-        distance_to_boundary(p, polygon)
+        distance_to_boundary(polygon, p)
     }
 }
 
 /// Distance from a point inside a polygon to its boundary (0 when outside).
-fn distance_inside_polygon(p: glam::DVec2, polygon: &[glam::DVec2]) -> f64 {
-    if contains(p, polygon) {
-        distance_to_boundary(p, polygon)
+fn distance_inside_polygon(p: DVec2, polygon: &[DVec2]) -> f64 {
+    if polygon_contains(polygon, p) {
+        distance_to_boundary(polygon, p)
     } else {
         0.0
     }
-}
-
-/// Even-odd point-in-polygon test.
-fn contains(p: glam::DVec2, polygon: &[glam::DVec2]) -> bool {
-    let mut inside = false;
-    for k in 0..polygon.len() {
-        let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
-            inside = !inside;
-        }
-    }
-    inside
-}
-
-fn distance_to_boundary(p: glam::DVec2, polygon: &[glam::DVec2]) -> f64 {
-    (0..polygon.len())
-        .map(|k| {
-            let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
-            let t = ((p - a).dot(b - a) / (b - a).length_squared().max(f64::MIN_POSITIVE))
-                .clamp(0.0, 1.0);
-            p.distance(a + (b - a) * t)
-        })
-        .fold(f64::INFINITY, f64::min)
 }

@@ -1,0 +1,287 @@
+//! Contact lines: where another surface meets a receiver's plane in front of
+//! it, as a block standing on a floor or a partition against a wall.
+//!
+//! Light is discontinuous across such a line (bright on one side, nothing
+//! under the block), which no interpolation across it can represent. The
+//! meshers put element edges along contact lines instead.
+
+use glam::{DVec2, DVec3};
+
+use super::constrained::triangulate_constrained;
+use super::topology::Mesh;
+use crate::scene::{
+    PlaneFrame, Scene, Surface, Visibility, distance_to_boundary, polygon_contains,
+};
+
+/// A contact segment in a receiver's plane coordinates, with the side the
+/// touching surface faces (its normal projected into the receiver's plane):
+/// the side a viewer can see, for a closed object.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// End points, in the receiver's plane coordinates.
+    pub ends: [DVec2; 2],
+    /// Index of the touching surface.
+    pub surface: usize,
+}
+
+/// The contact segments on `receiver`'s front: for every other surface not
+/// parallel to it, the part of its polygon lying within `tolerance` of the
+/// receiver's plane (or crossing it), when the rest of that surface stands
+/// in front of the receiver; clipped to the receiver's polygon. Segments
+/// shorter than `tolerance`, or running along the polygon's boundary (a wall
+/// meeting a floor at its edge), are dropped.
+#[must_use]
+pub fn contact_segments(scene: &Scene, receiver: usize, tolerance: f64) -> Vec<Contact> {
+    let target = &scene.surfaces[receiver];
+    let frame = target.frame();
+    let outline = target.plane_vertices();
+    let mut contacts = Vec::new();
+    for (index, other) in scene.surfaces.iter().enumerate() {
+        if index == receiver || other.normal().dot(target.normal()).abs() > 0.999 {
+            continue;
+        }
+        let heights: Vec<f64> = other.vertices().iter().map(|&p| frame.height(p)).collect();
+        // It must touch the plane, and stand in front of the receiver.
+        let touches = heights.iter().any(|h| h.abs() <= tolerance);
+        let crosses =
+            heights.iter().any(|&h| h < -tolerance) && heights.iter().any(|&h| h > tolerance);
+        if !(touches || crosses) || heights.iter().all(|&h| h <= tolerance) {
+            continue;
+        }
+        let Some(ends) = plane_section(other, &heights, tolerance, frame) else {
+            continue;
+        };
+        if let Some(clipped) = clip_segment_to_polygon(ends, &outline) {
+            // A wall standing on the floor's edge makes no line inside it.
+            let along_outline = [clipped[0], clipped[1], clipped[0].lerp(clipped[1], 0.5)]
+                .iter()
+                .all(|&p| distance_to_boundary(&outline, p) <= tolerance);
+            if clipped[0].distance(clipped[1]) > tolerance && !along_outline {
+                contacts.push(Contact {
+                    ends: clipped,
+                    surface: index,
+                });
+            }
+        }
+    }
+    contacts
+}
+
+/// Where a polygon meets a plane: the extreme points, along the line of
+/// intersection, of its vertices on the plane and of its edges' crossings.
+fn plane_section(
+    surface: &Surface,
+    heights: &[f64],
+    tolerance: f64,
+    frame: &PlaneFrame,
+) -> Option<[DVec2; 2]> {
+    let vertices = surface.vertices();
+    let n = vertices.len();
+    let mut points: Vec<DVec3> = Vec::new();
+    for k in 0..n {
+        let (a, b) = (vertices[k], vertices[(k + 1) % n]);
+        let (ha, hb) = (heights[k], heights[(k + 1) % n]);
+        if ha.abs() <= tolerance {
+            points.push(a);
+        }
+        if (ha < -tolerance && hb > tolerance) || (ha > tolerance && hb < -tolerance) {
+            points.push(a + (b - a) * (ha / (ha - hb)));
+        }
+    }
+    let plane_points: Vec<DVec2> = points.iter().map(|&p| frame.to_plane(p)).collect();
+    let direction = frame.normal.cross(surface.normal());
+    let along = DVec2::new(direction.dot(frame.u), direction.dot(frame.v)).normalize_or_zero();
+    let key = |p: &DVec2| p.dot(along);
+    let first = plane_points
+        .iter()
+        .min_by(|a, b| key(a).total_cmp(&key(b)))?;
+    let last = plane_points
+        .iter()
+        .max_by(|a, b| key(a).total_cmp(&key(b)))?;
+    Some([*first, *last])
+}
+
+/// The part of a segment inside a polygon (counter-clockwise, simple),
+/// assuming it is one piece: the segment's parameter range between its first
+/// entry and last exit. `None` when it misses the polygon.
+fn clip_segment_to_polygon(ends: [DVec2; 2], polygon: &[DVec2]) -> Option<[DVec2; 2]> {
+    let [a, b] = ends;
+    let inside = |p: DVec2| polygon_contains(polygon, p);
+    // Parameters where the segment crosses the polygon's edges, plus its ends.
+    let mut cuts = vec![0.0, 1.0];
+    for k in 0..polygon.len() {
+        let (p, q) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+        let denominator = (b - a).perp_dot(q - p);
+        if denominator.abs() <= f64::MIN_POSITIVE {
+            continue;
+        }
+        let t = (p - a).perp_dot(q - p) / denominator;
+        let s = (p - a).perp_dot(b - a) / denominator;
+        if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&s) {
+            cuts.push(t);
+        }
+    }
+    cuts.sort_by(f64::total_cmp);
+    // Keep the pieces whose middle is inside (or on the boundary).
+    let mut range: Option<(f64, f64)> = None;
+    for pair in cuts.windows(2) {
+        let middle = a.lerp(b, 0.5 * (pair[0] + pair[1]));
+        if pair[1] > pair[0]
+            && (inside(middle) || distance_to_boundary(polygon, middle) < 1e-9 * (b - a).length())
+        {
+            range = Some(range.map_or((pair[0], pair[1]), |(lo, _)| (lo, pair[1])));
+        }
+    }
+    range.map(|(lo, hi)| [a.lerp(b, lo), a.lerp(b, hi)])
+}
+
+/// Re-triangulates a surface's regular grid so that element edges follow
+/// the contact lines: the grid's vertices (less those within 0.6 `spacing`
+/// of a contact line), points along the contact lines about `spacing` apart,
+/// and the grid's patch cells as constraints so that every triangle lies in
+/// one patch. Uses [`triangulate_constrained`].
+#[must_use]
+pub fn remesh_along_contacts(
+    surface: &Surface,
+    grid: &Mesh,
+    contacts: &[Contact],
+    spacing: f64,
+) -> Mesh {
+    let frame = surface.frame();
+    let outline = surface.plane_vertices();
+    let scale = outline
+        .iter()
+        .map(|p| p.length())
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let segments: Vec<[DVec2; 2]> = contacts.iter().map(|c| c.ends).collect();
+    // Grid points, except those crowding a contact line (outline points stay).
+    let crowds = |p: DVec2| {
+        segments
+            .iter()
+            .any(|s| distance_to_segment(p, *s) < 0.6 * spacing)
+    };
+    let mut points: Vec<DVec2> = grid
+        .vertices
+        .iter()
+        .map(|v| frame.to_plane(v.position))
+        .filter(|&p| distance_to_boundary(&outline, p) <= 1e-12 * scale || !crowds(p))
+        .collect();
+    // Points along each contact line.
+    for [a, b] in &segments {
+        let n = (a.distance(*b) / spacing).ceil().clamp(1.0, 4096.0) as usize;
+        points.extend((1..n).map(|k| a.lerp(*b, k as f64 / n as f64)));
+    }
+    // Patch cells as constraints, so that no triangle straddles two patches.
+    let cells: Vec<Vec<DVec2>> = grid
+        .patches
+        .iter()
+        .map(|p| {
+            p.cell
+                .polygon()
+                .iter()
+                .map(|&q| frame.to_plane(q))
+                .collect()
+        })
+        .collect();
+    let mut constraints = segments.clone();
+    for cell in &cells {
+        constraints.extend((0..cell.len()).map(|k| [cell[k], cell[(k + 1) % cell.len()]]));
+    }
+    let triangulation = triangulate_constrained(&outline, &points, &constraints);
+    // Rebuild the mesh: the grid's patches, each holding the triangles inside it.
+    let mut mesh = Mesh::default();
+    let surface_index = grid.patches.first().map_or(0, |p| p.surface as u32);
+    for patch in &grid.patches {
+        mesh.add_patch(surface_index, patch.cell);
+    }
+    let mut ids = vec![u32::MAX; triangulation.points.len()];
+    for triangle in &triangulation.triangles {
+        let centroid = triangle
+            .iter()
+            .map(|&k| triangulation.points[k])
+            .sum::<DVec2>()
+            / 3.0;
+        let patch = (0..cells.len())
+            .min_by(|&a, &b| {
+                cell_distance(&cells[a], centroid).total_cmp(&cell_distance(&cells[b], centroid))
+            })
+            .unwrap_or(0);
+        let corners = triangle.map(|k| {
+            if ids[k] == u32::MAX {
+                ids[k] = mesh.add_vertex(frame.to_world(triangulation.points[k]), surface_index);
+            }
+            ids[k]
+        });
+        mesh.add_element(&corners, patch as u32);
+    }
+    mesh
+}
+
+/// 0 inside a cell, else the distance to it.
+fn cell_distance(cell: &[DVec2], p: DVec2) -> f64 {
+    if polygon_contains(cell, p) {
+        0.0
+    } else {
+        distance_to_boundary(cell, p)
+    }
+}
+
+fn distance_to_segment(p: DVec2, [a, b]: [DVec2; 2]) -> f64 {
+    let t = ((p - a).dot(b - a) / (b - a).length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+    p.distance(a + (b - a) * t)
+}
+
+/// Drops the elements of the given surfaces that lie inside a closed object
+/// standing on them (under a block on a floor): no light reaches them and no
+/// viewer sees them. An element is enclosed when at least 6 of 7 rays from
+/// just above its centroid, spread over its hemisphere, hit the back of a
+/// surface (one-sided surfaces of a closed object face outwards).
+pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[u32]) {
+    let visibility = Visibility::new(scene);
+    let lift = 10.0 * visibility.surface_offset();
+    let reach = scene.diagonal();
+    let hidden: Vec<bool> = mesh
+        .elements
+        .iter()
+        .map(|element| {
+            if !surfaces.contains(&element.surface) {
+                return false;
+            }
+            let normal = scene.surfaces[element.surface as usize].normal();
+            let corners = element.corners();
+            let centroid = corners
+                .iter()
+                .map(|&v| mesh.vertices[v as usize].position)
+                .sum::<DVec3>()
+                / corners.len() as f64;
+            let origin = centroid + normal * lift;
+            let backs = hemisphere_directions(normal)
+                .iter()
+                .filter(|&&direction| {
+                    visibility
+                        .first_hit(origin, direction, reach, element.surface)
+                        .is_some_and(|surface| {
+                            scene.surfaces[surface as usize].normal().dot(direction) > 0.0
+                        })
+                })
+                .count();
+            backs >= 6
+        })
+        .collect();
+    mesh.remove_elements(|index, _| hidden[index]);
+}
+
+/// Seven directions over the hemisphere around `normal`: the normal and six
+/// at 60° from it.
+fn hemisphere_directions(normal: DVec3) -> [DVec3; 7] {
+    let u = normal.any_orthonormal_vector();
+    let v = normal.cross(u);
+    let mut directions = [normal; 7];
+    for (k, direction) in directions.iter_mut().skip(1).enumerate() {
+        let azimuth = std::f64::consts::TAU * k as f64 / 6.0;
+        let (sin, cos) = azimuth.sin_cos();
+        *direction = normal * 0.5 + (u * cos + v * sin) * 0.75f64.sqrt();
+    }
+    directions
+}

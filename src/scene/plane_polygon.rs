@@ -1,0 +1,51 @@
+//! Point queries on polygons in plane coordinates.
+
+use glam::DVec2;
+
+/// Even-odd test: is `p` inside the polygon?
+#[must_use]
+pub fn polygon_contains(polygon: &[DVec2], p: DVec2) -> bool {
+    let mut inside = false;
+    for k in 0..polygon.len() {
+        let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+/// Distance from `p` to the polygon's boundary.
+#[must_use]
+pub fn distance_to_boundary(polygon: &[DVec2], p: DVec2) -> f64 {
+    (0..polygon.len())
+        .map(|k| {
+            let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+            let t = ((p - a).dot(b - a) / (b - a).length_squared().max(f64::MIN_POSITIVE))
+                .clamp(0.0, 1.0);
+            p.distance(a + (b - a) * t)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn l_shape() {
+        let l = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+        ]
+        .map(|(x, y)| DVec2::new(x, y));
+        assert!(polygon_contains(&l, DVec2::new(0.5, 1.5)));
+        assert!(!polygon_contains(&l, DVec2::new(1.5, 1.5)));
+        assert!((distance_to_boundary(&l, DVec2::new(1.5, 1.5)) - 0.5).abs() < 1e-15);
+        assert!((distance_to_boundary(&l, DVec2::new(0.5, 0.25)) - 0.25).abs() < 1e-15);
+    }
+}
