@@ -76,7 +76,11 @@ mod scene;
 mod solver;
 
 pub use error::{Error, Result};
-pub use mesh::{Cell, Element, Mesh, MeshVertex, Patch, SquareMeshSettings, mesh_square};
+pub use mesh::{
+    Cell, ContourLayout, ContourSettings, Element, InterpolationError, Mesh, MeshVertex, Patch,
+    PlaneTriangulation, ScalarField, SquareMeshSettings, contour_layout, interpolation_error,
+    mesh_square,
+};
 pub use radiometry::{
     DiscModel, ReceiverPlane, SmallDisc, TiltFrame, disc_form_factor, polygon_form_factor,
     polygon_form_factor_gradient, polygon_form_factor_with_gradient, tilt_line_maximum,

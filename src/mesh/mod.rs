@@ -4,10 +4,15 @@
 
 mod constrained;
 mod contacts;
+mod contour;
+mod interpolation_error;
 mod patch;
 mod square;
 mod topology;
 
+pub use constrained::PlaneTriangulation;
+pub use contour::{ContourLayout, ContourSettings, ScalarField, contour_layout};
+pub use interpolation_error::{InterpolationError, interpolation_error};
 pub use patch::{Cell, Patch};
 pub use square::{SquareMeshSettings, mesh_square, receiver_inset};
 pub use topology::{Element, Mesh, MeshVertex};

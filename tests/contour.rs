@@ -1,0 +1,229 @@
+//! The radial contour-level mesher on the seed paper's case: a small disc
+//! over a 10 × 10 plane, flat and tilted 30°.
+
+use glam::{DVec2, DVec3};
+use isorad::{
+    ContourSettings, DiscModel, PlaneTriangulation, ReceiverPlane, SmallDisc, contour_layout,
+    interpolation_error, polygon_form_factor_with_gradient,
+};
+
+const HALF: f64 = 5.0;
+
+struct Seed {
+    disc: Vec<DVec3>,
+    centre: DVec3,
+    normal: DVec3,
+}
+
+/// A 64-gon of radius 0.1 at height 1, facing down, tilted by `tilt` about y.
+fn seed(tilt_deg: f64) -> Seed {
+    let tilt = tilt_deg.to_radians();
+    let normal = DVec3::new(tilt.sin(), 0.0, -tilt.cos());
+    let u = DVec3::new(tilt.cos(), 0.0, tilt.sin());
+    let v = DVec3::Y;
+    let centre = DVec3::new(0.0, 0.0, 1.0);
+    let disc = (0..64)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / 64.0;
+            centre + (u * a.cos() + v * a.sin()) * 0.1
+        })
+        .collect();
+    Seed {
+        disc,
+        centre,
+        normal,
+    }
+}
+
+impl Seed {
+    /// Direct form factor and its in-plane gradient at a floor point; zero
+    /// behind the disc's plane (it emits on its front only).
+    fn field(&self, p: DVec2) -> (f64, DVec2) {
+        let x = DVec3::new(p.x, p.y, 0.0);
+        if (x - self.centre).dot(self.normal) <= 0.0 {
+            return (0.0, DVec2::ZERO);
+        }
+        let (f, g) = polygon_form_factor_with_gradient(x, DVec3::Z, &self.disc);
+        (f, DVec2::new(g.x, g.y))
+    }
+
+    fn maximum(&self) -> DVec2 {
+        let disc = SmallDisc {
+            centre: self.centre,
+            normal: self.normal,
+            area: std::f64::consts::PI * 0.01,
+            exitance: 1.0,
+        };
+        let plane = ReceiverPlane {
+            point: DVec3::ZERO,
+            normal: DVec3::Z,
+        };
+        let m = disc
+            .maximum_on_plane(DiscModel::FiniteDisc, &plane)
+            .expect("the disc lights the plane");
+        DVec2::new(m.x, m.y)
+    }
+
+    fn kink(&self) -> Vec<[DVec2; 2]> {
+        // The disc's plane meets z = 0 where n·(x − c) = 0: n_x x = n_z(0 − 1)·(−1)…
+        if self.normal.x.abs() < 1e-12 {
+            return Vec::new();
+        }
+        let x = self.normal.z * self.centre.z / self.normal.x;
+        vec![[DVec2::new(x, -HALF), DVec2::new(x, HALF)]]
+    }
+}
+
+fn square() -> Vec<DVec2> {
+    vec![
+        DVec2::new(-HALF, -HALF),
+        DVec2::new(HALF, -HALF),
+        DVec2::new(HALF, HALF),
+        DVec2::new(-HALF, HALF),
+    ]
+}
+
+/// An N × N grid, each quad split along the diagonal whose ends' values are
+/// closer (as the renderer splits it).
+fn square_mesh(n: usize, value: &dyn Fn(DVec2) -> f64) -> (PlaneTriangulation, Vec<f64>) {
+    let step = 2.0 * HALF / n as f64;
+    let points: Vec<DVec2> = (0..=n)
+        .flat_map(|j| {
+            (0..=n).map(move |i| DVec2::new(-HALF + step * i as f64, -HALF + step * j as f64))
+        })
+        .collect();
+    let values: Vec<f64> = points.iter().map(|&p| value(p)).collect();
+    let id = |i: usize, j: usize| j * (n + 1) + i;
+    let mut triangles = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            if (values[a] - values[c]).abs() <= (values[b] - values[d]).abs() {
+                triangles.extend([[a, b, c], [a, c, d]]);
+            } else {
+                triangles.extend([[a, b, d], [b, c, d]]);
+            }
+        }
+    }
+    (PlaneTriangulation { points, triangles }, values)
+}
+
+fn contour_mesh(
+    seed: &Seed,
+    directions: usize,
+    levels: usize,
+) -> (PlaneTriangulation, Vec<f64>, isorad::ContourLayout) {
+    let mut settings = ContourSettings::default();
+    settings.directions = directions;
+    settings.levels = levels;
+    let field = |p: DVec2| seed.field(p);
+    let layout = contour_layout(&square(), &field, seed.maximum(), &settings, &seed.kink());
+    let triangulation = layout.triangulate(&square());
+    let values = triangulation
+        .points
+        .iter()
+        .map(|&p| seed.field(p).0)
+        .collect();
+    (triangulation, values, layout)
+}
+
+#[test]
+fn contour_vertices_lie_on_their_levels() {
+    for tilt in [0.0, 30.0] {
+        let seed = seed(tilt);
+        let (_, _, layout) = contour_mesh(&seed, 20, 5);
+        assert_eq!(layout.levels.len(), 5);
+        assert!(
+            layout.levels.windows(2).all(|w| w[0] > w[1]),
+            "levels decrease"
+        );
+        let mut on_levels = 0;
+        for (p, level) in layout.points.iter().zip(&layout.point_levels) {
+            if let Some(k) = level {
+                let b = seed.field(*p).0;
+                let target = layout.levels[*k];
+                let on_boundary = p.x.abs().max(p.y.abs()) > HALF - 1e-9;
+                assert!(
+                    (b - target).abs() <= 1e-6 * target || on_boundary,
+                    "tilt {tilt}: {b} vs level {target} at {p}"
+                );
+                on_levels += 1;
+            }
+        }
+        assert!(
+            on_levels >= 80,
+            "tilt {tilt}: {on_levels} vertices on levels"
+        );
+        println!(
+            "tilt {tilt}°: {} Newton iterations for {} vertices",
+            layout.newton_iterations, layout.newton_solves
+        );
+    }
+}
+
+#[test]
+fn contour_triangles_tile_the_polygon() {
+    for tilt in [0.0, 30.0] {
+        let (triangulation, _, _) = contour_mesh(&seed(tilt), 20, 5);
+        let p = &triangulation.points;
+        let mut area = 0.0;
+        for &[a, b, c] in &triangulation.triangles {
+            let twice = (p[b] - p[a]).perp_dot(p[c] - p[a]);
+            assert!(twice > 0.0, "counter-clockwise, non-degenerate");
+            let centroid = (p[a] + p[b] + p[c]) / 3.0;
+            assert!(
+                centroid.x.abs().max(centroid.y.abs()) < HALF,
+                "inside the polygon"
+            );
+            area += 0.5 * twice;
+        }
+        assert!(
+            (area - 4.0 * HALF * HALF).abs() < 1e-9 * 4.0 * HALF * HALF,
+            "tilt {tilt}: area {area}"
+        );
+    }
+}
+
+#[test]
+fn contour_meshes_beat_square_meshes_on_the_seed_case() {
+    for tilt in [0.0, 30.0] {
+        let seed = seed(tilt);
+        let exact = |p: DVec2| seed.field(p).0;
+        let error = |(t, v): &(PlaneTriangulation, Vec<f64>)| {
+            interpolation_error(&square(), t, v, &exact, 200).rms_rel_error
+        };
+        let square10 = square_mesh(10, &exact);
+        let square30 = square_mesh(30, &exact);
+        let (t, v, _) = contour_mesh(&seed, 20, 5);
+        let contour = (t, v);
+        let (e10, e30, ec) = (error(&square10), error(&square30), error(&contour));
+        println!(
+            "tilt {tilt}°: square 10×10 {} vertices, rms {e10:.4}; square 30×30 {} vertices, rms {e30:.4}; contour 20×5 {} vertices, rms {ec:.4}",
+            square10.0.points.len(),
+            square30.0.points.len(),
+            contour.0.points.len()
+        );
+        assert!(
+            ec < e10,
+            "tilt {tilt}: contour 20×5 ({ec}) should beat square 10×10 ({e10})"
+        );
+        // The smallest contour mesh reaching square 30×30's error.
+        let reaching = [(8, 4), (12, 6), (16, 8), (20, 10)]
+            .into_iter()
+            .map(|(d, k)| {
+                let (t, v, _) = contour_mesh(&seed, d, k);
+                let e = error(&(t.clone(), v));
+                (d, k, t.points.len(), e)
+            })
+            .find(|&(_, _, _, e)| e <= e30);
+        let (d, k, vertices, e) = reaching.expect("some contour mesh reaches square 30×30's error");
+        println!(
+            "tilt {tilt}°: contour {d}×{k} reaches rms {e:.4} with {vertices} vertices: {:.1}× fewer than square 30×30",
+            square30.0.points.len() as f64 / vertices as f64
+        );
+        assert!(
+            vertices * 5 < square30.0.points.len(),
+            "at least 5× fewer vertices"
+        );
+    }
+}
