@@ -77,9 +77,9 @@ mod solver;
 
 pub use error::{Error, Result};
 pub use mesh::{
-    Cell, ContourLayout, ContourSettings, Element, InterpolationError, Mesh, MeshVertex, Patch,
-    PlaneTriangulation, ScalarField, SquareMeshSettings, contour_layout, interpolation_error,
-    mesh_square,
+    Cell, ContourLayout, ContourSettings, Element, ErrorGrid, InterpolationError, Mesh, MeshVertex,
+    Patch, PlaneTriangulation, ScalarField, SquareMeshSettings, contour_layout,
+    interpolation_error, mesh_square,
 };
 pub use radiometry::{
     DiscModel, ReceiverPlane, SmallDisc, TiltFrame, disc_form_factor, polygon_form_factor,

@@ -8,6 +8,7 @@
 use glam::{DVec2, DVec3};
 
 use super::constrained::triangulate_constrained;
+use super::contour::ContourLayout;
 use super::topology::Mesh;
 use crate::scene::{
     PlaneFrame, Scene, Surface, Visibility, distance_to_boundary, polygon_contains,
@@ -136,16 +137,18 @@ fn clip_segment_to_polygon(ends: [DVec2; 2], polygon: &[DVec2]) -> Option<[DVec2
 }
 
 /// Re-triangulates a surface's regular grid so that element edges follow
-/// the contact lines: the grid's vertices (less those within 0.6 `spacing`
-/// of a contact line), points along the contact lines about `spacing` apart,
-/// and the grid's patch cells as constraints so that every triangle lies in
-/// one patch. Uses [`triangulate_constrained`].
+/// the contact lines and, when given, a contour layout: the layout's points
+/// and contour pieces (or, without one, the grid's vertices less those
+/// within 0.6 `spacing` of a contact line), points along the contact lines
+/// about `spacing` apart, and the grid's patch cells as constraints so that
+/// every triangle lies in one patch. Uses [`triangulate_constrained`].
 #[must_use]
-pub fn remesh_along_contacts(
+pub fn remesh_surface(
     surface: &Surface,
     grid: &Mesh,
     contacts: &[Contact],
     spacing: f64,
+    layout: Option<&ContourLayout>,
 ) -> Mesh {
     let frame = surface.frame();
     let outline = surface.plane_vertices();
@@ -161,12 +164,15 @@ pub fn remesh_along_contacts(
             .iter()
             .any(|s| distance_to_segment(p, *s) < 0.6 * spacing)
     };
-    let mut points: Vec<DVec2> = grid
-        .vertices
-        .iter()
-        .map(|v| frame.to_plane(v.position))
-        .filter(|&p| distance_to_boundary(&outline, p) <= 1e-12 * scale || !crowds(p))
-        .collect();
+    let mut points: Vec<DVec2> = match layout {
+        Some(layout) => layout.points.clone(),
+        None => grid
+            .vertices
+            .iter()
+            .map(|v| frame.to_plane(v.position))
+            .filter(|&p| distance_to_boundary(&outline, p) <= 1e-12 * scale || !crowds(p))
+            .collect(),
+    };
     // Points along each contact line.
     for [a, b] in &segments {
         let n = (a.distance(*b) / spacing).ceil().clamp(1.0, 4096.0) as usize;
@@ -185,6 +191,9 @@ pub fn remesh_along_contacts(
         })
         .collect();
     let mut constraints = segments.clone();
+    if let Some(layout) = layout {
+        constraints.extend_from_slice(&layout.constraints);
+    }
     for cell in &cells {
         constraints.extend((0..cell.len()).map(|k| [cell[k], cell[(k + 1) % cell.len()]]));
     }

@@ -1,6 +1,7 @@
 //! How well a mesh's piecewise-linear interpolation reproduces a field.
 
 use glam::DVec2;
+use rayon::prelude::*;
 
 use super::constrained::PlaneTriangulation;
 use crate::scene::polygon_contains;
@@ -18,10 +19,119 @@ pub struct InterpolationError {
     pub samples: usize,
 }
 
+/// The exact field at the centres of an n × n lattice over a polygon's
+/// bounding box, for the points inside the polygon: computed once, then
+/// compared with any number of meshes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ErrorGrid {
+    min: DVec2,
+    step: DVec2,
+    n: usize,
+    /// The exact value at each lattice point inside the polygon.
+    exact: Vec<Option<f64>>,
+}
+
+impl ErrorGrid {
+    /// Evaluates `exact` (in parallel) at the n × n lattice points inside `outline`.
+    #[must_use]
+    pub fn new(outline: &[DVec2], n: usize, exact: &(dyn Fn(DVec2) -> f64 + Sync)) -> ErrorGrid {
+        let n = n.max(2);
+        let (min, max) = outline.iter().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        let step = (max - min) / n as f64;
+        let exact = (0..n * n)
+            .into_par_iter()
+            .map(|k| {
+                let p = min + step * DVec2::new((k % n) as f64 + 0.5, (k / n) as f64 + 0.5);
+                polygon_contains(outline, p).then(|| exact(p))
+            })
+            .collect();
+        ErrorGrid {
+            min,
+            step,
+            n,
+            exact,
+        }
+    }
+
+    /// The error of `values` (one per triangulation point) interpolated over
+    /// the triangulation, against the exact field. Each lattice point is
+    /// interpolated in the triangle containing it.
+    #[must_use]
+    pub fn measure(
+        &self,
+        triangulation: &PlaneTriangulation,
+        values: &[f64],
+    ) -> InterpolationError {
+        let interpolated = self.interpolate(triangulation, values);
+        let (mut error_sq, mut signal_sq, mut max_error, mut max_value, mut samples) =
+            (0.0, 0.0, 0.0f64, 0.0f64, 0);
+        for (shown, truth) in interpolated.iter().zip(&self.exact) {
+            let (Some(shown), Some(truth)) = (shown, truth) else {
+                continue;
+            };
+            error_sq += (shown - truth).powi(2);
+            signal_sq += truth * truth;
+            max_error = max_error.max((shown - truth).abs());
+            max_value = max_value.max(truth.abs());
+            samples += 1;
+        }
+        InterpolationError {
+            rms_rel_error: if signal_sq > 0.0 {
+                (error_sq / signal_sq).sqrt()
+            } else {
+                0.0
+            },
+            max_rel_error: if max_value > 0.0 {
+                max_error / max_value
+            } else {
+                0.0
+            },
+            samples,
+        }
+    }
+
+    /// The interpolated value at each lattice point, scanning each
+    /// triangle's bounding box.
+    fn interpolate(&self, triangulation: &PlaneTriangulation, values: &[f64]) -> Vec<Option<f64>> {
+        let n = self.n;
+        let cell = |p: DVec2| ((p - self.min) / self.step).floor();
+        let mut interpolated: Vec<Option<f64>> = vec![None; n * n];
+        let points = &triangulation.points;
+        for &[a, b, c] in &triangulation.triangles {
+            let (pa, pb, pc) = (points[a], points[b], points[c]);
+            let twice_area = (pb - pa).perp_dot(pc - pa);
+            if twice_area.abs() <= f64::MIN_POSITIVE {
+                continue;
+            }
+            let lo = cell(pa.min(pb).min(pc)).max(DVec2::ZERO);
+            let hi = cell(pa.max(pb).max(pc)).min(DVec2::splat((n - 1) as f64));
+            if lo.x > hi.x || lo.y > hi.y {
+                continue;
+            }
+            for j in lo.y as usize..=hi.y as usize {
+                for i in lo.x as usize..=hi.x as usize {
+                    let p = self.min + self.step * DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
+                    let wa = (pc - pb).perp_dot(p - pb) / twice_area;
+                    let wb = (pa - pc).perp_dot(p - pc) / twice_area;
+                    let wc = 1.0 - wa - wb;
+                    if wa >= -1e-12 && wb >= -1e-12 && wc >= -1e-12 {
+                        interpolated[j * n + i] =
+                            Some(wa * values[a] + wb * values[b] + wc * values[c]);
+                    }
+                }
+            }
+        }
+        interpolated
+    }
+}
+
 /// Measures the interpolation error of `values` (one per triangulation
 /// point) against `exact`, at the centres of a `grid` × `grid` lattice over
-/// the polygon's bounding box, keeping the points inside the polygon.
-/// Each point is interpolated in the triangle containing it.
+/// the polygon's bounding box, keeping the points inside the polygon. For
+/// several meshes of one field, build an [`ErrorGrid`] once instead.
 #[must_use]
 pub fn interpolation_error(
     outline: &[DVec2],
@@ -30,68 +140,5 @@ pub fn interpolation_error(
     exact: &(dyn Fn(DVec2) -> f64 + Sync),
     grid: usize,
 ) -> InterpolationError {
-    let grid = grid.max(2);
-    let (min, max) = outline.iter().fold(
-        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-        |(lo, hi), &p| (lo.min(p), hi.max(p)),
-    );
-    let step = (max - min) / grid as f64;
-    let cell = |p: DVec2| ((p - min) / step).floor();
-    // Interpolated value at each grid point, by scanning each triangle's box.
-    let mut interpolated: Vec<Option<f64>> = vec![None; grid * grid];
-    let points = &triangulation.points;
-    for &[a, b, c] in &triangulation.triangles {
-        let (pa, pb, pc) = (points[a], points[b], points[c]);
-        let twice_area = (pb - pa).perp_dot(pc - pa);
-        if twice_area.abs() <= f64::MIN_POSITIVE {
-            continue;
-        }
-        let lo = cell(pa.min(pb).min(pc)).max(DVec2::ZERO);
-        let hi = cell(pa.max(pb).max(pc)).min(DVec2::splat((grid - 1) as f64));
-        for j in lo.y as usize..=hi.y as usize {
-            for i in lo.x as usize..=hi.x as usize {
-                let p = min + step * DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
-                let wa = (pc - pb).perp_dot(p - pb) / twice_area;
-                let wb = (pa - pc).perp_dot(p - pc) / twice_area;
-                let wc = 1.0 - wa - wb;
-                if wa >= -1e-12 && wb >= -1e-12 && wc >= -1e-12 {
-                    interpolated[j * grid + i] =
-                        Some(wa * values[a] + wb * values[b] + wc * values[c]);
-                }
-            }
-        }
-    }
-    // Accumulate the error over the points inside the polygon.
-    let (mut error_sq, mut signal_sq, mut max_error, mut max_value, mut samples) =
-        (0.0, 0.0, 0.0f64, 0.0f64, 0);
-    for j in 0..grid {
-        for i in 0..grid {
-            let p = min + step * DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
-            let Some(shown) = interpolated[j * grid + i] else {
-                continue;
-            };
-            if !polygon_contains(outline, p) {
-                continue;
-            }
-            let truth = exact(p);
-            error_sq += (shown - truth).powi(2);
-            signal_sq += truth * truth;
-            max_error = max_error.max((shown - truth).abs());
-            max_value = max_value.max(truth.abs());
-            samples += 1;
-        }
-    }
-    InterpolationError {
-        rms_rel_error: if signal_sq > 0.0 {
-            (error_sq / signal_sq).sqrt()
-        } else {
-            0.0
-        },
-        max_rel_error: if max_value > 0.0 {
-            max_error / max_value
-        } else {
-            0.0
-        },
-        samples,
-    }
+    ErrorGrid::new(outline, grid, exact).measure(triangulation, values)
 }

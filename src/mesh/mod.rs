@@ -12,7 +12,7 @@ mod topology;
 
 pub use constrained::PlaneTriangulation;
 pub use contour::{ContourLayout, ContourSettings, ScalarField, contour_layout};
-pub use interpolation_error::{InterpolationError, interpolation_error};
+pub use interpolation_error::{ErrorGrid, InterpolationError, interpolation_error};
 pub use patch::{Cell, Patch};
-pub use square::{SquareMeshSettings, mesh_square, receiver_inset};
+pub use square::{SquareMeshSettings, mesh_square, mesh_surfaces, receiver_inset};
 pub use topology::{Element, Mesh, MeshVertex};

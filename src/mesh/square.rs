@@ -15,7 +15,8 @@
 use glam::DVec3;
 use std::collections::HashMap;
 
-use super::contacts::{contact_segments, remesh_along_contacts, remove_hidden_elements};
+use super::contacts::{contact_segments, remesh_surface, remove_hidden_elements};
+use super::contour::ContourLayout;
 use super::patch::Cell;
 use super::topology::Mesh;
 use crate::scene::{Scene, Surface};
@@ -77,26 +78,38 @@ pub fn receiver_inset(scene: &Scene) -> f64 {
 /// object are dropped (see [`super::contacts`]).
 #[must_use]
 pub fn mesh_square(scene: &Scene, settings: &SquareMeshSettings) -> Mesh {
+    mesh_surfaces(scene, settings, &|_| None)
+}
+
+/// Meshes every surface: a contour layout where `layout` gives one (in the
+/// surface's plane coordinates), the square grid elsewhere, with contact
+/// lines and hidden parts handled as [`mesh_square`] does. Patches are the
+/// square grid's blocks either way.
+#[must_use]
+pub fn mesh_surfaces(
+    scene: &Scene,
+    settings: &SquareMeshSettings,
+    layout: &dyn Fn(usize) -> Option<ContourLayout>,
+) -> Mesh {
     let mut mesh = Mesh::default();
     let tolerance = CONTACT_TOLERANCE * scene.diagonal();
     let mut touched = Vec::new();
     for (index, surface) in scene.surfaces.iter().enumerate() {
-        let mut grid = Mesh::default();
-        let mut builder = SurfaceBuilder::new(&mut grid, index as u32);
-        match convex_quad(surface) {
-            Some(corners) => builder.quad_grid(corners, settings),
-            None => builder.triangle_lattices(surface, settings),
-        }
+        let grid = square_grid(surface, index as u32, settings);
         let contacts = contact_segments(scene, index, tolerance);
-        if contacts.is_empty() {
+        let layout = layout(index);
+        if contacts.is_empty() && layout.is_none() {
             mesh.append(grid);
-        } else {
-            mesh.append(remesh_along_contacts(
-                surface,
-                &grid,
-                &contacts,
-                settings.max_edge,
-            ));
+            continue;
+        }
+        mesh.append(remesh_surface(
+            surface,
+            &grid,
+            &contacts,
+            settings.max_edge,
+            layout.as_ref(),
+        ));
+        if !contacts.is_empty() {
             touched.push(index as u32);
         }
     }
@@ -105,6 +118,17 @@ pub fn mesh_square(scene: &Scene, settings: &SquareMeshSettings) -> Mesh {
     }
     mesh.inset_boundary_receivers(receiver_inset(scene));
     mesh
+}
+
+/// One surface's square grid of elements in patch blocks.
+fn square_grid(surface: &Surface, index: u32, settings: &SquareMeshSettings) -> Mesh {
+    let mut grid = Mesh::default();
+    let mut builder = SurfaceBuilder::new(&mut grid, index);
+    match convex_quad(surface) {
+        Some(corners) => builder.quad_grid(corners, settings),
+        None => builder.triangle_lattices(surface, settings),
+    }
+    grid
 }
 
 /// How close to a plane, as a fraction of the scene's diagonal, another

@@ -1,0 +1,131 @@
+//! Contour meshes against square meshes: vertices and interpolation error
+//! on the receivers lit by a dominant small emitter.
+//!
+//! For each receiver, every mesh gets the exact direct radiosity of the
+//! dominant luminaire at its vertices (visibility included), and its
+//! piecewise-linear interpolation is compared with the exact value on a
+//! dense grid of points inside the receiver (DESIGN.md, "How the error of a
+//! mesh is measured"). The vertex values are exact, so the error is the
+//! mesh's alone.
+
+mod records;
+
+pub use records::{MeshRecord, ReceiverComparison, write_json};
+
+use glam::DVec2;
+use std::time::Instant;
+
+use crate::mesh::{ContourSettings, ErrorGrid, PlaneTriangulation, SquareMeshSettings, mesh_square};
+use crate::render::MeshPanel;
+use crate::scene::{Scene, Visibility};
+use crate::solver::{DirectField, Luminaire, receiver_layout};
+
+/// What a comparison meshes and how finely it measures.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct CompareSettings {
+    /// N of the square N × N meshes.
+    pub square_sizes: Vec<usize>,
+    /// (D, K) of the contour meshes.
+    pub contour_sizes: Vec<(usize, usize)>,
+    /// The error is measured on a `grid` × `grid` lattice over the receiver.
+    pub grid: usize,
+    /// Shadow rays per luminaire polygon for the exact field's visibility.
+    pub shadow_rays: usize,
+}
+
+impl Default for CompareSettings {
+    /// Square 5…40; contour the seed's sizes (10×3 … 80×12) and the
+    /// balanced D = 2K sizes that do best per vertex; a 400² grid.
+    fn default() -> Self {
+        CompareSettings {
+            square_sizes: vec![5, 10, 20, 30, 40],
+            contour_sizes: vec![(10, 3), (20, 5), (40, 8), (80, 12), (8, 4), (12, 6), (16, 8), (24, 12), (32, 16)],
+            grid: 400,
+            shadow_rays: 16,
+        }
+    }
+}
+
+/// Meshes one receiver every way `settings` lists and measures each mesh.
+/// None when the luminaire does not light the receiver.
+#[must_use]
+pub fn compare_receiver(
+    scene: &Scene,
+    visibility: &Visibility,
+    receiver: usize,
+    luminaire: &Luminaire,
+    settings: &CompareSettings,
+) -> Option<ReceiverComparison> {
+    let field = DirectField::new(scene, receiver, luminaire)?;
+    let surface = &scene.surfaces[receiver];
+    let outline = surface.plane_vertices();
+    let exact = |p: DVec2| field.value(p) * field.visible_fraction(visibility, p, settings.shadow_rays);
+    let grid = ErrorGrid::new(&outline, settings.grid.max(200), &exact);
+    let mut comparison = ReceiverComparison {
+        receiver: surface.name.clone(),
+        surface: receiver,
+        outline: outline.clone(),
+        records: Vec::new(),
+        meshes: Vec::new(),
+    };
+    for &n in &settings.square_sizes {
+        let start = Instant::now();
+        let triangulation = square_triangulation(scene, receiver, n, &exact);
+        let seconds = start.elapsed().as_secs_f64();
+        comparison.add("square", format!("{n}x{n}"), serde_json::json!({ "n": n }), triangulation, &exact, &grid, seconds);
+    }
+    for &(directions, levels) in &settings.contour_sizes {
+        let start = Instant::now();
+        let mut contour = ContourSettings::default();
+        contour.directions = directions;
+        contour.levels = levels;
+        let Some(layout) = receiver_layout(scene, visibility, receiver, luminaire, &contour) else { continue };
+        let triangulation = layout.triangulate(&outline);
+        let seconds = start.elapsed().as_secs_f64();
+        let params = serde_json::json!({ "directions": directions, "levels": levels, "newton_iterations": layout.newton_iterations, "shadow_points": layout.shadow_points });
+        comparison.add("contour", format!("{directions}x{levels}"), params, triangulation, &exact, &grid, seconds);
+    }
+    Some(comparison)
+}
+
+/// The square N × N mesh of a receiver (a lattice of N divisions if it is
+/// not a quad), split into triangles along the diagonals the renderer picks.
+fn square_triangulation(scene: &Scene, receiver: usize, n: usize, exact: &dyn Fn(DVec2) -> f64) -> PlaneTriangulation {
+    let surface = &scene.surfaces[receiver];
+    let alone = Scene {
+        surfaces: vec![surface.clone()],
+        materials: scene.materials.clone(),
+        ..Scene::default()
+    };
+    let mut settings = SquareMeshSettings::for_scene(&alone);
+    settings.elements_per_side = Some(n);
+    let mesh = mesh_square(&alone, &settings);
+    let frame = surface.frame();
+    let points: Vec<DVec2> = mesh.vertices.iter().map(|v| frame.to_plane(v.position)).collect();
+    let values: Vec<f64> = points.iter().map(|&p| exact(p)).collect();
+    let gap = |a: u32, b: u32| (values[a as usize] - values[b as usize]).abs();
+    let mut triangles = Vec::new();
+    for element in &mesh.elements {
+        let (split, count) = element.triangles(gap);
+        triangles.extend(split[..count].iter().map(|t| t.map(|v| v as usize)));
+    }
+    PlaneTriangulation { points, triangles }
+}
+
+/// The seed paper's Figure 5 trio, where measured: square 10×10 | contour
+/// 20×5 | square 30×30, with their exact vertex values.
+#[must_use]
+pub fn panels_for_figure(comparison: &ReceiverComparison) -> Vec<MeshPanel> {
+    ["10x10", "20x5", "30x30"]
+        .iter()
+        .filter_map(|params| comparison.meshes.iter().find(|m| &m.params == params))
+        .map(|m| MeshPanel {
+            title: format!("{} {}", m.mesher, m.params.replace('x', "×")),
+            points: m.triangulation.points.clone(),
+            values: m.values.clone(),
+            triangles: m.triangulation.triangles.clone(),
+            outline: comparison.outline.clone(),
+        })
+        .collect()
+}

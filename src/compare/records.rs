@@ -1,0 +1,127 @@
+//! The records of a comparison, and their JSON form.
+
+use glam::DVec2;
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::mesh::{ErrorGrid, PlaneTriangulation};
+
+/// One mesh of one receiver, measured.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct MeshRecord {
+    /// The receiver's name (its OBJ object).
+    pub receiver: String,
+    /// "square" or "contour".
+    pub mesher: String,
+    /// The mesher's parameters: `{"n"}` or `{"directions", "levels", …}`.
+    pub params: serde_json::Value,
+    /// Vertices of the mesh.
+    pub vertices: usize,
+    /// Triangles of the mesh.
+    pub triangles: usize,
+    /// √mean((B_h − B)²) / √mean(B²) over the receiver.
+    pub rms_rel_error: f64,
+    /// max |B_h − B| / max B over the receiver.
+    pub max_rel_error: f64,
+    /// Seconds to build the mesh (layout and triangulation).
+    pub seconds: f64,
+}
+
+/// A mesh kept for pictures: its triangles and exact vertex values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ComparedMesh {
+    /// "square" or "contour".
+    pub mesher: String,
+    /// "NxN" or "DxK".
+    pub params: String,
+    /// The mesh, in the receiver's plane coordinates.
+    pub triangulation: PlaneTriangulation,
+    /// The exact field at its points.
+    pub values: Vec<f64>,
+}
+
+/// Every mesh of one receiver, measured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReceiverComparison {
+    /// The receiver's name.
+    pub receiver: String,
+    /// Its index in the scene.
+    pub surface: usize,
+    /// Its polygon, in plane coordinates.
+    pub outline: Vec<DVec2>,
+    /// One record per mesh.
+    pub records: Vec<MeshRecord>,
+    /// The meshes, for pictures.
+    pub meshes: Vec<ComparedMesh>,
+}
+
+impl ReceiverComparison {
+    /// Measures a mesh and records it.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn add(
+        &mut self,
+        mesher: &str,
+        label: String,
+        params: serde_json::Value,
+        triangulation: PlaneTriangulation,
+        exact: &dyn Fn(DVec2) -> f64,
+        grid: &ErrorGrid,
+        seconds: f64,
+    ) {
+        let values: Vec<f64> = triangulation.points.iter().map(|&p| exact(p)).collect();
+        let error = grid.measure(&triangulation, &values);
+        self.records.push(MeshRecord {
+            receiver: self.receiver.clone(),
+            mesher: mesher.into(),
+            params,
+            vertices: triangulation.points.len(),
+            triangles: triangulation.triangles.len(),
+            rms_rel_error: error.rms_rel_error,
+            max_rel_error: error.max_rel_error,
+            seconds,
+        });
+        self.meshes.push(ComparedMesh {
+            mesher: mesher.into(),
+            params: label,
+            triangulation,
+            values,
+        });
+    }
+
+    /// The vertices each mesher needs to reach `rms` RMS error, interpolated
+    /// log-linearly between its measured meshes (None outside their range).
+    #[must_use]
+    pub fn vertices_for_error(&self, mesher: &str, rms: f64) -> Option<f64> {
+        let mut points: Vec<(f64, f64)> = self
+            .records
+            .iter()
+            .filter(|r| r.mesher == mesher && r.rms_rel_error > 0.0)
+            .map(|r| (r.vertices as f64, r.rms_rel_error))
+            .collect();
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // The lower envelope: error must fall as vertices grow.
+        let mut frontier: Vec<(f64, f64)> = Vec::new();
+        for p in points {
+            if frontier.last().is_none_or(|last| p.1 < last.1) {
+                frontier.push(p);
+            }
+        }
+        frontier.windows(2).find_map(|w| {
+            let ((v0, e0), (v1, e1)) = (w[0], w[1]);
+            (rms <= e0 && rms >= e1).then(|| {
+                let s = (rms.ln() - e0.ln()) / (e1.ln() - e0.ln());
+                (v0.ln() + s * (v1.ln() - v0.ln())).exp()
+            })
+        })
+    }
+}
+
+/// Writes every record of every comparison as a JSON array (atomically).
+pub fn write_json(comparisons: &[ReceiverComparison], path: &Path) -> Result<()> {
+    let records: Vec<&MeshRecord> = comparisons.iter().flat_map(|c| &c.records).collect();
+    let text = serde_json::to_string_pretty(&records).map_err(|e| Error::Output {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    crate::render::write_atomically(path, text.as_bytes())
+}
