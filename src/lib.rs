@@ -52,7 +52,9 @@
 //!
 //! To load files instead, use [`load_scene`] with a scene TOML, an OBJ path or
 //! the built-in name `"cornell"`; to look at the result, [`mesh_triangles`],
-//! [`rasterize`], [`write_exr`] and [`write_png`].
+//! [`rasterize`], [`write_exr`] and [`write_png`]; to compare meshers,
+//! [`write_loglog_plot`] (error against vertex count) and
+//! [`write_mesh_panels`] (meshes side by side with their wireframes).
 //!
 //! # References
 //! - M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive
@@ -86,8 +88,9 @@ pub use radiometry::{
     polygon_form_factor_gradient, polygon_form_factor_with_gradient, tilt_line_maximum,
 };
 pub use render::{
-    Image, RenderSettings, ShadedTriangle, ToneMap, auto_exposure, mesh_triangles, rasterize,
-    read_exr, srgb_encode, write_exr, write_png,
+    Image, MeshPanel, RenderSettings, Series, ShadedTriangle, ToneMap, auto_exposure,
+    mesh_triangles, rasterize, read_exr, srgb_encode, write_exr, write_loglog_plot,
+    write_mesh_panels, write_png,
 };
 pub use scene::{
     Camera, CameraFrame, LoadedScene, Material, PlaneFrame, PolygonPlane, ProbePoint, Rgb, Scene,

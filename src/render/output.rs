@@ -101,7 +101,7 @@ static TEMPORARY_COUNTER: AtomicU64 = AtomicU64::new(0);
 
 /// Runs `encode` on a temporary file beside `path`, syncs it, and renames it
 /// over `path`; removes the temporary file on any failure.
-fn write_atomically(
+pub(super) fn write_atomically(
     path: &Path,
     encode: impl FnOnce(&mut BufWriter<File>) -> Result<()>,
 ) -> Result<()> {
@@ -154,14 +154,16 @@ fn ensure_not_empty(image: &Image, path: &Path) -> Result<()> {
     Ok(())
 }
 
-fn io_error(path: &Path, source: std::io::Error) -> Error {
+/// [`Error::Io`] naming `path`.
+pub(super) fn io_error(path: &Path, source: std::io::Error) -> Error {
     Error::Io {
         path: path.to_path_buf(),
         source,
     }
 }
 
-fn output_error(path: &Path, message: impl ToString) -> Error {
+/// [`Error::Output`] naming `path`.
+pub(super) fn output_error(path: &Path, message: impl ToString) -> Error {
     Error::Output {
         path: path.to_path_buf(),
         message: message.to_string(),
