@@ -123,5 +123,11 @@ pub fn write_json(comparisons: &[ReceiverComparison], path: &Path) -> Result<()>
         path: path.to_path_buf(),
         message: e.to_string(),
     })?;
-    crate::render::write_atomically(path, text.as_bytes())
+    crate::render::write_atomically(path, |file| {
+        use std::io::Write;
+        file.write_all(text.as_bytes()).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
 }

@@ -101,7 +101,7 @@ static TEMPORARY_COUNTER: AtomicU64 = AtomicU64::new(0);
 
 /// Runs `encode` on a temporary file beside `path`, syncs it, and renames it
 /// over `path`; removes the temporary file on any failure.
-pub(super) fn write_atomically(
+pub(crate) fn write_atomically(
     path: &Path,
     encode: impl FnOnce(&mut BufWriter<File>) -> Result<()>,
 ) -> Result<()> {
