@@ -92,5 +92,6 @@ pub use scene::{
     triangulate_polygon,
 };
 pub use solver::{
-    EnergyBalance, FormFactorKernel, Probe, ProbeMode, Solution, Solver, SolverSettings,
+    DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Luminaire, Probe, ProbeMode,
+    ReceiverAnalysis, Solution, Solver, SolverSettings, analyse_receivers, luminaires,
 };

@@ -30,7 +30,11 @@ fn boundary_length(mesh: &Mesh) -> f64 {
     }
     uses.iter()
         .filter(|(_, n)| **n == 1)
-        .map(|((a, b), _)| mesh.vertices[*a as usize].position.distance(mesh.vertices[*b as usize].position))
+        .map(|((a, b), _)| {
+            mesh.vertices[*a as usize]
+                .position
+                .distance(mesh.vertices[*b as usize].position)
+        })
         .sum()
 }
 
@@ -40,7 +44,14 @@ fn meshes_conform_and_cover_their_polygons() {
         xy(&[(0.0, 0.0), (3.0, 0.0), (3.5, 2.0), (0.2, 1.7)]),
         xy(&[(0.0, 0.0), (2.0, 0.3), (0.7, 1.9)]),
         xy(&[(0.0, 0.0), (2.0, 0.0), (2.6, 1.2), (1.0, 2.2), (-0.6, 1.2)]),
-        xy(&[(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)]),
+        xy(&[
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+        ]),
         xy(&[(0.0, 0.0), (2.0, 0.0), (0.5, 0.5), (0.0, 2.0)]),
     ];
     for shape in shapes {
@@ -52,11 +63,19 @@ fn meshes_conform_and_cover_their_polygons() {
         let area = scene.surfaces[0].area();
         mesh.validate(&[area]).unwrap();
         let covered: f64 = mesh.elements.iter().map(|e| e.area).sum();
-        assert!((covered - area).abs() < 1e-9 * area, "{shape:?}: {covered} vs {area}");
+        assert!(
+            (covered - area).abs() < 1e-9 * area,
+            "{shape:?}: {covered} vs {area}"
+        );
         // A T-junction would leave an edge used once inside the polygon.
-        let perimeter: f64 = (0..shape.len()).map(|k| shape[k].distance(shape[(k + 1) % shape.len()])).sum();
+        let perimeter: f64 = (0..shape.len())
+            .map(|k| shape[k].distance(shape[(k + 1) % shape.len()]))
+            .sum();
         let boundary = boundary_length(&mesh);
-        assert!((boundary - perimeter).abs() < 1e-9 * perimeter, "{shape:?}: boundary {boundary} vs perimeter {perimeter}");
+        assert!(
+            (boundary - perimeter).abs() < 1e-9 * perimeter,
+            "{shape:?}: boundary {boundary} vs perimeter {perimeter}"
+        );
         let longest = mesh
             .elements
             .iter()
@@ -64,9 +83,16 @@ fn meshes_conform_and_cover_their_polygons() {
                 let c = e.corners().to_vec();
                 (0..c.len()).map(move |k| (c[k], c[(k + 1) % c.len()]))
             })
-            .map(|(a, b)| mesh.vertices[a as usize].position.distance(mesh.vertices[b as usize].position))
+            .map(|(a, b)| {
+                mesh.vertices[a as usize]
+                    .position
+                    .distance(mesh.vertices[b as usize].position)
+            })
             .fold(0.0, f64::max);
-        assert!(longest <= 0.13 * 1.5, "{shape:?}: an element edge of {longest}");
+        assert!(
+            longest <= 0.13 * 1.5,
+            "{shape:?}: an element edge of {longest}"
+        );
     }
 }
 
@@ -78,5 +104,9 @@ fn a_quad_gets_n_by_n_elements() {
     let mesh = mesh_square(&scene, &settings);
     assert_eq!(mesh.elements.len(), 49);
     assert_eq!(mesh.vertices.len(), 64);
-    assert!(mesh.elements.iter().all(|e| !e.is_triangle && (e.area - 6.0 / 49.0).abs() < 1e-12));
+    assert!(
+        mesh.elements
+            .iter()
+            .all(|e| !e.is_triangle && (e.area - 6.0 / 49.0).abs() < 1e-12)
+    );
 }
