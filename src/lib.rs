@@ -70,6 +70,7 @@
 //! - Y. Ylitie, T. Karras, S. Laine, "Efficient Incoherent Ray Traversal on
 //!   GPUs Through Compressed Wide BVHs", HPG 2017 (obvhs's CWBVH).
 
+mod compare;
 mod error;
 mod mesh;
 mod radiometry;
@@ -77,6 +78,10 @@ mod render;
 mod scene;
 mod solver;
 
+pub use compare::{
+    CompareSettings, ComparedMesh, MeshRecord, ReceiverComparison, compare_receiver,
+    panels_for_figure, write_json,
+};
 pub use error::{Error, Result};
 pub use mesh::{
     Cell, ContourLayout, ContourSettings, Element, ErrorGrid, InterpolationError, Mesh, MeshVertex,
@@ -99,5 +104,7 @@ pub use scene::{
     triangulate_polygon,
 };
 pub use solver::{
-    EnergyBalance, FormFactorKernel, Probe, ProbeMode, Solution, Solver, SolverSettings,
+    DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Luminaire, MeshKind,
+    MeshSettings, Probe, ProbeMode, ReceiverAnalysis, SceneMesh, Solution, Solver, SolverSettings,
+    analyse_receivers, luminaires, mesh_scene, receiver_layout,
 };

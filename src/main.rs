@@ -9,9 +9,10 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use isorad::{
-    LoadedScene, Mesh, ProbeMode, RenderSettings, Scene, Solver, SolverSettings,
-    SquareMeshSettings, ToneMap, Visibility, auto_exposure, load_probe_points, load_scene,
-    mesh_square, mesh_triangles, rasterize, write_exr, write_png,
+    DominanceSettings, LoadedScene, Luminaire, Mesh, ProbeMode, ReceiverAnalysis, RenderSettings,
+    Scene, Solver, SolverSettings, SquareMeshSettings, ToneMap, Visibility, analyse_receivers,
+    auto_exposure, load_probe_points, load_scene, luminaires, mesh_square, mesh_triangles,
+    rasterize, write_exr, write_png,
 };
 
 /// Global illumination by progressive radiosity.
@@ -28,6 +29,9 @@ enum Command {
     Render(RenderArgs),
     /// Solve a scene and read irradiance and radiosity at points (CSV on stdout).
     Probe(ProbeArgs),
+    /// List a scene's luminaires and, per receiver, its dominant luminaire
+    /// and the mesher it would get.
+    Info(InfoArgs),
 }
 
 /// What to solve, and how: shared by every command.
@@ -95,6 +99,19 @@ struct ProbeArgs {
     gradient: bool,
 }
 
+#[derive(Args)]
+struct InfoArgs {
+    /// A scene file (.toml), an OBJ file, or a built-in scene name.
+    #[arg(default_value = "cornell")]
+    scene: String,
+    /// A luminaire dominates a receiver from this share of its direct light.
+    #[arg(long, default_value_t = DominanceSettings::default().min_share)]
+    min_share: f64,
+    /// A dominant luminaire is small under this radius / distance.
+    #[arg(long, default_value_t = DominanceSettings::default().max_size_ratio)]
+    max_size_ratio: f64,
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum Mode {
     Gather,
@@ -106,6 +123,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render(&args),
         Command::Probe(args) => probe(&args),
+        Command::Info(args) => info(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -254,6 +272,143 @@ fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
         writeln!(out, "{row}")?;
     }
     out.flush()?;
+    Ok(())
+}
+
+/// Prints the scene's luminaires and the dominant-emitter analysis of each
+/// receiver, as aligned text tables on stdout.
+fn info(args: &InfoArgs) -> anyhow::Result<()> {
+    let mut settings = DominanceSettings::default();
+    settings.min_share = args.min_share;
+    settings.max_size_ratio = args.max_size_ratio;
+    settings.validate()?;
+    let loaded = load_scene(&args.scene)?;
+    let scene = &loaded.scene;
+    for warning in &scene.warnings {
+        eprintln!("warning: {}", warning.message);
+    }
+    let visibility = Visibility::new(scene);
+    let lights = luminaires(scene);
+    let analyses = analyse_receivers(scene, &visibility, &lights, &settings);
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    writeln!(
+        out,
+        "{}: {} surfaces, {} luminaire(s), {} receivers\n",
+        loaded.source,
+        scene.surfaces.len(),
+        lights.len(),
+        analyses.len()
+    )?;
+    let header = ["luminaire", "surfaces", "area", "radius", "exitance (W/m²)"];
+    write_table(&mut out, &header, &luminaire_rows(&lights))?;
+    writeln!(out)?;
+    let header = [
+        "receiver",
+        "name",
+        "area",
+        "dominant",
+        "share %",
+        "size ratio",
+        "mesher",
+    ];
+    write_table(&mut out, &header, &receiver_rows(scene, &analyses))?;
+    out.flush()?;
+    Ok(())
+}
+
+/// One row per luminaire: index, surfaces, area, radius, exitance.
+fn luminaire_rows(lights: &[Luminaire]) -> Vec<Vec<String>> {
+    lights
+        .iter()
+        .enumerate()
+        .map(|(index, light)| {
+            let surfaces: Vec<String> = light.surfaces.iter().map(usize::to_string).collect();
+            let e = light.exitance;
+            vec![
+                index.to_string(),
+                surfaces.join(","),
+                significant(light.area),
+                significant(light.radius),
+                format!("{:.3} {:.3} {:.3}", e.x, e.y, e.z),
+            ]
+        })
+        .collect()
+}
+
+/// One row per receiver: index, name, area, dominant luminaire, share,
+/// size ratio, mesher.
+fn receiver_rows(scene: &Scene, analyses: &[ReceiverAnalysis]) -> Vec<Vec<String>> {
+    analyses
+        .iter()
+        .map(|analysis| {
+            let surface = &scene.surfaces[analysis.receiver];
+            let ratio = if analysis.size_ratio.is_finite() {
+                format!("{:.3}", analysis.size_ratio)
+            } else {
+                "-".to_owned()
+            };
+            let mesher = if analysis.qualifies {
+                "contour"
+            } else {
+                "square"
+            };
+            vec![
+                analysis.receiver.to_string(),
+                surface.name.clone(),
+                significant(surface.area()),
+                analysis.dominant.map_or("-".to_owned(), |d| d.to_string()),
+                format!("{:.1}", 100.0 * analysis.share),
+                ratio,
+                mesher.to_owned(),
+            ]
+        })
+        .collect()
+}
+
+/// A number to six significant digits, without an exponent.
+fn significant(x: f64) -> String {
+    let digits = if x == 0.0 || !x.is_finite() {
+        0
+    } else {
+        (5 - x.abs().log10().floor() as i32).clamp(0, 12) as usize
+    };
+    format!("{x:.digits$}")
+}
+
+/// Writes rows under a header, each column as wide as its widest cell; the
+/// first column and numbers are right-aligned, names left-aligned.
+fn write_table(out: &mut impl Write, header: &[&str], rows: &[Vec<String>]) -> std::io::Result<()> {
+    let mut widths: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
+    for row in rows {
+        for (width, cell) in widths.iter_mut().zip(row) {
+            *width = (*width).max(cell.chars().count());
+        }
+    }
+    let numeric = |column: usize| {
+        rows.iter().all(|row| {
+            row.get(column)
+                .is_some_and(|c| c == "-" || c.parse::<f64>().is_ok())
+        })
+    };
+    let line = |cells: Vec<&str>| {
+        let padded: Vec<String> = cells
+            .iter()
+            .enumerate()
+            .map(|(column, cell)| {
+                let pad = " ".repeat(widths[column].saturating_sub(cell.chars().count()));
+                if numeric(column) {
+                    format!("{pad}{cell}")
+                } else {
+                    format!("{cell}{pad}")
+                }
+            })
+            .collect();
+        padded.join("  ").trim_end().to_owned()
+    };
+    writeln!(out, "{}", line(header.to_vec()))?;
+    for row in rows {
+        writeln!(out, "{}", line(row.iter().map(String::as_str).collect()))?;
+    }
     Ok(())
 }
 

@@ -149,3 +149,60 @@ fn probe_prints_a_csv_row_per_point() {
     assert!(!out.status.success());
     assert!(stderr(&out).contains("off.csv:2"), "{}", stderr(&out));
 }
+
+#[test]
+fn info_lists_the_cornell_light_and_which_receivers_get_the_contour_mesher() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = isorad(dir.path(), &["info", "cornell"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let row = |name: &str| -> Vec<String> {
+        let line = text
+            .lines()
+            .find(|l| l.split_whitespace().nth(1) == Some(name))
+            .unwrap_or_else(|| panic!("no row for {name}: {text}"));
+        line.split_whitespace().map(str::to_owned).collect()
+    };
+    // One luminaire, surface 15: 130 × 105 mm, radius ½√(130² + 105²) ≈ 83.6 mm.
+    let light = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("0 "))
+        .unwrap();
+    let fields: Vec<&str> = light.split_whitespace().collect();
+    assert_eq!(fields[1], "15", "{text}");
+    let (area, radius): (f64, f64) = (fields[2].parse().unwrap(), fields[3].parse().unwrap());
+    assert!(
+        (area - 13650.0).abs() < 1.0 && (radius - 83.55).abs() < 0.1,
+        "{text}"
+    );
+    // The floor: lit only by the light, 549 mm below it, so 83.6/548.8 ≈ 0.152.
+    let floor = row("floor");
+    assert_eq!(
+        (floor[3].as_str(), floor[4].as_str()),
+        ("0", "100.0"),
+        "{text}"
+    );
+    let ratio: f64 = floor[5].parse().unwrap();
+    assert!((ratio - 83.55 / 548.7).abs() < 0.002, "{text}");
+    assert_eq!(floor[6], "contour");
+    // The ceiling is behind the light: no direct light, no dominant.
+    let ceiling = row("ceiling");
+    assert_eq!(
+        (ceiling[3].as_str(), ceiling[6].as_str()),
+        ("-", "square"),
+        "{text}"
+    );
+    // The walls are nearer than four radii (ratio ≈ 0.26): square.
+    assert_eq!(row("back_wall")[6], "square", "{text}");
+    // A stricter size bound takes the floor off the contour mesher.
+    let out = isorad(dir.path(), &["info", "--max-size-ratio", "0.1"]);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(!text.contains("contour"), "{text}");
+    // Out-of-range flags fail with their name.
+    let out = isorad(dir.path(), &["info", "--min-share", "1.5"]);
+    assert!(
+        !out.status.success() && stderr(&out).contains("min-share"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -10,12 +10,14 @@
 
 mod records;
 
-pub use records::{MeshRecord, ReceiverComparison, write_json};
+pub use records::{ComparedMesh, MeshRecord, ReceiverComparison, write_json};
 
 use glam::DVec2;
 use std::time::Instant;
 
-use crate::mesh::{ContourSettings, ErrorGrid, PlaneTriangulation, SquareMeshSettings, mesh_square};
+use crate::mesh::{
+    ContourSettings, ErrorGrid, PlaneTriangulation, SquareMeshSettings, mesh_square,
+};
 use crate::render::MeshPanel;
 use crate::scene::{Scene, Visibility};
 use crate::solver::{DirectField, Luminaire, receiver_layout};
@@ -40,7 +42,17 @@ impl Default for CompareSettings {
     fn default() -> Self {
         CompareSettings {
             square_sizes: vec![5, 10, 20, 30, 40],
-            contour_sizes: vec![(10, 3), (20, 5), (40, 8), (80, 12), (8, 4), (12, 6), (16, 8), (24, 12), (32, 16)],
+            contour_sizes: vec![
+                (10, 3),
+                (20, 5),
+                (40, 8),
+                (80, 12),
+                (8, 4),
+                (12, 6),
+                (16, 8),
+                (24, 12),
+                (32, 16),
+            ],
             grid: 400,
             shadow_rays: 16,
         }
@@ -60,7 +72,8 @@ pub fn compare_receiver(
     let field = DirectField::new(scene, receiver, luminaire)?;
     let surface = &scene.surfaces[receiver];
     let outline = surface.plane_vertices();
-    let exact = |p: DVec2| field.value(p) * field.visible_fraction(visibility, p, settings.shadow_rays);
+    let exact =
+        |p: DVec2| field.value(p) * field.visible_fraction(visibility, p, settings.shadow_rays);
     let grid = ErrorGrid::new(&outline, settings.grid.max(200), &exact);
     let mut comparison = ReceiverComparison {
         receiver: surface.name.clone(),
@@ -73,25 +86,48 @@ pub fn compare_receiver(
         let start = Instant::now();
         let triangulation = square_triangulation(scene, receiver, n, &exact);
         let seconds = start.elapsed().as_secs_f64();
-        comparison.add("square", format!("{n}x{n}"), serde_json::json!({ "n": n }), triangulation, &exact, &grid, seconds);
+        comparison.add(
+            "square",
+            format!("{n}x{n}"),
+            serde_json::json!({ "n": n }),
+            triangulation,
+            &exact,
+            &grid,
+            seconds,
+        );
     }
     for &(directions, levels) in &settings.contour_sizes {
         let start = Instant::now();
         let mut contour = ContourSettings::default();
         contour.directions = directions;
         contour.levels = levels;
-        let Some(layout) = receiver_layout(scene, visibility, receiver, luminaire, &contour) else { continue };
+        let Some(layout) = receiver_layout(scene, visibility, receiver, luminaire, &contour) else {
+            continue;
+        };
         let triangulation = layout.triangulate(&outline);
         let seconds = start.elapsed().as_secs_f64();
         let params = serde_json::json!({ "directions": directions, "levels": levels, "newton_iterations": layout.newton_iterations, "shadow_points": layout.shadow_points });
-        comparison.add("contour", format!("{directions}x{levels}"), params, triangulation, &exact, &grid, seconds);
+        comparison.add(
+            "contour",
+            format!("{directions}x{levels}"),
+            params,
+            triangulation,
+            &exact,
+            &grid,
+            seconds,
+        );
     }
     Some(comparison)
 }
 
 /// The square N × N mesh of a receiver (a lattice of N divisions if it is
 /// not a quad), split into triangles along the diagonals the renderer picks.
-fn square_triangulation(scene: &Scene, receiver: usize, n: usize, exact: &dyn Fn(DVec2) -> f64) -> PlaneTriangulation {
+fn square_triangulation(
+    scene: &Scene,
+    receiver: usize,
+    n: usize,
+    exact: &dyn Fn(DVec2) -> f64,
+) -> PlaneTriangulation {
     let surface = &scene.surfaces[receiver];
     let alone = Scene {
         surfaces: vec![surface.clone()],
@@ -102,7 +138,11 @@ fn square_triangulation(scene: &Scene, receiver: usize, n: usize, exact: &dyn Fn
     settings.elements_per_side = Some(n);
     let mesh = mesh_square(&alone, &settings);
     let frame = surface.frame();
-    let points: Vec<DVec2> = mesh.vertices.iter().map(|v| frame.to_plane(v.position)).collect();
+    let points: Vec<DVec2> = mesh
+        .vertices
+        .iter()
+        .map(|v| frame.to_plane(v.position))
+        .collect();
     let values: Vec<f64> = points.iter().map(|&p| exact(p)).collect();
     let gap = |a: u32, b: u32| (values[a as usize] - values[b as usize]).abs();
     let mut triangles = Vec::new();

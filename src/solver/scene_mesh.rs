@@ -6,7 +6,9 @@ use glam::DVec2;
 use super::direct_field::DirectField;
 use super::dominance::{DominanceSettings, ReceiverAnalysis, analyse_receivers};
 use super::emitters::{Luminaire, luminaires};
-use crate::mesh::{ContourLayout, ContourSettings, Mesh, SquareMeshSettings, contour_layout, mesh_surfaces};
+use crate::mesh::{
+    ContourLayout, ContourSettings, Mesh, SquareMeshSettings, contour_layout, mesh_surfaces,
+};
 use crate::scene::{Scene, Visibility};
 
 /// Which mesher meshes the receivers.
@@ -97,10 +99,14 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
         return result;
     }
     result.luminaires = luminaires(scene);
-    result.receivers = analyse_receivers(scene, visibility, &result.luminaires, &settings.dominance);
+    result.receivers =
+        analyse_receivers(scene, visibility, &result.luminaires, &settings.dominance);
     let layouts: Vec<Option<ContourLayout>> = (0..scene.surfaces.len())
         .map(|surface| {
-            let analysis = result.receivers.iter().find(|a| a.receiver == surface && a.qualifies)?;
+            let analysis = result
+                .receivers
+                .iter()
+                .find(|a| a.receiver == surface && a.qualifies)?;
             let luminaire = &result.luminaires[analysis.dominant?];
             receiver_layout(scene, visibility, surface, luminaire, &settings.contour)
         })
@@ -133,10 +139,18 @@ pub fn receiver_layout(
     let outline = scene.surfaces[receiver].plane_vertices();
     let mut settings = settings.clone();
     settings.orientation = tilt_angle(&field, luminaire, centre);
-    let diameter = outline.iter().flat_map(|a| outline.iter().map(move |b| a.distance(*b))).fold(0.0, f64::max);
+    let diameter = outline
+        .iter()
+        .flat_map(|a| outline.iter().map(move |b| a.distance(*b)))
+        .fold(0.0, f64::max);
     let kink: Vec<[DVec2; 2]> = field
         .kink_line()
-        .map(|(point, direction)| vec![[point - direction * 2.0 * diameter, point + direction * 2.0 * diameter]])
+        .map(|(point, direction)| {
+            vec![[
+                point - direction * 2.0 * diameter,
+                point + direction * 2.0 * diameter,
+            ]]
+        })
         .unwrap_or_default();
     let value = |p: DVec2| field.value_and_gradient(p);
     let mut layout = contour_layout(&outline, &value, centre, &settings, &kink);
@@ -149,5 +163,9 @@ pub fn receiver_layout(
 fn tilt_angle(field: &DirectField, luminaire: &Luminaire, centre: DVec2) -> f64 {
     let foot = field.frame().to_plane(luminaire.centre);
     let lean = centre - foot;
-    if lean.length() > 1e-9 * field.scale() { lean.y.atan2(lean.x) } else { 0.0 }
+    if lean.length() > 1e-9 * field.scale() {
+        lean.y.atan2(lean.x)
+    } else {
+        0.0
+    }
 }

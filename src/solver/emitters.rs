@@ -1,0 +1,173 @@
+//! Luminaires: emitting surfaces grouped into the lamps they model.
+//!
+//! OBJ exports often split one lamp into several polygons (a quad into two
+//! triangles, a panel into strips). For the dominant-emitter analysis and the
+//! contour mesher a lamp is one emitter, so coplanar, touching emitting
+//! surfaces of one material are joined into one [`Luminaire`].
+
+use glam::DVec3;
+
+use crate::scene::{Rgb, Scene, Surface};
+
+/// Normals of one luminaire's surfaces differ by at most this (unit vectors).
+const NORMAL_TOLERANCE: f64 = 1e-6;
+
+/// Distances (off the plane, between touching boundaries) below this
+/// fraction of the scene's diagonal count as zero: the scale of
+/// [`crate::Visibility::surface_offset`].
+const DISTANCE_TOLERANCE: f64 = 1e-5;
+
+/// One lamp: coplanar emitting surfaces of one material that share an edge
+/// or a vertex.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Luminaire {
+    /// Indices of its surfaces in [`Scene::surfaces`], ascending.
+    pub surfaces: Vec<usize>,
+    /// Unit normal of its emitting side.
+    pub normal: DVec3,
+    /// Centroid of its area, c = Σ A_i c_i / Σ A_i over its surfaces.
+    pub centre: DVec3,
+    /// Total area, in the square of the scene's length unit.
+    pub area: f64,
+    /// The largest distance from `centre` to any of its vertices.
+    pub radius: f64,
+    /// Exitance E = π L_e per channel, W/m².
+    pub exitance: Rgb,
+}
+
+/// Groups the scene's emitting surfaces into luminaires.
+///
+/// Two emitting surfaces i, j belong to one luminaire when they share a
+/// material, their unit normals differ by at most 10⁻⁶ (|n_i − n_j|), each
+/// one's centroid lies within ε of the other's plane, and their boundaries
+/// touch: a vertex of one lies within ε of an edge (or vertex) of the other.
+/// ε is 10⁻⁵ of the scene's diagonal. Luminaires are the connected groups of
+/// this relation, ordered by their first surface.
+///
+/// # References
+/// R. E. Tarjan, "Efficiency of a Good But Not Linear Set Union Algorithm",
+/// JACM 22 (1975) (the union–find that joins the groups).
+#[must_use]
+pub fn luminaires(scene: &Scene) -> Vec<Luminaire> {
+    let emitters: Vec<usize> = (0..scene.surfaces.len())
+        .filter(|&i| is_emitting(scene, i))
+        .collect();
+    let tolerance = DISTANCE_TOLERANCE * scene.diagonal();
+    // Join every touching coplanar pair of one material.
+    let mut parent: Vec<usize> = (0..emitters.len()).collect();
+    for a in 0..emitters.len() {
+        for b in a + 1..emitters.len() {
+            let (sa, sb) = (&scene.surfaces[emitters[a]], &scene.surfaces[emitters[b]]);
+            if same_luminaire(sa, sb, tolerance) {
+                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+    }
+    // Collect the groups in order of their first surface.
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut group_of_root = vec![usize::MAX; emitters.len()];
+    for (k, &surface) in emitters.iter().enumerate() {
+        let r = root(&mut parent, k);
+        if group_of_root[r] == usize::MAX {
+            group_of_root[r] = groups.len();
+            groups.push(Vec::new());
+        }
+        groups[group_of_root[r]].push(surface);
+    }
+    groups
+        .into_iter()
+        .map(|surfaces| luminaire_of(scene, surfaces))
+        .collect()
+}
+
+/// True when surface `index` has a material that emits.
+fn is_emitting(scene: &Scene, index: usize) -> bool {
+    let material = scene.surfaces[index].material;
+    scene
+        .materials
+        .get(material)
+        .is_some_and(|m| m.is_emitter())
+}
+
+/// The representative of `k`'s group, halving the path on the way.
+fn root(parent: &mut [usize], mut k: usize) -> usize {
+    while parent[k] != k {
+        parent[k] = parent[parent[k]];
+        k = parent[k];
+    }
+    k
+}
+
+/// Whether two emitting surfaces are parts of one lamp.
+fn same_luminaire(a: &Surface, b: &Surface, tolerance: f64) -> bool {
+    let coplanar = a.material == b.material
+        && (a.normal() - b.normal()).length() <= NORMAL_TOLERANCE
+        && a.frame().height(b.frame().origin).abs() <= tolerance
+        && b.frame().height(a.frame().origin).abs() <= tolerance;
+    coplanar
+        && (touches(a.vertices(), b.vertices(), tolerance)
+            || touches(b.vertices(), a.vertices(), tolerance))
+}
+
+/// Whether a vertex of `a` lies within `tolerance` of an edge of `b`.
+fn touches(a: &[DVec3], b: &[DVec3], tolerance: f64) -> bool {
+    a.iter().any(|&p| {
+        (0..b.len()).any(|k| distance_to_segment(p, b[k], b[(k + 1) % b.len()]) <= tolerance)
+    })
+}
+
+/// Distance from `p` to the segment [a, b].
+fn distance_to_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let edge = b - a;
+    let t = ((p - a).dot(edge) / edge.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+    p.distance(a + edge * t)
+}
+
+/// The luminaire made of the given (non-empty) surfaces.
+fn luminaire_of(scene: &Scene, surfaces: Vec<usize>) -> Luminaire {
+    // Area-weighted normal and centroid.
+    let mut area = 0.0;
+    let mut weighted_normal = DVec3::ZERO;
+    let mut weighted_centre = DVec3::ZERO;
+    for &i in &surfaces {
+        let surface = &scene.surfaces[i];
+        area += surface.area();
+        weighted_normal += surface.normal() * surface.area();
+        weighted_centre += area_centroid(surface) * surface.area();
+    }
+    let centre = weighted_centre / area;
+    let radius = surfaces
+        .iter()
+        .flat_map(|&i| scene.surfaces[i].vertices())
+        .map(|v| v.distance(centre))
+        .fold(0.0, f64::max);
+    let first = &scene.surfaces[surfaces[0]];
+    Luminaire {
+        normal: weighted_normal.normalize_or(first.normal()),
+        centre,
+        area,
+        radius,
+        exitance: scene.material_of(first).emitted_radiosity(),
+        surfaces,
+    }
+}
+
+/// The centroid of a surface's area (not of its vertices): the
+/// signed-area-weighted mean of its fan triangles' centroids.
+fn area_centroid(surface: &Surface) -> DVec3 {
+    let v = surface.vertices();
+    let n = surface.normal();
+    let mut weighted = DVec3::ZERO;
+    let mut total = 0.0;
+    for [a, b, c] in surface.triangles() {
+        let signed = 0.5 * (v[b] - v[a]).cross(v[c] - v[a]).dot(n);
+        weighted += (v[a] + v[b] + v[c]) * (signed / 3.0);
+        total += signed;
+    }
+    if total.abs() > 0.0 && weighted.is_finite() {
+        weighted / total
+    } else {
+        surface.frame().origin
+    }
+}
