@@ -9,10 +9,11 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use isorad::{
-    DominanceSettings, LoadedScene, Luminaire, Mesh, ProbeMode, ReceiverAnalysis, RenderSettings,
-    Scene, Solver, SolverSettings, SquareMeshSettings, ToneMap, Visibility, analyse_receivers,
-    auto_exposure, load_probe_points, load_scene, luminaires, mesh_square, mesh_triangles,
-    rasterize, write_exr, write_png,
+    CompareSettings, DominanceSettings, LoadedScene, Luminaire, Mesh, MeshKind, MeshSettings,
+    ProbeMode, ReceiverAnalysis, RenderSettings, Scene, Series, Solver, SolverSettings, ToneMap,
+    Visibility, analyse_receivers, auto_exposure, compare_receiver, load_probe_points, load_scene,
+    luminaires, mesh_scene, mesh_triangles, panels_for_figure, rasterize, write_exr, write_json,
+    write_loglog_plot, write_mesh_panels, write_png,
 };
 
 /// Global illumination by progressive radiosity.
@@ -32,6 +33,9 @@ enum Command {
     /// List a scene's luminaires and, per receiver, its dominant luminaire
     /// and the mesher it would get.
     Info(InfoArgs),
+    /// Compare contour meshes against square meshes on the receivers lit by
+    /// a dominant small emitter: vertices and interpolation error.
+    Compare(CompareArgs),
 }
 
 /// What to solve, and how: shared by every command.
@@ -46,9 +50,16 @@ struct SolveArgs {
     /// Form-factor kernel: mixed (default), wallace or exact.
     #[arg(long, value_name = "KERNEL")]
     form_factor: Option<String>,
-    /// Mesher: only "square" so far.
+    /// Mesher: square, or contour (the radial contour-level mesher on
+    /// receivers lit by a dominant small emitter, square elsewhere).
     #[arg(long)]
     mesh: Option<String>,
+    /// Contour mesher: D, rays from the light's maximum.
+    #[arg(long)]
+    directions: Option<usize>,
+    /// Contour mesher: K, contour levels.
+    #[arg(long)]
+    levels: Option<usize>,
     /// Longest element edge, in scene units.
     #[arg(long)]
     max_edge: Option<f64>,
@@ -124,6 +135,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render(&args),
         Command::Probe(args) => probe(&args),
         Command::Info(args) => info(&args),
+        Command::Compare(args) => compare(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -149,25 +161,38 @@ fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
     for warning in &scene.warnings {
         eprintln!("warning: {}", warning.message);
     }
+    let mut mesh_settings = MeshSettings::for_scene(scene);
     let mesh_kind = args
         .mesh
         .as_deref()
         .or(options.mesh_kind.as_deref())
         .unwrap_or("square");
-    anyhow::ensure!(
-        mesh_kind == "square",
-        "--mesh {mesh_kind}: only \"square\" is available"
-    );
-    let mut mesh_settings = SquareMeshSettings::for_scene(scene);
+    mesh_settings.kind = mesh_kind.parse()?;
     if let Some(max_edge) = args.max_edge.or(options.max_edge) {
         anyhow::ensure!(
             max_edge > 0.0 && max_edge.is_finite(),
             "--max-edge {max_edge} is not positive"
         );
-        mesh_settings.max_edge = max_edge;
-        mesh_settings.patch_max_edge = mesh_settings.patch_max_edge.max(max_edge);
+        mesh_settings.square.max_edge = max_edge;
+        mesh_settings.square.patch_max_edge = mesh_settings.square.patch_max_edge.max(max_edge);
     }
-    mesh_settings.elements_per_side = args.elements_per_side.or(options.elements_per_side);
+    mesh_settings.square.elements_per_side = args.elements_per_side.or(options.elements_per_side);
+    for (value, name, target) in [
+        (
+            args.directions,
+            "directions",
+            &mut mesh_settings.contour.directions,
+        ),
+        (args.levels, "levels", &mut mesh_settings.contour.levels),
+    ] {
+        if let Some(value) = value {
+            anyhow::ensure!(
+                (1..=1000).contains(&value),
+                "--{name} {value} is not in 1..=1000"
+            );
+            *target = value;
+        }
+    }
     let mut settings = SolverSettings::default();
     if let Some(tolerance) = args.tolerance.or(options.tolerance) {
         settings.tolerance = tolerance;
@@ -176,11 +201,20 @@ fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
         settings.kernel = kernel.parse()?;
     }
     settings.validate()?;
-    let mesh = mesh_square(scene, &mesh_settings);
     let visibility = Visibility::new(scene);
+    let scene_mesh = mesh_scene(scene, &visibility, &mesh_settings);
+    if mesh_settings.kind == MeshKind::Contour {
+        eprintln!(
+            "contour mesher on {} of {} receivers ({} vertices placed in {} Newton iterations)",
+            scene_mesh.contour_surfaces.len(),
+            scene_mesh.receivers.len(),
+            scene_mesh.newton_solves,
+            scene_mesh.newton_iterations
+        );
+    }
     Ok(Prepared {
         loaded,
-        mesh,
+        mesh: scene_mesh.mesh,
         visibility,
         settings,
     })
@@ -485,4 +519,197 @@ fn solve_with_progress(solver: &mut Solver, quiet: bool) -> f64 {
     });
     bar.finish_and_clear();
     start.elapsed().as_secs_f64()
+}
+
+#[derive(Args)]
+struct CompareArgs {
+    /// A scene file (.toml), an OBJ file, or a built-in scene name.
+    scene: String,
+    /// Only this receiver (its OBJ object name), even if it does not qualify.
+    #[arg(long)]
+    receiver: Option<String>,
+    /// Write one JSON record per mesh.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Write the meshes side by side: square 10×10 | contour 20×5 | square 30×30.
+    #[arg(long)]
+    image: Option<PathBuf>,
+    /// Write a log–log plot of RMS error against vertices (.png or .svg).
+    #[arg(long)]
+    plot: Option<PathBuf>,
+    /// Error grid: N × N points over the receiver (at least 200).
+    #[arg(long, default_value_t = 400)]
+    grid: usize,
+}
+
+fn compare(args: &CompareArgs) -> anyhow::Result<()> {
+    for path in [&args.json, &args.image, &args.plot].into_iter().flatten() {
+        ensure_directory_exists(path)?;
+    }
+    let loaded = load_scene(&args.scene)?;
+    let scene = &loaded.scene;
+    let visibility = Visibility::new(scene);
+    let lamps = luminaires(scene);
+    let analyses = analyse_receivers(scene, &visibility, &lamps, &DominanceSettings::default());
+    // The receivers to compare, each with the luminaire to mesh for.
+    let mut chosen: Vec<(usize, usize)> = Vec::new();
+    for analysis in &analyses {
+        let name = &scene.surfaces[analysis.receiver].name;
+        let wanted = match &args.receiver {
+            Some(only) => only == name,
+            None => analysis.qualifies,
+        };
+        if let (true, Some(lamp)) = (wanted, analysis.dominant) {
+            chosen.push((analysis.receiver, lamp));
+        }
+    }
+    if chosen.is_empty() {
+        anyhow::bail!(
+            "{}: no receiver {}",
+            loaded.source,
+            match &args.receiver {
+                Some(name) => format!("named `{name}` is lit by a luminaire"),
+                None => "is lit by a dominant small luminaire (see `isorad info`)".into(),
+            }
+        );
+    }
+    let mut settings = CompareSettings::default();
+    settings.grid = args.grid.max(200);
+    let mut comparisons = Vec::new();
+    for (receiver, lamp) in chosen {
+        if let Some(comparison) =
+            compare_receiver(scene, &visibility, receiver, &lamps[lamp], &settings)
+        {
+            print_comparison(&comparison);
+            comparisons.push(comparison);
+        }
+    }
+    if let Some(path) = &args.json {
+        write_json(&comparisons, path)?;
+    }
+    for comparison in &comparisons {
+        let several = comparisons.len() > 1;
+        if let Some(path) = &args.image {
+            write_mesh_panels(
+                &per_receiver(path, &comparison.receiver, several),
+                &panels_for_figure(comparison),
+                480,
+            )?;
+        }
+        if let Some(path) = &args.plot {
+            let series = plot_series(comparison);
+            let title = format!(
+                "{}: RMS error of Gouraud interpolation",
+                comparison.receiver
+            );
+            write_loglog_plot(
+                &per_receiver(path, &comparison.receiver, several),
+                &title,
+                "vertices",
+                "RMS relative error",
+                &series,
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// The plot's series: square meshes, the seed paper's contour sizes, and the
+/// balanced D = 2K contour sizes.
+fn plot_series(comparison: &isorad::ReceiverComparison) -> Vec<Series> {
+    let family = |record: &isorad::MeshRecord| {
+        if record.mesher == "square" {
+            "square N × N"
+        } else if record.params["directions"] == 2 * record.params["levels"].as_u64().unwrap_or(0) {
+            "contour D × K, D = 2K"
+        } else {
+            "contour D × K, seed sizes"
+        }
+    };
+    [
+        "square N × N",
+        "contour D × K, seed sizes",
+        "contour D × K, D = 2K",
+    ]
+    .into_iter()
+    .map(|name| Series {
+        name: name.into(),
+        points: comparison
+            .records
+            .iter()
+            .filter(|r| family(r) == name)
+            .map(|r| (r.vertices as f64, r.rms_rel_error))
+            .collect(),
+    })
+    .collect()
+}
+
+/// `out.png` → `out_floor.png` when several receivers are written.
+fn per_receiver(path: &Path, receiver: &str, several: bool) -> PathBuf {
+    if !several {
+        return path.to_path_buf();
+    }
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let extension = path
+        .extension()
+        .map(|e| format!(".{}", e.to_string_lossy()))
+        .unwrap_or_default();
+    let safe: String = receiver
+        .chars()
+        .map(|c| {
+            if c.is_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    path.with_file_name(format!("{stem}_{safe}{extension}"))
+}
+
+/// A table of the records, and the vertex ratio at equal error.
+fn print_comparison(comparison: &isorad::ReceiverComparison) {
+    println!("receiver {}:", comparison.receiver);
+    println!(
+        "  {:<8} {:>7} {:>9} {:>10} {:>12} {:>12} {:>9}",
+        "mesher", "params", "vertices", "triangles", "rms_rel_err", "max_rel_err", "seconds"
+    );
+    for (record, mesh) in comparison.records.iter().zip(&comparison.meshes) {
+        println!(
+            "  {:<8} {:>7} {:>9} {:>10} {:>12.5} {:>12.5} {:>9.4}",
+            record.mesher,
+            mesh.params,
+            record.vertices,
+            record.triangles,
+            record.rms_rel_error,
+            record.max_rel_error,
+            record.seconds
+        );
+    }
+    // For each contour mesh, the square mesh vertices the same error needs.
+    let ratios: Vec<f64> = comparison
+        .records
+        .iter()
+        .filter(|r| r.mesher == "contour")
+        .filter_map(|r| {
+            comparison
+                .vertices_for_error("square", r.rms_rel_error)
+                .map(|v| v / r.vertices as f64)
+        })
+        .collect();
+    if ratios.is_empty() {
+        println!("  (no contour mesh falls within the square meshes' error range)");
+    } else {
+        let mut sorted = ratios.clone();
+        sorted.sort_by(f64::total_cmp);
+        println!(
+            "  square meshes need {:.1}× (median; {:.1}× to {:.1}×) the contour meshes' vertices for the same RMS error",
+            sorted[sorted.len() / 2],
+            sorted[0],
+            sorted[sorted.len() - 1]
+        );
+    }
 }

@@ -206,3 +206,92 @@ fn info_lists_the_cornell_light_and_which_receivers_get_the_contour_mesher() {
         stderr(&out)
     );
 }
+
+#[test]
+fn compare_writes_records_pictures_and_a_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/seed/seed_disc_tilted.toml");
+    let out = isorad(
+        dir.path(),
+        &[
+            "compare",
+            scene.to_str().unwrap(),
+            "--json",
+            "c.json",
+            "--image",
+            "c.png",
+            "--plot",
+            "c.svg",
+            "--grid",
+            "200",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(dir.path().join("c.json")).unwrap();
+    let records: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let records = records.as_array().unwrap();
+    let find = |mesher: &str, key: &str, value: u64| {
+        records
+            .iter()
+            .find(|r| r["mesher"] == mesher && r["params"][key] == value)
+            .unwrap_or_else(|| panic!("{mesher} {key}={value}"))
+    };
+    for record in records {
+        for field in [
+            "receiver",
+            "mesher",
+            "params",
+            "vertices",
+            "triangles",
+            "rms_rel_error",
+            "max_rel_error",
+            "seconds",
+        ] {
+            assert!(!record[field].is_null(), "{field} missing in {record}");
+        }
+    }
+    let (square10, square30) = (find("square", "n", 10), find("square", "n", 30));
+    let contour = find("contour", "directions", 20);
+    let rms = |r: &serde_json::Value| r["rms_rel_error"].as_f64().unwrap();
+    assert!(
+        rms(contour) < rms(square10),
+        "contour 20×5 beats square 10×10"
+    );
+    assert!(contour["vertices"].as_u64() < square30["vertices"].as_u64());
+    assert!(dir.path().join("c.png").is_file() && dir.path().join("c.svg").is_file());
+    assert!(
+        String::from_utf8_lossy(&out.stdout)
+            .contains("the contour meshes' vertices for the same RMS error")
+    );
+}
+
+#[test]
+fn render_with_the_contour_mesher() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = isorad(
+        dir.path(),
+        &[
+            "render",
+            "--mesh",
+            "contour",
+            "--levels",
+            "6",
+            "--directions",
+            "12",
+            "--width",
+            "48",
+            "--height",
+            "48",
+            "-q",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("contour mesher on"),
+        "{}",
+        stderr(&out)
+    );
+    let out = isorad(dir.path(), &["render", "--mesh", "hexagonal", "-q"]);
+    assert!(!out.status.success() && stderr(&out).contains("hexagonal"));
+}

@@ -227,3 +227,104 @@ fn contour_meshes_beat_square_meshes_on_the_seed_case() {
         );
     }
 }
+
+#[test]
+fn shadow_boundaries_get_vertices_on_the_shadow_line() {
+    use isorad::{
+        DominanceSettings, Material, Rgb, Scene, Surface, Visibility, analyse_receivers,
+        luminaires, receiver_layout,
+    };
+    // A small square lamp at height 2 over a 10 × 10 floor; a black plate at
+    // height 1 covering x < 0 casts a shadow whose edge, seen from the lamp's
+    // centre (0, 0, 2), is the line x = 0 on the floor.
+    let mut scene = Scene::default();
+    for (name, reflectance, radiance) in [
+        ("floor", 0.5, 0.0),
+        ("lamp", 0.0, 50.0),
+        ("black", 0.0, 0.0),
+    ] {
+        scene.materials.push(Material {
+            name: name.into(),
+            reflectance: Rgb::splat(reflectance),
+            emitted_radiance: Rgb::splat(radiance),
+        });
+    }
+    let quad = |x0: f64, x1: f64, y0: f64, y1: f64, z: f64, up: bool| {
+        let mut v = vec![
+            DVec3::new(x0, y0, z),
+            DVec3::new(x1, y0, z),
+            DVec3::new(x1, y1, z),
+            DVec3::new(x0, y1, z),
+        ];
+        if !up {
+            v.reverse();
+        }
+        v
+    };
+    scene
+        .surfaces
+        .push(Surface::new("floor", 0, quad(-5.0, 5.0, -5.0, 5.0, 0.0, true)).unwrap());
+    scene
+        .surfaces
+        .push(Surface::new("lamp", 1, quad(-0.05, 0.05, -0.05, 0.05, 2.0, false)).unwrap());
+    scene
+        .surfaces
+        .push(Surface::new("plate", 2, quad(-3.0, 0.0, -3.0, 3.0, 1.0, false)).unwrap());
+    let visibility = Visibility::new(&scene);
+    let lamps = luminaires(&scene);
+    let analyses = analyse_receivers(&scene, &visibility, &lamps, &DominanceSettings::default());
+    let floor = analyses.iter().find(|a| a.receiver == 0).unwrap();
+    assert!(floor.qualifies, "{floor:?}");
+    let layout = receiver_layout(
+        &scene,
+        &visibility,
+        0,
+        &lamps[floor.dominant.unwrap()],
+        &ContourSettings::default(),
+    )
+    .unwrap();
+    assert!(
+        layout.shadow_boundary.len() >= 5,
+        "{} shadow points",
+        layout.shadow_boundary.len()
+    );
+    let frame = scene.surfaces[0].frame();
+    for p in &layout.shadow_boundary {
+        let world = frame.to_world(*p);
+        // Within the plate's shadow extent (|y| < 6 on the floor), the edge is x = 0.
+        if world.y.abs() < 5.0 {
+            assert!(world.x.abs() < 1e-3, "shadow boundary vertex at {world}");
+        }
+    }
+}
+
+#[test]
+fn a_contour_meshed_scene_solves_with_its_energy_balanced() {
+    use isorad::{
+        MeshKind, MeshSettings, Solver, SolverSettings, Visibility, load_scene, mesh_scene,
+    };
+    let scene = load_scene(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/seed/seed_disc_tilted.toml"
+    ))
+    .unwrap()
+    .scene;
+    let visibility = Visibility::new(&scene);
+    let mut settings = MeshSettings::for_scene(&scene);
+    settings.kind = MeshKind::Contour;
+    let meshed = mesh_scene(&scene, &visibility, &settings);
+    assert_eq!(
+        meshed.contour_surfaces,
+        vec![0],
+        "the floor gets the contour mesher"
+    );
+    let areas: Vec<f64> = scene.surfaces.iter().map(|s| s.area()).collect();
+    meshed.mesh.validate(&areas).unwrap();
+    let mut solver_settings = SolverSettings::default();
+    solver_settings.tolerance = 1e-3;
+    let mut solver = Solver::new(&scene, &meshed.mesh, &visibility, solver_settings).unwrap();
+    solver.run(|_| {});
+    let e = solver.energy_balance();
+    let sum = e.absorbed + e.unshot + e.escaped;
+    assert!((sum - e.emitted).abs().max_element() < 1e-6 * e.emitted.max_element());
+}

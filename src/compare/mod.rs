@@ -98,9 +98,11 @@ pub fn compare_receiver(
     }
     for &(directions, levels) in &settings.contour_sizes {
         let start = Instant::now();
-        let mut contour = ContourSettings::default();
-        contour.directions = directions;
-        contour.levels = levels;
+        let contour = ContourSettings {
+            directions,
+            levels,
+            ..ContourSettings::default()
+        };
         let Some(layout) = receiver_layout(scene, visibility, receiver, luminaire, &contour) else {
             continue;
         };

@@ -70,8 +70,11 @@ pub struct ContourLayout {
     pub newton_iterations: usize,
     /// Vertices placed on levels by Newton's method.
     pub newton_solves: usize,
-    /// Vertices added on shadow boundaries.
+    /// Vertices added on and beside shadow boundaries.
     pub shadow_points: usize,
+    /// The points found on shadow boundaries (each also flanked by two
+    /// vertices).
+    pub shadow_boundary: Vec<DVec2>,
     /// The ring vertices by level, with the angle of their ray (`None`: the
     /// level is not reached inside the polygon in that direction). Used to
     /// find shadow boundaries along rings and rays.
@@ -244,6 +247,7 @@ impl ContourLayout {
                 }
             }
             let t = 0.5 * (lo + hi);
+            self.shadow_boundary.push(a.lerp(b, t));
             for s in [t - 0.05, t, t + 0.05] {
                 if s > 0.0 && s < 1.0 {
                     self.push(a.lerp(b, s), None);
