@@ -72,8 +72,7 @@ pub struct ContourLayout {
     pub newton_solves: usize,
     /// Vertices added on and beside shadow boundaries.
     pub shadow_points: usize,
-    /// The points found on shadow boundaries (each also flanked by two
-    /// vertices).
+    /// The points where half the light is hidden (penumbrae's middles).
     pub shadow_boundary: Vec<DVec2>,
     /// The ring vertices by level, with the angle of their ray (`None`: the
     /// level is not reached inside the polygon in that direction). Used to
@@ -201,12 +200,16 @@ impl ContourLayout {
         }
     }
 
-    /// Adds vertices on shadow boundaries: along every ring and every ray,
-    /// where `lit` differs between two neighbouring vertices, bisection finds
-    /// the boundary (to 10⁻⁶ of the edge), and the boundary and two points
-    /// flanking it at 5 % of the edge become vertices, so the shadow's edge
-    /// stays crisp without a fine grid.
-    pub fn refine_shadows(&mut self, lit: &(dyn Fn(DVec2) -> bool + Sync)) {
+    /// Adds vertices on shadow boundaries. `visible` is the fraction of the
+    /// light visible from a point. Along every ring and every ray (each
+    /// sampled at 8 points, so a thin shadow between two vertices is not
+    /// missed), wherever the fraction crosses 5 %, 50 % or 95 %, bisection
+    /// finds the crossing and it becomes a vertex: the penumbra's outer edge,
+    /// middle and inner edge, so the shadow keeps its shape without a fine
+    /// grid. The 50 % crossings are also listed in `shadow_boundary`.
+    pub fn refine_shadows(&mut self, visible: &(dyn Fn(DVec2) -> f64 + Sync)) {
+        const SAMPLES: usize = 8;
+        const THRESHOLDS: [f64; 3] = [0.05, 0.5, 0.95];
         let mut edges: Vec<[DVec2; 2]> = Vec::new();
         for ring in &self.rings {
             for j in 0..ring.len() {
@@ -233,25 +236,37 @@ impl ContourLayout {
             }
         }
         for [a, b] in edges {
-            let (lit_a, lit_b) = (lit(a), lit(b));
-            if lit_a == lit_b {
-                continue;
-            }
-            let (mut lo, mut hi) = (0.0, 1.0);
-            while hi - lo > 1e-6 {
-                let mid = 0.5 * (lo + hi);
-                if lit(a.lerp(b, mid)) == lit_a {
-                    lo = mid
-                } else {
-                    hi = mid
-                }
-            }
-            let t = 0.5 * (lo + hi);
-            self.shadow_boundary.push(a.lerp(b, t));
-            for s in [t - 0.05, t, t + 0.05] {
-                if s > 0.0 && s < 1.0 {
-                    self.push(a.lerp(b, s), None);
+            let fractions: Vec<f64> = (0..=SAMPLES)
+                .map(|i| visible(a.lerp(b, i as f64 / SAMPLES as f64)))
+                .collect();
+            let mut added: Vec<f64> = Vec::new();
+            for i in 0..SAMPLES {
+                for threshold in THRESHOLDS {
+                    let (f0, f1) = (fractions[i] - threshold, fractions[i + 1] - threshold);
+                    if (f0 > 0.0) == (f1 > 0.0) {
+                        continue;
+                    }
+                    // Bisection on the sub-interval, to 10⁻⁵ of the edge.
+                    let (mut lo, mut hi) =
+                        (i as f64 / SAMPLES as f64, (i + 1) as f64 / SAMPLES as f64);
+                    while hi - lo > 1e-5 {
+                        let mid = 0.5 * (lo + hi);
+                        if (visible(a.lerp(b, mid)) - threshold > 0.0) == (f0 > 0.0) {
+                            lo = mid
+                        } else {
+                            hi = mid
+                        }
+                    }
+                    let t = 0.5 * (lo + hi);
+                    if added.iter().any(|&u| (u - t).abs() < 1e-3) {
+                        continue;
+                    }
+                    added.push(t);
+                    self.push(a.lerp(b, t), None);
                     self.shadow_points += 1;
+                    if threshold == 0.5 {
+                        self.shadow_boundary.push(a.lerp(b, t));
+                    }
                 }
             }
         }
