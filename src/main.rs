@@ -154,6 +154,18 @@ struct Prepared {
     settings: SolverSettings,
 }
 
+impl Prepared {
+    /// A solver for the prepared scene, nothing shot yet.
+    fn solver(&self) -> isorad::Result<Solver<'_>> {
+        Solver::new(
+            &self.loaded.scene,
+            &self.mesh,
+            &self.visibility,
+            self.settings.clone(),
+        )
+    }
+}
+
 /// Loads and meshes a scene: the scene file's settings, then the flags.
 fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
     let loaded = load_scene(&args.scene)?;
@@ -235,12 +247,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         .validate()
         .map_err(anyhow::Error::msg)
         .context("camera")?;
-    let mut solver = Solver::new(
-        scene,
-        &prepared.mesh,
-        &prepared.visibility,
-        prepared.settings.clone(),
-    )?;
+    let mut solver = prepared.solver()?;
     let solve_seconds = solve_with_progress(&mut solver, args.solve.quiet);
     // Render, with the ambient term standing in for the light not yet shot.
     let triangles = mesh_triangles(&prepared.mesh, &solver.radiosity_with_ambient());
@@ -263,13 +270,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
 fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
     let points = load_probe_points(&args.points)?;
     let prepared = prepare(&args.solve)?;
-    let scene: &Scene = &prepared.loaded.scene;
-    let mut solver = Solver::new(
-        scene,
-        &prepared.mesh,
-        &prepared.visibility,
-        prepared.settings.clone(),
-    )?;
+    let mut solver = prepared.solver()?;
     solve_with_progress(&mut solver, args.solve.quiet);
     let solution = solver.solution(true);
     let mode = match args.mode {
