@@ -329,3 +329,60 @@ fn a_contour_meshed_scene_solves_with_its_energy_balanced() {
     let sum = e.absorbed + e.unshot + e.escaped;
     assert!((sum - e.emitted).abs().max_element() < 1e-6 * e.emitted.max_element());
 }
+
+#[test]
+fn a_non_convex_receiver_with_the_centre_outside_is_tiled() {
+    // An L-shaped receiver whose notch holds the light's maximum (0, 0): the
+    // centre lies outside, and some levels are not reached in some directions.
+    let seed = seed(0.0);
+    let l_shape = vec![
+        DVec2::new(-3.0, -3.0),
+        DVec2::new(3.0, -3.0),
+        DVec2::new(3.0, -0.5),
+        DVec2::new(-0.5, -0.5),
+        DVec2::new(-0.5, 3.0),
+        DVec2::new(-3.0, 3.0),
+    ];
+    let field = |p: DVec2| seed.field(p);
+    let layout = contour_layout(
+        &l_shape,
+        &field,
+        seed.maximum(),
+        &ContourSettings::default(),
+        &[],
+    );
+    let triangulation = layout.triangulate(&l_shape);
+    let p = &triangulation.points;
+    let area: f64 = triangulation
+        .triangles
+        .iter()
+        .map(|&[a, b, c]| 0.5 * (p[b] - p[a]).perp_dot(p[c] - p[a]))
+        .sum();
+    let expected = 36.0 - 3.5 * 3.5;
+    assert!(
+        (area - expected).abs() < 1e-9 * expected,
+        "area {area} vs {expected}"
+    );
+    assert!(
+        !layout.points.contains(&layout.centre),
+        "the centre is outside"
+    );
+    for (p, level) in layout.points.iter().zip(&layout.point_levels) {
+        if let Some(k) = level {
+            let target = layout.levels[*k];
+            let on_boundary = (0..l_shape.len()).any(|i| {
+                let (a, b) = (l_shape[i], l_shape[(i + 1) % l_shape.len()]);
+                (p - a).perp_dot(b - a).abs() / (b - a).length() < 1e-9
+            });
+            assert!((seed.field(*p).0 - target).abs() <= 1e-6 * target || on_boundary);
+        }
+    }
+    // Triangles stay out of the notch.
+    for &[a, b, c] in &triangulation.triangles {
+        let centroid = (p[a] + p[b] + p[c]) / 3.0;
+        assert!(
+            !(centroid.x > -0.5 && centroid.y > -0.5),
+            "a triangle in the notch at {centroid}"
+        );
+    }
+}
