@@ -5,7 +5,8 @@
 //! on a white 900 × 600 canvas, both axes logarithmic with ranges fitted to
 //! the data (padded by a factor [`PADDING`] on each side), major and minor
 //! gridlines, one colour and one marker shape per series, the points of each
-//! series joined in order of x, and a legend in the upper right. Points that
+//! series joined in order of x, and a legend in the upper right, or in the
+//! corner holding the fewest points when data run there. Points that
 //! a log axis cannot show (non-finite, zero or negative coordinates) are left
 //! out; a plot with nothing left still writes a valid file that says so.
 //!
@@ -285,6 +286,38 @@ fn tick_label(value: f64) -> String {
     }
 }
 
+/// Where the legend goes: the upper right unless points lie there, else
+/// the corner (lower right, upper left, lower left) with the fewest points,
+/// so that rising curves are not hidden under it. A corner is the outer
+/// 40 % of the width and 25 % of the height, on the log scales.
+fn legend_corner(
+    series: &[Series],
+    x_range: &std::ops::Range<f64>,
+    y_range: &std::ops::Range<f64>,
+) -> SeriesLabelPosition {
+    let fraction = |v: f64, r: &std::ops::Range<f64>| (v / r.start).ln() / (r.end / r.start).ln();
+    let in_corner = |right: bool, upper: bool| {
+        series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .filter(|&&(x, y)| {
+                let (fx, fy) = (fraction(x, x_range), fraction(y, y_range));
+                (if right { fx > 0.6 } else { fx < 0.4 })
+                    && (if upper { fy > 0.75 } else { fy < 0.25 })
+            })
+            .count()
+    };
+    [
+        (SeriesLabelPosition::UpperRight, in_corner(true, true)),
+        (SeriesLabelPosition::LowerRight, in_corner(true, false)),
+        (SeriesLabelPosition::UpperLeft, in_corner(false, true)),
+        (SeriesLabelPosition::LowerLeft, in_corner(false, false)),
+    ]
+    .into_iter()
+    .min_by_key(|&(_, count)| count)
+    .map_or(SeriesLabelPosition::UpperRight, |(corner, _)| corner)
+}
+
 /// Draws the whole plot on `root`; plotters' errors as text.
 fn draw_plot<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
@@ -298,6 +331,7 @@ fn draw_plot<DB: DrawingBackend>(
     let all_points = || series.iter().flat_map(|s| s.points.iter());
     let x_range = padded_range(all_points().map(|p| p.0));
     let y_range = padded_range(all_points().map(|p| p.1));
+    let legend = legend_corner(series, &x_range, &y_range);
     let mut chart = ChartBuilder::on(root)
         .caption(labels.title, text(24))
         .margin(20)
@@ -322,7 +356,7 @@ fn draw_plot<DB: DrawingBackend>(
         .map_err(|e| e.to_string())?;
 
     // Each series: a line through its points, a marker on each, a legend entry.
-    draw_curves(&mut chart, series)?;
+    draw_curves(&mut chart, series, legend)?;
 
     // Say so when there was nothing to draw.
     if all_points().next().is_none() {
@@ -336,6 +370,7 @@ fn draw_plot<DB: DrawingBackend>(
 fn draw_curves<'a, DB: DrawingBackend + 'a>(
     chart: &mut LogLogChart<'a, DB>,
     series: &[Series],
+    legend: SeriesLabelPosition,
 ) -> std::result::Result<(), String> {
     for (index, one) in series.iter().enumerate() {
         let colour = COLOURS[index % COLOURS.len()];
@@ -361,7 +396,7 @@ fn draw_curves<'a, DB: DrawingBackend + 'a>(
     if !series.is_empty() {
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(legend)
             .label_font((FONT_FAMILY, 16).into_font())
             .background_style(WHITE.mix(0.9))
             .border_style(BLACK.mix(0.5))
@@ -389,6 +424,28 @@ fn draw_note<DB: DrawingBackend>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn legend_leaves_rising_curves_visible() {
+        let series = |points: Vec<(f64, f64)>| {
+            let one = [Series {
+                name: "s".into(),
+                points,
+            }];
+            let all = || one.iter().flat_map(|s| s.points.iter());
+            let x_range = padded_range(all().map(|p| p.0));
+            let y_range = padded_range(all().map(|p| p.1));
+            legend_corner(&one, &x_range, &y_range)
+        };
+        let falling = series(vec![(10.0, 1.0), (100.0, 0.1), (1000.0, 0.01)]);
+        assert!(matches!(falling, SeriesLabelPosition::UpperRight));
+        let rising = series(vec![(10.0, 0.01), (100.0, 0.1), (1000.0, 1.0)]);
+        assert!(matches!(rising, SeriesLabelPosition::LowerRight));
+        assert!(matches!(
+            legend_corner(&[], &(1.0..10.0), &(1.0..10.0)),
+            SeriesLabelPosition::UpperRight
+        ));
+    }
 
     #[test]
     fn tick_labels_are_short() {

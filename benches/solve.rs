@@ -1,0 +1,37 @@
+//! The full progressive solve of the Cornell box to 1 % unshot power (the
+//! default tolerance), on every core rayon finds; meshing and the BVH are
+//! setup, measured apart in `prepare`.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use isorad::{Solver, SolverSettings, SquareMeshSettings, Visibility, load_scene, mesh_square};
+
+fn solve(c: &mut Criterion) {
+    let scene = load_scene("cornell").expect("built-in Cornell box").scene;
+    let mesh_settings = SquareMeshSettings::for_scene(&scene);
+    let mesh = mesh_square(&scene, &mesh_settings);
+    let visibility = Visibility::new(&scene);
+    let mut settings = SolverSettings::default();
+    settings.tolerance = 0.01;
+
+    let mut group = c.benchmark_group("cornell");
+    group.sample_size(10);
+    group.bench_function("prepare_mesh_and_bvh", |b| {
+        b.iter(|| {
+            let mesh = mesh_square(&scene, &mesh_settings);
+            let visibility = Visibility::new(&scene);
+            (mesh.vertices.len(), visibility.triangle_count())
+        })
+    });
+    group.bench_function("solve_tolerance_0.01", |b| {
+        b.iter(|| {
+            let mut solver =
+                Solver::new(&scene, &mesh, &visibility, settings.clone()).expect("valid settings");
+            solver.run(|_| {});
+            solver.rays()
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, solve);
+criterion_main!(benches);
