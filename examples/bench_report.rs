@@ -410,31 +410,7 @@ fn meshing_section(md: &mut String, out_dir: &Path) -> Report {
         )?;
     }
     // Three families, as `isorad compare` plots them.
-    let family = |r: &isorad::MeshRecord| {
-        if r.mesher == "square" {
-            "square N × N"
-        } else if r.params["directions"] == 2 * r.params["levels"].as_u64().unwrap_or(0) {
-            "contour D × K, D = 2K"
-        } else {
-            "contour D × K, seed sizes"
-        }
-    };
-    let series: Vec<Series> = [
-        "square N × N",
-        "contour D × K, seed sizes",
-        "contour D × K, D = 2K",
-    ]
-    .into_iter()
-    .map(|name| Series {
-        name: name.into(),
-        points: comparison
-            .records
-            .iter()
-            .filter(|r| family(r) == name)
-            .map(|r| (r.vertices as f64, r.rms_rel_error))
-            .collect(),
-    })
-    .collect();
+    let series = comparison.plot_series();
     write_loglog_plot(
         &out_dir.join("meshing_error.png"),
         "Tilted disc over a floor: RMS error against vertices",

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use isorad::{
     CompareSettings, DominanceSettings, LoadedScene, Luminaire, Mesh, MeshKind, MeshSettings,
-    ProbeMode, ReceiverAnalysis, RenderSettings, Scene, Series, Solver, SolverSettings, ToneMap,
+    ProbeMode, ReceiverAnalysis, RenderSettings, Scene, Solver, SolverSettings, ToneMap,
     Visibility, analyse_receivers, auto_exposure, compare_receiver, load_probe_points, load_scene,
     luminaires, mesh_scene, mesh_triangles, panels_for_figure, rasterize, write_exr, write_json,
     write_loglog_plot, write_mesh_panels, write_png,
@@ -598,7 +598,7 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
             )?;
         }
         if let Some(path) = &args.plot {
-            let series = plot_series(comparison);
+            let series = comparison.plot_series();
             let title = format!(
                 "{}: RMS error of Gouraud interpolation",
                 comparison.receiver
@@ -613,36 +613,6 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
-}
-
-/// The plot's series: square meshes, the seed paper's contour sizes, and the
-/// balanced D = 2K contour sizes.
-fn plot_series(comparison: &isorad::ReceiverComparison) -> Vec<Series> {
-    let family = |record: &isorad::MeshRecord| {
-        if record.mesher == "square" {
-            "square N × N"
-        } else if record.params["directions"] == 2 * record.params["levels"].as_u64().unwrap_or(0) {
-            "contour D × K, D = 2K"
-        } else {
-            "contour D × K, seed sizes"
-        }
-    };
-    [
-        "square N × N",
-        "contour D × K, seed sizes",
-        "contour D × K, D = 2K",
-    ]
-    .into_iter()
-    .map(|name| Series {
-        name: name.into(),
-        points: comparison
-            .records
-            .iter()
-            .filter(|r| family(r) == name)
-            .map(|r| (r.vertices as f64, r.rms_rel_error))
-            .collect(),
-    })
-    .collect()
 }
 
 /// `out.png` → `out_floor.png` when several receivers are written.

@@ -8,24 +8,7 @@ mod support;
 
 use glam::{DVec2, DVec3};
 use isorad::{DirectField, Luminaire, Scene, luminaires, tilt_line_maximum};
-use support::{SceneBuilder, coaxial_disc_form_factor, disc_facing_down, square_z};
-
-/// SplitMix64: a small seeded generator, so failures reproduce.
-struct Rng(u64);
-
-impl Rng {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        (((z ^ (z >> 31)) >> 11) as f64) / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next_f64()
-    }
-}
+use support::{Rng, SceneBuilder, coaxial_disc_form_factor, disc_facing_down, square_z};
 
 /// A square of side `side` centred at `centre`, facing along the unit `normal`.
 fn square_facing(centre: DVec3, normal: DVec3, side: f64) -> Vec<DVec3> {

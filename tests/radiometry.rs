@@ -3,45 +3,15 @@
 //!
 //! Run with `--nocapture` to see the worst agreement of each check.
 
+mod support;
+
 use glam::DVec3;
 use isorad::{
     DiscModel, ReceiverPlane, SmallDisc, polygon_form_factor, polygon_form_factor_gradient,
     polygon_form_factor_with_gradient, tilt_line_maximum,
 };
 use std::f64::consts::PI;
-
-/// SplitMix64: a small seeded generator, so failures reproduce.
-struct Rng(u64);
-
-impl Rng {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        (((z ^ (z >> 31)) >> 11) as f64) / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next_f64()
-    }
-
-    /// Uniform on the unit sphere.
-    fn direction(&mut self) -> DVec3 {
-        let z = self.range(-1.0, 1.0);
-        let a = self.range(0.0, 2.0 * PI);
-        let s = (1.0 - z * z).sqrt();
-        DVec3::new(s * a.cos(), s * a.sin(), z)
-    }
-
-    fn point(&mut self, half_size: f64) -> DVec3 {
-        DVec3::new(
-            self.range(-half_size, half_size),
-            self.range(-half_size, half_size),
-            self.range(-half_size, half_size),
-        )
-    }
-}
+use support::Rng;
 
 /// A star-shaped polygon (3 to 8 vertices, not always convex) of size about
 /// `size` around `centre`, in a random plane.

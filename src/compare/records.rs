@@ -5,6 +5,7 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::mesh::{ErrorGrid, PlaneTriangulation};
+use crate::render::Series;
 
 /// One mesh of one receiver, measured.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -86,6 +87,41 @@ impl ReceiverComparison {
             triangulation,
             values,
         });
+    }
+
+    /// The series of a log–log plot of RMS error against vertices: square
+    /// meshes, the seed paper's contour sizes, and the balanced D = 2K
+    /// contour sizes.
+    #[must_use]
+    pub fn plot_series(&self) -> Vec<Series> {
+        const FAMILIES: [&str; 3] = [
+            "square N × N",
+            "contour D × K, seed sizes",
+            "contour D × K, D = 2K",
+        ];
+        let family = |record: &MeshRecord| {
+            if record.mesher == "square" {
+                FAMILIES[0]
+            } else if record.params["directions"]
+                == 2 * record.params["levels"].as_u64().unwrap_or(0)
+            {
+                FAMILIES[2]
+            } else {
+                FAMILIES[1]
+            }
+        };
+        FAMILIES
+            .into_iter()
+            .map(|name| Series {
+                name: name.into(),
+                points: self
+                    .records
+                    .iter()
+                    .filter(|r| family(r) == name)
+                    .map(|r| (r.vertices as f64, r.rms_rel_error))
+                    .collect(),
+            })
+            .collect()
     }
 
     /// The vertices each mesher needs to reach `rms` RMS error, interpolated

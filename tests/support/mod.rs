@@ -99,3 +99,37 @@ pub fn coaxial_disc_form_factor(radius: f64, height: f64, x: f64) -> f64 {
     let (r2, h2, x2) = (radius * radius, height * height, x * x);
     0.5 * (1.0 - (x2 + h2 - r2) / ((x2 + h2 + r2).powi(2) - 4.0 * r2 * x2).sqrt())
 }
+
+/// SplitMix64: a small seeded generator, so failures reproduce.
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next_f64(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        (((z ^ (z >> 31)) >> 11) as f64) / (1u64 << 53) as f64
+    }
+
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next_f64()
+    }
+
+    /// Uniform on the unit sphere.
+    pub fn direction(&mut self) -> DVec3 {
+        let z = self.range(-1.0, 1.0);
+        let a = self.range(0.0, std::f64::consts::TAU);
+        let s = (1.0 - z * z).sqrt();
+        DVec3::new(s * a.cos(), s * a.sin(), z)
+    }
+
+    /// Uniform in the cube [−half_size, half_size]³.
+    pub fn point(&mut self, half_size: f64) -> DVec3 {
+        DVec3::new(
+            self.range(-half_size, half_size),
+            self.range(-half_size, half_size),
+            self.range(-half_size, half_size),
+        )
+    }
+}
