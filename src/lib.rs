@@ -84,9 +84,9 @@ pub use compare::{
 };
 pub use error::{Error, Result};
 pub use mesh::{
-    Cell, ContourLayout, ContourSettings, Element, ErrorGrid, InterpolationError, Mesh, MeshVertex,
-    Patch, PlaneTriangulation, ScalarField, SquareMeshSettings, contour_layout,
-    interpolation_error, mesh_square,
+    Cell, ContourLayout, ContourSettings, Element, ElementHierarchy, ElementKey, ElementNode,
+    ErrorGrid, InterpolationError, Mesh, MeshVertex, Patch, PlaneTriangulation, ScalarField,
+    SquareMeshSettings, contour_layout, interpolation_error, mesh_square,
 };
 pub use radiometry::{
     DiscModel, ReceiverPlane, SmallDisc, TiltFrame, disc_form_factor, polygon_form_factor,
@@ -105,6 +105,7 @@ pub use scene::{
 };
 pub use solver::{
     DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Luminaire, MeshKind,
-    MeshSettings, Probe, ProbeMode, ReceiverAnalysis, SceneMesh, Solution, Solver, SolverSettings,
-    analyse_receivers, luminaires, mesh_scene, receiver_layout,
+    MeshSettings, Probe, ProbeMode, ReceiverAnalysis, RefinementSettings, SceneMesh, Solution,
+    Solver, SolverSettings, analyse_receivers, elements_to_split, luminaires, mesh_scene,
+    receiver_layout,
 };

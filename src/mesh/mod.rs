@@ -5,6 +5,7 @@
 mod constrained;
 mod contacts;
 mod contour;
+mod hierarchy;
 mod interpolation_error;
 mod patch;
 mod square;
@@ -12,6 +13,7 @@ mod topology;
 
 pub use constrained::PlaneTriangulation;
 pub use contour::{ContourLayout, ContourSettings, ScalarField, contour_layout};
+pub use hierarchy::{ElementHierarchy, ElementKey, ElementNode};
 pub use interpolation_error::{ErrorGrid, InterpolationError, interpolation_error};
 pub use patch::{Cell, Patch};
 pub use square::{SquareMeshSettings, mesh_square, mesh_surfaces, receiver_inset};

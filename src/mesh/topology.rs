@@ -74,6 +74,11 @@ pub struct Mesh {
     pub elements: Vec<Element>,
     /// Shooting patches, each made of elements.
     pub patches: Vec<Patch>,
+    /// The vertex halfway along each split edge, by the edge's end vertices
+    /// (smaller index first): where adaptive refinement split an element,
+    /// and so where a coarser neighbour has a hanging vertex. Empty for a
+    /// mesh that was never refined.
+    pub edge_midpoints: HashMap<(u32, u32), u32>,
 }
 
 impl Mesh {
@@ -134,6 +139,12 @@ impl Mesh {
             self.patches.len() as u32,
         );
         self.vertices.extend(other.vertices);
+        self.edge_midpoints.extend(
+            other
+                .edge_midpoints
+                .into_iter()
+                .map(|((a, b), m)| ((a + vertex_base, b + vertex_base), m + vertex_base)),
+        );
         self.elements
             .extend(other.elements.into_iter().map(|mut e| {
                 e.vertices = e.vertices.map(|v| v + vertex_base);

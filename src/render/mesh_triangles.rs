@@ -9,7 +9,9 @@ use crate::scene::Rgb;
 ///
 /// A quadrilateral element is split along the diagonal whose two end
 /// vertices have the closer radiosities: splitting across a bright corner
-/// instead would draw a visible diagonal streak in Gouraud shading.
+/// instead would draw a visible diagonal streak in Gouraud shading. An
+/// element with hanging vertices on its edges (a finer neighbour's) is
+/// triangulated through them, so the image has no T-junction cracks.
 #[must_use]
 pub fn mesh_triangles(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<ShadedTriangle> {
     let radiance = |v: u32| radiosity[v as usize] / std::f64::consts::PI;
@@ -24,9 +26,10 @@ pub fn mesh_triangles(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<ShadedTriangle> {
             .abs()
             .element_sum()
     };
+    let mut split = Vec::new();
     for element in &mesh.elements {
-        let (split, count) = element.triangles(gap);
-        for &[a, b, c] in &split[..count] {
+        mesh.element_triangles(element, gap, &mut split);
+        for &[a, b, c] in &split {
             triangles.push(triangle(a, b, c));
         }
     }

@@ -216,14 +216,15 @@ impl Solution<'_> {
                 .element_sum()
         };
         let mut best: Option<(f64, [u32; 3], [f64; 3])> = None;
+        let mut split = Vec::new();
         for element in self
             .mesh
             .elements
             .iter()
             .filter(|e| e.surface as usize == surface)
         {
-            let (split, count) = element.triangles(gap);
-            for &triangle in &split[..count] {
+            self.mesh.element_triangles(element, gap, &mut split);
+            for &triangle in &split {
                 let [a, b, c] = triangle.map(|v| self.mesh.vertices[v as usize].position);
                 let weights = barycentric(position, a, b, c, normal);
                 // How far outside the triangle (0 inside): the smallest negative weight.
