@@ -8,19 +8,15 @@
 //!
 //! # Example
 //!
-//! A closed cube whose faces all emit E = π and reflect half: the radiosity
-//! everywhere is E/(1 − ρ) = 2π.
+//! A closed cube whose faces all emit E = π and reflect half, built in code:
+//! the radiosity everywhere is E/(1 − ρ) = 2π.
 //!
 //! ```
 //! use glam::DVec3;
-//! use isorad::{Material, Rgb, Scene, Solver, SolverSettings, SquareMeshSettings, Surface, Visibility, mesh_square};
+//! use isorad::{Length, Material, Rgb, Scene, Settings, Solver, StopReason, Until};
 //!
-//! let mut scene = Scene::default();
-//! scene.materials.push(Material {
-//!     name: "glowing wall".into(),
-//!     reflectance: Rgb::splat(0.5),
-//!     emitted_radiance: Rgb::splat(1.0),
-//! });
+//! let mut scene = Scene::new();
+//! let glow = scene.add_material(Material::emitter("glowing wall", Rgb::splat(1.0)).with_reflectance(Rgb::splat(0.5)))?;
 //! // Six faces of the unit cube, counter-clockwise seen from inside.
 //! let corner = |axis: usize, side: f64, s: f64, t: f64| {
 //!     let mut p = [0.0; 3];
@@ -30,20 +26,17 @@
 //!     DVec3::from_array(p)
 //! };
 //! for axis in 0..3 {
-//!     let low = vec![corner(axis, 0.0, 0.0, 0.0), corner(axis, 0.0, 1.0, 0.0), corner(axis, 0.0, 1.0, 1.0), corner(axis, 0.0, 0.0, 1.0)];
+//!     let low = [corner(axis, 0.0, 0.0, 0.0), corner(axis, 0.0, 1.0, 0.0), corner(axis, 0.0, 1.0, 1.0), corner(axis, 0.0, 0.0, 1.0)];
 //!     let high: Vec<DVec3> = low.iter().rev().map(|p| *p + DVec3::from_array({ let mut d = [0.0; 3]; d[axis] = 1.0; d })).collect();
-//!     scene.surfaces.push(Surface::new("face", 0, low).unwrap());
-//!     scene.surfaces.push(Surface::new("face", 0, high).unwrap());
+//!     scene.add_polygon("face", glow, &low)?;
+//!     scene.add_polygon("face", glow, &high)?;
 //! }
 //!
-//! let mut mesh_settings = SquareMeshSettings::for_scene(&scene);
-//! mesh_settings.max_edge = 0.125;
-//! let mesh = mesh_square(&scene, &mesh_settings);
-//! let visibility = Visibility::new(&scene);
-//! let mut settings = SolverSettings::default();
-//! settings.tolerance = 1e-3;
-//! let mut solver = Solver::new(&scene, &mesh, &visibility, settings)?;
-//! solver.run(|_| {});
+//! let mut settings = Settings::default();
+//! settings.mesh.max_edge = Length::Absolute(0.125);
+//! let mut solver = Solver::new(scene, settings)?;
+//! let stop = solver.run_until(&Until::default().tolerance(1e-3), |_progress| {});
+//! assert_eq!(stop, StopReason::Converged);
 //! for radiosity in solver.radiosity() {
 //!     assert!((radiosity.x / (2.0 * std::f64::consts::PI) - 1.0).abs() < 0.01);
 //! }
@@ -104,8 +97,8 @@ pub use scene::{
     triangulate_polygon,
 };
 pub use solver::{
-    DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Luminaire, MeshKind,
-    MeshSettings, Probe, ProbeMode, ReceiverAnalysis, RefinementSettings, SceneMesh, Solution,
-    Solver, SolverSettings, analyse_receivers, elements_to_split, luminaires, mesh_scene,
-    receiver_layout,
+    DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Length, Luminaire,
+    MeshAnalysis, MeshKind, MeshSettings, Probe, ProbeMode, Progress, ReceiverAnalysis, RefinementSettings, SceneMesh,
+    Settings, Solution, Solver, SolverSettings, StopReason, Until, analyse_receivers, elements_to_split, luminaires,
+    mesh_scene, receiver_layout,
 };

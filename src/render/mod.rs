@@ -16,6 +16,7 @@ mod plot;
 mod rasterizer;
 mod setup;
 mod tone_map;
+mod view;
 
 pub use image::Image;
 pub use mesh_image::{MeshPanel, write_mesh_panels};

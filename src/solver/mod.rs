@@ -7,6 +7,7 @@ mod dominance;
 mod emitters;
 mod progressive;
 mod refinement;
+mod run;
 mod sampling;
 mod scene_mesh;
 mod settings;
@@ -19,6 +20,9 @@ pub use dominance::{DominanceSettings, ReceiverAnalysis, analyse_receivers};
 pub use emitters::{Luminaire, luminaires};
 pub use progressive::{EnergyBalance, Solver};
 pub use refinement::{RefinementSettings, elements_to_split};
-pub use scene_mesh::{MeshKind, MeshSettings, SceneMesh, mesh_scene, receiver_layout};
-pub use settings::{FormFactorKernel, SolverSettings};
+pub use run::{Progress, StopReason, Until};
+pub use scene_mesh::{
+    Length, MeshAnalysis, MeshKind, MeshSettings, SceneMesh, mesh_scene, receiver_layout,
+};
+pub use settings::{FormFactorKernel, Settings, SolverSettings};
 pub use solution::{Probe, ProbeMode, Solution};
