@@ -98,7 +98,7 @@ pub use scene::{
 };
 pub use solver::{
     DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Length, Luminaire,
-    MeshAnalysis, MeshKind, MeshSettings, Probe, ProbeMode, Progress, ReceiverAnalysis, RefinementSettings, SceneMesh,
-    Settings, Solution, Solver, SolverSettings, StopReason, Until, analyse_receivers, elements_to_split, luminaires,
-    mesh_scene, receiver_layout,
+    MeshAnalysis, MeshKind, MeshSettings, Probe, ProbeMode, Progress, ReceiverAnalysis,
+    RefinementSettings, SceneMesh, Settings, Solution, Solver, SolverSettings, StopReason, Until,
+    analyse_receivers, elements_to_split, luminaires, mesh_scene, receiver_layout,
 };

@@ -51,10 +51,19 @@ struct SolveArgs {
     /// Form-factor kernel: mixed (default), wallace or exact.
     #[arg(long, value_name = "KERNEL")]
     form_factor: Option<String>,
-    /// Mesher: square, or contour (the radial contour-level mesher on
-    /// receivers lit by a dominant small emitter, square elsewhere).
+    /// Mesher: square, contour (the radial contour-level mesher on
+    /// receivers lit by a dominant small emitter, square elsewhere), or
+    /// adaptive (a coarser grid whose elements split while solving where the
+    /// light changes).
     #[arg(long)]
     mesh: Option<String>,
+    /// Adaptive mesher: split an element when its vertices' radiosities
+    /// span more than this fraction of its mean.
+    #[arg(long, value_name = "FRACTION")]
+    refine_threshold: Option<f64>,
+    /// Adaptive mesher: how many times an element may be halved.
+    #[arg(long, value_name = "N")]
+    refine_levels: Option<u32>,
     /// Contour mesher: D, rays from the light's maximum.
     #[arg(long)]
     directions: Option<usize>,
@@ -202,6 +211,12 @@ fn settings_from(args: &SolveArgs, options: &SceneOptions) -> anyhow::Result<Set
     mesh.elements_per_side = args.elements_per_side.or(options.elements_per_side);
     mesh.contour.directions = args.directions.unwrap_or(mesh.contour.directions);
     mesh.contour.levels = args.levels.unwrap_or(mesh.contour.levels);
+    if let Some(threshold) = args.refine_threshold {
+        mesh.refinement.threshold = threshold;
+    }
+    if let Some(levels) = args.refine_levels {
+        mesh.refinement.max_levels = levels;
+    }
     if let Some(tolerance) = args.tolerance.or(options.tolerance) {
         settings.solver.tolerance = tolerance;
     }

@@ -2,11 +2,12 @@
 
 use rayon::prelude::*;
 
-use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene};
+use super::refinement::Refiner;
+use super::scene_mesh::{MeshAnalysis, MeshKind, SceneMesh, mesh_scene};
 use super::settings::{Settings, SolverSettings};
 use super::solution::Solution;
 use super::source_sampling::{Receiver, Shooter};
-use crate::mesh::Mesh;
+use crate::mesh::{ElementHierarchy, Mesh};
 use crate::scene::{Rgb, Scene, Visibility};
 
 /// Where the emitted power has gone so far, per RGB channel, in watts (or
@@ -43,26 +44,31 @@ pub struct EnergyBalance {
 /// M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive
 /// Refinement Approach to Fast Radiosity Image Generation", SIGGRAPH 1988.
 pub struct Solver {
-    scene: Scene,
-    mesh: Mesh,
-    visibility: Visibility,
+    pub(super) scene: Scene,
+    pub(super) mesh: Mesh,
+    pub(super) visibility: Visibility,
     /// What meshing found (empty when the caller brought the mesh).
     analysis: MeshAnalysis,
-    settings: SolverSettings,
+    pub(super) settings: SolverSettings,
     /// Radiosity B per vertex (emission included), W/m².
-    radiosity: Vec<Rgb>,
+    pub(super) radiosity: Vec<Rgb>,
     /// Irradiance H per vertex (light received), W/m².
-    irradiance: Vec<Rgb>,
+    pub(super) irradiance: Vec<Rgb>,
     /// Unshot radiosity ΔB per patch.
-    unshot: Vec<Rgb>,
+    pub(super) unshot: Vec<Rgb>,
     emitted_power: Rgb,
     shot_power: Rgb,
-    received_power: Rgb,
+    pub(super) received_power: Rgb,
     /// The largest power a single patch emits (sum of channels): the scale
     /// for the number of samples a shot gets.
     reference_power: f64,
-    shots: usize,
-    rays: u64,
+    pub(super) shots: usize,
+    pub(super) rays: u64,
+    /// Radiosity shot by each patch in all, Σ ΔB: what new vertices of an
+    /// adaptive mesh gather.
+    pub(super) shot: Vec<Rgb>,
+    /// The element hierarchy of an adaptive solve.
+    pub(super) refiner: Option<Refiner>,
 }
 
 impl Solver {
@@ -78,13 +84,11 @@ impl Solver {
         scene.validate()?;
         let visibility = Visibility::new(&scene);
         let SceneMesh { mesh, analysis } = mesh_scene(&scene, &visibility, &settings.mesh);
-        Ok(Self::with_parts(
-            scene,
-            mesh,
-            visibility,
-            analysis,
-            settings.solver,
-        ))
+        let refiner = (settings.mesh.kind == MeshKind::Adaptive)
+            .then(|| Refiner::new(&mesh, settings.mesh.refinement.clone()));
+        let mut solver = Self::with_parts(scene, mesh, visibility, analysis, settings.solver);
+        solver.refiner = refiner;
+        Ok(solver)
     }
 
     /// A solver for `scene` on a mesh the caller made (with [`crate::mesh_square`]
@@ -121,6 +125,7 @@ impl Solver {
         let powers = mesh.patches.iter().zip(&unshot).map(|(p, b)| *b * p.area);
         let emitted_power = powers.clone().sum::<Rgb>();
         let reference_power = powers.map(|p| p.element_sum()).fold(0.0, f64::max);
+        let unshot_len = unshot.len();
         Solver {
             scene,
             mesh,
@@ -136,6 +141,8 @@ impl Solver {
             reference_power,
             shots: 0,
             rays: 0,
+            shot: vec![Rgb::ZERO; unshot_len],
+            refiner: None,
         }
     }
 
@@ -159,26 +166,16 @@ impl Solver {
         let form_factors = self.form_factors_to(j, power);
         self.receive(delta, &form_factors);
         self.shot_power += delta * self.mesh.patches[j].area;
+        self.shot[j] += delta;
         self.shots += 1;
+        self.refine();
         true
     }
 
     /// Form factor from every vertex to patch j, computed in parallel.
     fn form_factors_to(&mut self, j: usize, power: f64) -> Vec<f64> {
         let patch = &self.mesh.patches[j];
-        let surface = &self.scene.surfaces[patch.surface];
-        // Samples per side: from the shot's share of the strongest emitter's power.
-        let share = (power / self.reference_power.max(f64::MIN_POSITIVE)).min(1.0);
-        let max_side = (self.settings.max_samples as f64).sqrt().floor().max(1.0) as usize;
-        let min_side = ((self.settings.direct_samples as f64 * share).sqrt().round() as usize)
-            .clamp(1, max_side);
-        let shooter = Shooter::new(
-            patch.cell,
-            surface.normal(),
-            patch.surface as u32,
-            min_side,
-            max_side,
-        );
+        let shooter = self.shooter(j, power);
         let (scene, mesh, visibility) = (&self.scene, &self.mesh, &self.visibility);
         let (density, shot, kernel) = (
             self.settings.sample_density,
@@ -204,6 +201,24 @@ impl Solver {
             .collect();
         self.rays += gathered.iter().map(|g| u64::from(g.rays)).sum::<u64>();
         gathered.into_iter().map(|g| g.form_factor).collect()
+    }
+
+    /// Patch j prepared to shoot `power` (sum of channels): samples per side
+    /// from the shot's share of the strongest emitter's power.
+    pub(super) fn shooter(&self, j: usize, power: f64) -> Shooter {
+        let patch = &self.mesh.patches[j];
+        let surface = &self.scene.surfaces[patch.surface];
+        let share = (power / self.reference_power.max(f64::MIN_POSITIVE)).min(1.0);
+        let max_side = (self.settings.max_samples as f64).sqrt().floor().max(1.0) as usize;
+        let min_side = ((self.settings.direct_samples as f64 * share).sqrt().round() as usize)
+            .clamp(1, max_side);
+        Shooter::new(
+            patch.cell,
+            surface.normal(),
+            patch.surface as u32,
+            min_side,
+            max_side,
+        )
     }
 
     /// Adds a shot's light to vertices, and what elements reflect to their
@@ -355,6 +370,13 @@ impl Solver {
             unshot: self.unshot_power(),
             escaped: self.shot_power - self.received_power,
         }
+    }
+
+    /// The element hierarchy of an adaptive solve ([`MeshKind::Adaptive`]),
+    /// whose leaves are the mesh's elements; `None` for other meshes.
+    #[must_use]
+    pub fn hierarchy(&self) -> Option<&ElementHierarchy> {
+        self.refiner.as_ref().map(|r| &r.hierarchy)
     }
 
     /// Shots made so far.

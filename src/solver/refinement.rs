@@ -13,23 +13,28 @@
 //! M. F. Cohen, J. R. Wallace, *Radiosity and Realistic Image Synthesis*,
 //! 1993, §8.3 (adaptive subdivision on vertex differences).
 
-use crate::mesh::Mesh;
+use glam::DVec3;
+use rayon::prelude::*;
+
+use super::progressive::Solver;
+use super::source_sampling::{Receiver, Shooter};
+use crate::mesh::{ElementHierarchy, Mesh};
 use crate::scene::Rgb;
 
 /// When and how far elements are split during an adaptive solve.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct RefinementSettings {
-    /// Split an element when its vertices' radiosities (sum of channels)
-    /// span more than `threshold` times its mean radiosity.
+    /// Split an element when the jump of the radiosity gradient across it,
+    /// times its size (see [`elements_to_split`]), exceeds `threshold` times
+    /// its mean radiosity.
     pub threshold: f64,
     /// Differences in elements darker than `floor` times the scene's mean
     /// radiosity are measured against that floor instead: deep shadows are
     /// not refined for differences nobody can see.
     pub floor: f64,
-    /// Smallest element edge after splitting, as a fraction of the starting
-    /// element edge (`1/8`: three levels).
-    pub min_edge_fraction: f64,
+    /// How many times an element of the starting mesh may be halved.
+    pub max_levels: u32,
     /// The starting mesh's element edge, as a multiple of the square
     /// mesher's: adaptive meshing starts coarser and refines where needed.
     pub coarsening: f64,
@@ -40,10 +45,10 @@ pub struct RefinementSettings {
 impl Default for RefinementSettings {
     fn default() -> Self {
         RefinementSettings {
-            threshold: 0.2,
+            threshold: 1.0,
             floor: 0.05,
-            min_edge_fraction: 0.125,
-            coarsening: 2.0,
+            max_levels: 3,
+            coarsening: 1.0,
             max_vertices: 2_000_000,
         }
     }
@@ -67,10 +72,10 @@ impl RefinementSettings {
         if !(self.floor >= 0.0 && self.floor.is_finite()) {
             return invalid("refine-floor", format!("{} must be ≥ 0", self.floor));
         }
-        if !(self.min_edge_fraction > 0.0 && self.min_edge_fraction <= 1.0) {
+        if self.max_levels > 16 {
             return invalid(
-                "min-edge-fraction",
-                format!("{} must lie in (0, 1]", self.min_edge_fraction),
+                "refine-levels",
+                format!("{} is more than 16 levels", self.max_levels),
             );
         }
         if !(self.coarsening >= 1.0 && self.coarsening.is_finite()) {
@@ -80,52 +85,121 @@ impl RefinementSettings {
     }
 }
 
-/// The elements to split now: those whose outline's radiosities span more
-/// than the threshold, and those with more than one hanging vertex on an
-/// edge (a neighbour two levels finer), so that neighbours differ by at most
-/// one level and Gouraud shading stays smooth across them. Elements already
-/// as small as `min_edge` are left.
+/// The elements to split now.
+///
+/// The indicator is the jump of the radiosity gradient (sum of channels)
+/// between an element and its neighbours, in the manner of Zienkiewicz and
+/// Zhu's recovery estimator: G_e is the gradient of the element's linear
+/// interpolant, G_v the area-weighted mean of G_e over the elements around
+/// vertex v, and
+///
+/// ```text
+///   η_e = h_e · max_v |G_e − G_v|      (v over the element's outline)
+/// ```
+///
+/// with h_e its longest edge. On a linear ramp every G_e is the same and η
+/// vanishes however steep the ramp, so light that linear interpolation
+/// already reproduces is left alone; a shadow edge or a highlight bends the
+/// field, G jumps, and the elements there split. An element splits when
+/// η_e exceeds `threshold` times its mean radiosity (or the floor), and
+/// also when an edge carries more than one hanging vertex (a neighbour two
+/// levels finer), so neighbours differ by at most one level. Elements
+/// already `max_levels` below the starting mesh are left.
+///
+/// # References
+/// O. C. Zienkiewicz, J. Z. Zhu, "A simple error estimator and adaptive
+/// procedure for practical engineering analysis", Int. J. Numer. Methods
+/// Eng. 24, 1987.
 #[must_use]
 pub fn elements_to_split(
     mesh: &Mesh,
+    hierarchy: &ElementHierarchy,
     radiosity: &[Rgb],
     settings: &RefinementSettings,
-    min_edge: f64,
 ) -> Vec<usize> {
     let brightness = |v: u32| radiosity[v as usize].element_sum();
-    let (weighted, area) = mesh.elements.iter().fold((0.0, 0.0), |(w, a), e| {
-        let corners = e.corners();
+    let position = |v: u32| mesh.vertices[v as usize].position;
+    let gradients: Vec<DVec3> = mesh
+        .elements
+        .iter()
+        .map(|e| element_gradient(e.corners(), &position, &brightness))
+        .collect();
+    let mut recovered = vec![DVec3::ZERO; mesh.vertices.len()];
+    let mut weights = vec![0.0; mesh.vertices.len()];
+    let (mut weighted, mut area) = (0.0, 0.0);
+    for (element, gradient) in mesh.elements.iter().zip(&gradients) {
+        let corners = element.corners();
+        for &v in corners {
+            recovered[v as usize] += *gradient * element.area;
+            weights[v as usize] += element.area;
+        }
         let mean = corners.iter().map(|&v| brightness(v)).sum::<f64>() / corners.len() as f64;
-        (w + mean * e.area, a + e.area)
-    });
+        weighted += mean * element.area;
+        area += element.area;
+    }
+    for (g, w) in recovered.iter_mut().zip(&weights) {
+        if *w > 0.0 {
+            *g /= *w;
+        }
+    }
     let floor = settings.floor * if area > 0.0 { weighted / area } else { 0.0 };
-    let mut outline = Vec::new();
     (0..mesh.elements.len())
         .filter(|&index| {
             let element = &mesh.elements[index];
             let corners = element.corners();
-            let position = |v: u32| mesh.vertices[v as usize].position;
+            if hierarchy.leaf(index).level >= settings.max_levels {
+                return false;
+            }
             let longest = (0..corners.len())
                 .map(|k| position(corners[k]).distance(position(corners[(k + 1) % corners.len()])))
                 .fold(0.0, f64::max);
-            if longest < 2.0 * min_edge {
-                return false;
-            }
-            outline.clear();
-            outline.extend(mesh.element_outline(element));
             if more_than_one_per_edge(mesh, corners) {
                 return true;
             }
-            let (low, high) = outline
+            let jump = mesh
+                .element_outline(element)
                 .iter()
-                .map(|&v| brightness(v))
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), b| {
-                    (lo.min(b), hi.max(b))
-                });
+                .filter(|&&v| weights[v as usize] > 0.0)
+                .map(|&v| (gradients[index] - recovered[v as usize]).length())
+                .fold(0.0, f64::max);
             let mean = corners.iter().map(|&v| brightness(v)).sum::<f64>() / corners.len() as f64;
-            high - low > settings.threshold * mean.max(floor) && high - low > 0.0
+            longest * jump > settings.threshold * mean.max(floor)
         })
         .collect()
+}
+
+/// The gradient of the linear interpolant of `value` over a triangle or a
+/// quad (the area-weighted mean of its two triangles' gradients): for a
+/// triangle, ∇f = Σ_i f_i (n × e_i) / (2A), e_i the edge opposite vertex i.
+fn element_gradient(
+    corners: &[u32],
+    position: &dyn Fn(u32) -> DVec3,
+    value: &dyn Fn(u32) -> f64,
+) -> DVec3 {
+    let triangle = |a: u32, b: u32, c: u32| {
+        let (pa, pb, pc) = (position(a), position(b), position(c));
+        let normal2a = (pb - pa).cross(pc - pa);
+        let twice_area = normal2a.length();
+        if twice_area <= 0.0 {
+            return (DVec3::ZERO, 0.0);
+        }
+        let n = normal2a / twice_area;
+        let gradient = (n.cross(pc - pb) * value(a)
+            + n.cross(pa - pc) * value(b)
+            + n.cross(pb - pa) * value(c))
+            / twice_area;
+        (gradient, twice_area)
+    };
+    if corners.len() == 3 {
+        return triangle(corners[0], corners[1], corners[2]).0;
+    }
+    let (g1, a1) = triangle(corners[0], corners[1], corners[2]);
+    let (g2, a2) = triangle(corners[0], corners[2], corners[3]);
+    if a1 + a2 > 0.0 {
+        (g1 * a1 + g2 * a2) / (a1 + a2)
+    } else {
+        DVec3::ZERO
+    }
 }
 
 /// Whether some edge of the element carries more than one hanging vertex.
@@ -139,4 +213,164 @@ fn more_than_one_per_edge(mesh: &Mesh, corners: &[u32]) -> bool {
                     || mesh.edge_midpoints.contains_key(&(m.min(b), m.max(b)))
             })
     })
+}
+
+/// The adaptive part of a solve: the element hierarchy and how far it may
+/// be split.
+#[derive(Clone, Debug)]
+pub(crate) struct Refiner {
+    pub(crate) hierarchy: ElementHierarchy,
+    pub(crate) settings: RefinementSettings,
+}
+
+impl Refiner {
+    /// A refiner whose hierarchy's roots are the mesh's elements.
+    pub(crate) fn new(mesh: &Mesh, settings: RefinementSettings) -> Refiner {
+        Refiner {
+            hierarchy: ElementHierarchy::new(mesh),
+            settings,
+        }
+    }
+}
+
+impl Solver {
+    /// Splits the elements whose vertices disagree (see [`elements_to_split`]),
+    /// level by level until none does, and gives every new vertex the light
+    /// of all shots so far by gathering it (see [`Solver::gather_shot_light`]).
+    ///
+    /// The energy ledger stays closed: where the finer elements estimate a
+    /// patch's incident power differently, the difference ΔP moves from the
+    /// escaped power to the received power, and ρ ΔP to the patch's unshot
+    /// power.
+    pub(crate) fn refine(&mut self) {
+        let Some(mut refiner) = self.refiner.take() else {
+            return;
+        };
+        loop {
+            if self.mesh.vertices.len() >= refiner.settings.max_vertices {
+                break;
+            }
+            let split = elements_to_split(
+                &self.mesh,
+                &refiner.hierarchy,
+                &self.radiosity,
+                &refiner.settings,
+            );
+            if split.is_empty() {
+                break;
+            }
+            let before = self.incident_power_per_patch();
+            let added = refiner.hierarchy.split(&mut self.mesh, &split);
+            let gathered = self.gather_shot_light(&added);
+            for (&v, irradiance) in added.iter().zip(gathered) {
+                debug_assert_eq!(v as usize, self.radiosity.len());
+                let surface = &self.scene.surfaces[self.mesh.vertices[v as usize].surface as usize];
+                let material = self.scene.material_of(surface);
+                self.irradiance.push(irradiance);
+                self.radiosity
+                    .push(material.emitted_radiosity() + material.reflectance * irradiance);
+            }
+            let after = self.incident_power_per_patch();
+            for (p, (old, new)) in before.into_iter().zip(after).enumerate() {
+                let change = new - old;
+                let patch = &self.mesh.patches[p];
+                if patch.area > 0.0 {
+                    let reflectance = self
+                        .scene
+                        .material_of(&self.scene.surfaces[patch.surface])
+                        .reflectance;
+                    self.unshot[p] += reflectance * change / patch.area;
+                    self.received_power += change;
+                }
+            }
+        }
+        self.refiner = Some(refiner);
+    }
+
+    /// Σ over each patch's elements of the mean irradiance of the element's
+    /// corners times its area: the incident power the ledger counts.
+    fn incident_power_per_patch(&self) -> Vec<Rgb> {
+        let mut power = vec![Rgb::ZERO; self.mesh.patches.len()];
+        for element in &self.mesh.elements {
+            let corners = element.corners();
+            let mean = corners
+                .iter()
+                .map(|&v| self.irradiance[v as usize])
+                .sum::<Rgb>()
+                / corners.len() as f64;
+            power[element.patch as usize] += mean * element.area;
+        }
+        power
+    }
+
+    /// The irradiance of new vertices from every shot so far: for each patch
+    /// p that has shot radiosity S_p in all, H_v = Σ_p S_p F_{v→p}, with the
+    /// form factors of the solver's kernel and sampling. Parallel over vertices.
+    fn gather_shot_light(&mut self, vertices: &[u32]) -> Vec<Rgb> {
+        let shooters: Vec<(Rgb, Shooter)> = self
+            .shot
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.element_sum() > 0.0)
+            .map(|(p, &s)| {
+                let power = s.element_sum() * self.mesh.patches[p].area;
+                (s, self.shooter(p, power))
+            })
+            .collect();
+        let (scene, mesh, visibility) = (&self.scene, &self.mesh, &self.visibility);
+        let (density, kernel, shot) = (
+            self.settings.sample_density,
+            self.settings.kernel,
+            self.shots as u64,
+        );
+        let gathered: Vec<(Rgb, u64)> = vertices
+            .par_iter()
+            .map(|&v| {
+                let vertex = &mesh.vertices[v as usize];
+                let receiver = Receiver {
+                    position: vertex.receiver_position,
+                    normal: scene.surfaces[vertex.surface as usize].normal(),
+                    surface: vertex.surface,
+                    key: u64::from(v),
+                };
+                let mut irradiance = Rgb::ZERO;
+                let mut rays = 0;
+                for (shot_radiosity, shooter) in &shooters {
+                    if shooter.surface == vertex.surface {
+                        continue;
+                    }
+                    let g = shooter.gather(&receiver, density, shot, kernel, visibility);
+                    irradiance += *shot_radiosity * g.form_factor;
+                    rays += u64::from(g.rays);
+                }
+                (irradiance, rays)
+            })
+            .collect();
+        self.rays += gathered.iter().map(|g| g.1).sum::<u64>();
+        gathered.into_iter().map(|g| g.0).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn element_gradient_of_a_linear_field_is_exact() {
+        let points = [
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(2.0, 0.1, 1.0),
+            DVec3::new(1.8, 1.5, 1.0),
+            DVec3::new(-0.2, 1.2, 1.0),
+        ];
+        let position = |v: u32| points[v as usize];
+        let value = |v: u32| {
+            let p = points[v as usize];
+            3.0 * p.x - 2.0 * p.y + 1.0
+        };
+        for corners in [&[0, 1, 2][..], &[0, 1, 2, 3][..], &[1, 2, 3][..]] {
+            let g = element_gradient(corners, &position, &value);
+            assert!((g - DVec3::new(3.0, -2.0, 0.0)).length() < 1e-12, "{g}");
+        }
+    }
 }

@@ -6,6 +6,7 @@ use glam::DVec2;
 use super::direct_field::DirectField;
 use super::dominance::{DominanceSettings, ReceiverAnalysis, analyse_receivers};
 use super::emitters::{Luminaire, luminaires};
+use super::refinement::RefinementSettings;
 use crate::mesh::{
     ContourLayout, ContourSettings, Mesh, SquareMeshSettings, contour_layout, mesh_surfaces,
 };
@@ -20,6 +21,9 @@ pub enum MeshKind {
     /// The radial contour-level mesher on receivers lit by a dominant small
     /// emitter, the square grid on the rest.
     Contour,
+    /// A coarser square grid whose elements split while solving wherever
+    /// their vertices' radiosities disagree (see [`RefinementSettings`]).
+    Adaptive,
 }
 
 impl std::str::FromStr for MeshKind {
@@ -29,9 +33,10 @@ impl std::str::FromStr for MeshKind {
         match name {
             "square" => Ok(MeshKind::Square),
             "contour" => Ok(MeshKind::Contour),
+            "adaptive" => Ok(MeshKind::Adaptive),
             other => Err(crate::Error::InvalidSetting {
                 name: "mesh".into(),
-                message: format!("`{other}` is not one of square, contour"),
+                message: format!("`{other}` is not one of square, contour, adaptive"),
             }),
         }
     }
@@ -89,6 +94,8 @@ pub struct MeshSettings {
     pub contour: ContourSettings,
     /// What makes a receiver qualify for the contour mesher.
     pub dominance: DominanceSettings,
+    /// How adaptive meshing starts and how far it splits.
+    pub refinement: RefinementSettings,
 }
 
 impl Default for MeshSettings {
@@ -102,6 +109,7 @@ impl Default for MeshSettings {
             patch_max_edge: Length::OfDiagonal(1.0 / 8.0),
             contour: ContourSettings::default(),
             dominance: DominanceSettings::default(),
+            refinement: RefinementSettings::default(),
         }
     }
 }
@@ -125,12 +133,16 @@ impl MeshSettings {
         }
     }
 
-    /// The square mesher's settings for `scene`, lengths resolved.
+    /// The square mesher's settings for `scene`, lengths resolved. For
+    /// adaptive meshing, elements start `refinement.coarsening` times longer.
     #[must_use]
     pub fn square_for(&self, scene: &Scene) -> SquareMeshSettings {
         let diagonal = scene.diagonal();
         let mut square = SquareMeshSettings::for_scene(scene);
         square.max_edge = self.max_edge.resolve(diagonal);
+        if self.kind == MeshKind::Adaptive {
+            square.max_edge *= self.refinement.coarsening;
+        }
         square.patch_max_edge = self.patch_max_edge.resolve(diagonal).max(square.max_edge);
         square.elements_per_side = self.elements_per_side;
         square
@@ -153,7 +165,8 @@ impl MeshSettings {
                 });
             }
         }
-        self.dominance.validate()
+        self.dominance.validate()?;
+        self.refinement.validate()
     }
 }
 
@@ -189,7 +202,7 @@ pub struct SceneMesh {
 pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSettings) -> SceneMesh {
     let square = settings.square_for(scene);
     let mut analysis = MeshAnalysis::default();
-    if settings.kind == MeshKind::Square {
+    if matches!(settings.kind, MeshKind::Square | MeshKind::Adaptive) {
         let mesh = mesh_surfaces(scene, &square, &|_| None);
         return SceneMesh { mesh, analysis };
     }
