@@ -72,6 +72,7 @@
 
 mod compare;
 mod error;
+mod export;
 mod mesh;
 mod radiometry;
 mod render;
@@ -83,6 +84,7 @@ pub use compare::{
     panels_for_figure, write_json,
 };
 pub use error::{Error, Result};
+pub use export::{ExportFormat, export_glb, export_ply, export_solution};
 pub use mesh::{
     Cell, ContourLayout, ContourSettings, Element, ErrorGrid, InterpolationError, Mesh, MeshVertex,
     Patch, PlaneTriangulation, ScalarField, SquareMeshSettings, contour_layout,

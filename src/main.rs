@@ -9,11 +9,11 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use isorad::{
-    CompareSettings, DominanceSettings, LoadedScene, Luminaire, Mesh, MeshKind, MeshSettings,
-    ProbeMode, ReceiverAnalysis, RenderSettings, Scene, Solver, SolverSettings, ToneMap,
-    Visibility, analyse_receivers, auto_exposure, compare_receiver, load_probe_points, load_scene,
-    luminaires, mesh_scene, mesh_triangles, panels_for_figure, rasterize, write_exr, write_json,
-    write_loglog_plot, write_mesh_panels, write_png,
+    CompareSettings, DominanceSettings, ExportFormat, LoadedScene, Luminaire, Mesh, MeshKind,
+    MeshSettings, ProbeMode, ReceiverAnalysis, RenderSettings, Scene, Solver, SolverSettings,
+    ToneMap, Visibility, analyse_receivers, auto_exposure, compare_receiver, export_solution,
+    load_probe_points, load_scene, luminaires, mesh_scene, mesh_triangles, panels_for_figure,
+    rasterize, write_exr, write_json, write_loglog_plot, write_mesh_panels, write_png,
 };
 
 /// Global illumination by progressive radiosity.
@@ -93,6 +93,9 @@ struct RenderArgs {
     /// Anti-aliasing: S × S samples per pixel.
     #[arg(long, default_value_t = 3)]
     supersampling: u32,
+    /// Also export the solved mesh with baked light: .ply or .glb (repeatable).
+    #[arg(long, value_name = "FILE")]
+    export: Vec<PathBuf>,
 }
 
 #[derive(Args)]
@@ -235,8 +238,11 @@ fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     // Outputs are checked first, so that a typo costs no solve.
-    for path in [&args.output, &args.png] {
+    for path in [&args.output, &args.png].into_iter().chain(&args.export) {
         ensure_directory_exists(path)?;
+    }
+    for path in &args.export {
+        ExportFormat::from_path(path)?;
     }
     let prepared = prepare(&args.solve)?;
     let scene = &prepared.loaded.scene;
@@ -250,13 +256,18 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let mut solver = prepared.solver()?;
     let solve_seconds = solve_with_progress(&mut solver, args.solve.quiet);
     // Render, with the ambient term standing in for the light not yet shot.
-    let triangles = mesh_triangles(&prepared.mesh, &solver.radiosity_with_ambient());
+    let solution = solver.solution(true);
+    let triangles = mesh_triangles(&prepared.mesh, &solution.radiosity);
     let mut render_settings = RenderSettings::default();
     render_settings.supersampling = args.supersampling.clamp(1, 16);
     let image = rasterize(&triangles, &camera, &render_settings);
     write_exr(&image, &args.output)?;
     let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
     write_png(&image, &ToneMap { exposure }, &args.png)?;
+    for path in &args.export {
+        export_solution(&solution, &ToneMap { exposure }, path)?;
+        eprintln!("exported {}", path.display());
+    }
     print_summary(&prepared, &solver, solve_seconds);
     eprintln!(
         "wrote {} and {} (exposure {exposure:+.2}) in {:.2} s total",

@@ -19,16 +19,22 @@ pub fn mesh_triangles(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<ShadedTriangle> {
         radiance: [radiance(a), radiance(b), radiance(c)],
     };
     let mut triangles = Vec::with_capacity(2 * mesh.elements.len());
-    let gap = |p: u32, q: u32| {
-        (radiosity[p as usize] - radiosity[q as usize])
-            .abs()
-            .element_sum()
-    };
     for element in &mesh.elements {
-        let (split, count) = element.triangles(gap);
+        let (split, count) = element.triangles(radiosity_gap(radiosity));
         for &[a, b, c] in &split[..count] {
             triangles.push(triangle(a, b, c));
         }
     }
     triangles
+}
+
+/// How much the radiosities of two vertices differ, summed over channels:
+/// the measure by which [`crate::Element::triangles`] picks a quad's diagonal.
+/// The renderer, the probes and the exporters all split with it.
+pub(crate) fn radiosity_gap(radiosity: &[Rgb]) -> impl Fn(u32, u32) -> f64 + Copy + '_ {
+    |p: u32, q: u32| {
+        (radiosity[p as usize] - radiosity[q as usize])
+            .abs()
+            .element_sum()
+    }
 }

@@ -20,6 +20,7 @@ mod tone_map;
 pub use image::Image;
 pub use mesh_image::{MeshPanel, write_mesh_panels};
 pub use mesh_triangles::mesh_triangles;
+pub(crate) use mesh_triangles::radiosity_gap;
 pub(crate) use output::write_atomically;
 pub use output::{read_exr, write_exr, write_png};
 pub use plot::{Series, write_loglog_plot};
