@@ -100,10 +100,10 @@ pub use render::{
     write_mesh_panels, write_png,
 };
 pub use scene::{
-    Camera, CameraFrame, LoadedScene, Material, PlaneFrame, PolygonPlane, ProbePoint, Rgb, Scene,
-    SceneOptions, Surface, Visibility, Warning, best_fit_plane, builtin_names, load_obj,
-    load_probe_points, load_scene, load_scene_file, newell_normal, parse_probe_points,
-    triangulate_polygon,
+    Camera, CameraFrame, LoadSettings, LoadedScene, Material, MergeReport, PlaneFrame,
+    PolygonPlane, ProbePoint, Rgb, Scene, SceneOptions, Surface, Visibility, Warning,
+    best_fit_plane, builtin_names, load_obj, load_probe_points, load_scene, load_scene_file,
+    load_scene_with, merge_coplanar_faces, newell_normal, parse_probe_points, triangulate_polygon,
 };
 pub use solver::{
     DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Luminaire, MeshKind,

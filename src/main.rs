@@ -9,11 +9,12 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use isorad::{
-    CompareSettings, DominanceSettings, ExportFormat, LoadedScene, Luminaire, Mesh, MeshKind,
-    MeshSettings, ProbeMode, ReceiverAnalysis, RenderSettings, Scene, Solver, SolverSettings,
-    ToneMap, Visibility, analyse_receivers, auto_exposure, compare_receiver, export_solution,
-    load_probe_points, load_scene, luminaires, mesh_scene, mesh_triangles, panels_for_figure,
-    rasterize, write_exr, write_json, write_loglog_plot, write_mesh_panels, write_png,
+    CompareSettings, DominanceSettings, ExportFormat, LoadSettings, LoadedScene, Luminaire, Mesh,
+    MeshKind, MeshSettings, ProbeMode, ReceiverAnalysis, RenderSettings, Scene, Solver,
+    SolverSettings, ToneMap, Visibility, analyse_receivers, auto_exposure, compare_receiver,
+    export_solution, load_probe_points, load_scene, load_scene_with, luminaires, mesh_scene,
+    mesh_triangles, panels_for_figure, rasterize, write_exr, write_json, write_loglog_plot,
+    write_mesh_panels, write_png,
 };
 
 /// Global illumination by progressive radiosity.
@@ -69,6 +70,10 @@ struct SolveArgs {
     /// No progress bar.
     #[arg(long, short)]
     quiet: bool,
+    /// Keep adjacent coplanar faces apart (by default they are merged into
+    /// polygons when loading).
+    #[arg(long)]
+    no_merge: bool,
 }
 
 #[derive(Args)]
@@ -171,7 +176,9 @@ impl Prepared {
 
 /// Loads and meshes a scene: the scene file's settings, then the flags.
 fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
-    let loaded = load_scene(&args.scene)?;
+    let mut load_settings = LoadSettings::default();
+    load_settings.merge_coplanar = !args.no_merge;
+    let loaded = load_scene_with(&args.scene, &load_settings)?;
     let (scene, options) = (&loaded.scene, &loaded.options);
     for warning in &scene.warnings {
         eprintln!("warning: {}", warning.message);

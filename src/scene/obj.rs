@@ -25,6 +25,7 @@ use crate::error::{Error, Result};
 
 use super::Scene;
 use super::Warning;
+use super::coplanar_merge::merge_scene_faces;
 use super::material::Material;
 use super::mtl::{parse_mtl, to_material};
 use super::obj_scan::{ObjScan, scan_obj};
@@ -36,13 +37,20 @@ use super::surface::Surface;
 const WARNINGS_PER_OBJECT: usize = 10;
 
 /// Loads an OBJ file and the MTL libraries it names (relative to the OBJ's
-/// directory). The scene has no camera; see [`Scene::camera_or_default`].
+/// directory), merging adjacent coplanar faces (see
+/// [`super::merge_coplanar_faces`]). The scene has no camera; see
+/// [`Scene::camera_or_default`].
 pub fn load_obj(path: &Path) -> Result<Scene> {
-    load_obj_from(path, &Disk)
+    load_obj_from(path, &Disk, true)
 }
 
-/// [`load_obj`] reading the OBJ and its MTL files from `files`.
-pub(crate) fn load_obj_from(path: &Path, files: &dyn SourceFiles) -> Result<Scene> {
+/// [`load_obj`] reading the OBJ and its MTL files from `files`; adjacent
+/// coplanar faces are merged when `merge_coplanar` holds.
+pub(crate) fn load_obj_from(
+    path: &Path,
+    files: &dyn SourceFiles,
+    merge_coplanar: bool,
+) -> Result<Scene> {
     // Read and check the text, with line numbers.
     let text = files.read_to_string(path)?;
     let scan = scan_obj(path, &text)?;
@@ -65,6 +73,9 @@ pub(crate) fn load_obj_from(path: &Path, files: &dyn SourceFiles) -> Result<Scen
     }
     // One face, one or more surfaces.
     add_surfaces(path, &scan, &parsed.models, &mut scene)?;
+    if merge_coplanar {
+        merge_scene_faces(path, &mut scene);
+    }
     check_not_empty(path, &scene)?;
     Ok(scene)
 }

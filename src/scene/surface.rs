@@ -2,6 +2,8 @@
 
 use glam::{DVec2, DVec3};
 
+use super::triangulate::triangulate_polygon;
+
 /// An orthonormal frame on a surface's plane: `origin` on the plane, `u` and
 /// `v` spanning it, `normal = u × v` the front side's normal.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -153,12 +155,22 @@ impl Surface {
     }
 
     /// A triangulation of the polygon, as index triples into
-    /// [`Surface::vertices`], counter-clockwise like the polygon.
+    /// [`Surface::vertices`], counter-clockwise like the polygon: a fan from
+    /// the first vertex when the polygon is convex, ear clipping otherwise
+    /// (a fan would cover the outside of a reflex corner).
     #[must_use]
     pub fn triangles(&self) -> Vec<[usize; 3]> {
-        (1..self.vertices.len() - 1)
-            .map(|i| [0, i, i + 1])
-            .collect()
+        let points = self.plane_vertices();
+        let n = points.len();
+        let convex = (0..n).all(|k| {
+            let (a, b, c) = (points[k], points[(k + 1) % n], points[(k + 2) % n]);
+            (b - a).perp_dot(c - b) >= 0.0
+        });
+        if convex {
+            (1..n - 1).map(|i| [0, i, i + 1]).collect()
+        } else {
+            triangulate_polygon(&points)
+        }
     }
 
     /// The polygon's vertices in plane coordinates (counter-clockwise).
