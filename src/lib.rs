@@ -52,7 +52,8 @@
 //!
 //! To load files instead, use [`load_scene`] with a scene TOML, an OBJ path or
 //! the built-in name `"cornell"`; to look at the result, [`mesh_triangles`],
-//! [`rasterize`], [`write_exr`] and [`write_png`]; to compare meshers,
+//! [`rasterize`], [`write_exr`] and [`write_png`]; to take the lit mesh to
+//! another program, [`export_glb`] and [`export_ply`]; to compare meshers,
 //! [`write_loglog_plot`] (error against vertex count) and
 //! [`write_mesh_panels`] (meshes side by side with their wireframes).
 //!

@@ -282,8 +282,9 @@ fn merge_region(region: &[usize], surfaces: &[Surface], loops: &WeldedLoops) -> 
             return None; // two boundary edges leave one vertex: pinched
         }
     }
-    // One loop through every boundary vertex.
-    let &start = next.keys().next()?;
+    // One loop through every boundary vertex, from the first welded (so
+    // that the polygon, and so its mesh, is the same on every run).
+    let &start = next.keys().min()?;
     let mut outline = vec![start];
     let mut at = next[&start];
     while at != start {
