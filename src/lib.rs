@@ -63,6 +63,8 @@
 //! - Y. Ylitie, T. Karras, S. Laine, "Efficient Incoherent Ray Traversal on
 //!   GPUs Through Compressed Wide BVHs", HPG 2017 (obvhs's CWBVH).
 
+#![warn(missing_docs)]
+
 mod compare;
 mod error;
 mod mesh;
@@ -99,6 +101,6 @@ pub use scene::{
 pub use solver::{
     DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Length, Luminaire,
     MeshAnalysis, MeshKind, MeshSettings, Probe, ProbeMode, Progress, ReceiverAnalysis, SceneMesh,
-    Settings, Solution, Solver, SolverSettings, StopReason, Until, analyse_receivers, luminaires,
-    mesh_scene, receiver_layout,
+    Settings, Solution, Solver, SolverSettings, StopReason, SurfaceTotals, Until,
+    analyse_receivers, luminaires, mesh_scene, receiver_layout,
 };

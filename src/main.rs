@@ -95,8 +95,8 @@ struct RenderArgs {
     #[arg(long, default_value_t = 3)]
     supersampling: u32,
     /// Write the images (ambient term added) every N shots while solving.
-    #[arg(long, value_name = "N")]
-    preview_every: Option<usize>,
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    preview_every: Option<u64>,
 }
 
 #[derive(Args)]
@@ -518,7 +518,7 @@ fn solve_with_progress(
     solver: &mut Solver,
     until: &Until,
     quiet: bool,
-    preview_every: Option<usize>,
+    preview_every: Option<u64>,
     mut preview: impl FnMut(&Solver) -> anyhow::Result<()>,
 ) -> anyhow::Result<(StopReason, f64)> {
     let start = Instant::now();
@@ -549,7 +549,10 @@ fn solve_with_progress(
     let stop = loop {
         // Solve to the next preview, if any, then draw it.
         let next = match preview_every {
-            Some(every) => max_shots.min(solver.shots().saturating_add(every.max(1))),
+            Some(every) => {
+                let every = usize::try_from(every).unwrap_or(usize::MAX);
+                max_shots.min(solver.shots().saturating_add(every))
+            }
             None => max_shots,
         };
         let stop = solver.run_until(&until.total_shots(next), show);

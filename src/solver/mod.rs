@@ -23,4 +23,4 @@ pub use scene_mesh::{
     Length, MeshAnalysis, MeshKind, MeshSettings, SceneMesh, mesh_scene, receiver_layout,
 };
 pub use settings::{FormFactorKernel, Settings, SolverSettings};
-pub use solution::{Probe, ProbeMode, Solution};
+pub use solution::{Probe, ProbeMode, Solution, SurfaceTotals};
