@@ -43,11 +43,40 @@
 //! # Ok::<(), isorad::Error>(())
 //! ```
 //!
-//! To load files instead, use [`load_scene`] with a scene TOML, an OBJ path or
-//! the built-in name `"cornell"`; to look at the result, [`mesh_triangles`],
-//! [`rasterize`], [`write_exr`] and [`write_png`]; to compare meshers,
-//! [`write_loglog_plot`] (error against vertex count) and
-//! [`write_mesh_panels`] (meshes side by side with their wireframes).
+//! # The API in five steps
+//!
+//! 1. **A scene.** Build it in code with [`Scene::new`],
+//!    [`Scene::add_material`] ([`Material::diffuse`], [`Material::emitter`]),
+//!    [`Scene::add_polygon`] and [`Scene::set_camera`], or load a scene TOML,
+//!    an OBJ + MTL or the built-in `"cornell"` with [`load_scene`]. Both paths
+//!    check the same things and fail with the same [`Error`] variants; what
+//!    was repaired or skipped (a non-planar face split, a degenerate one
+//!    dropped) is listed in [`Scene::warnings`]. The library prints nothing.
+//! 2. **Settings.** [`Settings`] holds [`MeshSettings`] and
+//!    [`SolverSettings`]: plain data with defaults and the presets
+//!    [`Settings::preview`] and [`Settings::final_quality`]; lengths may be
+//!    fractions of the scene's size ([`Length::OfDiagonal`]).
+//! 3. **Solve.** [`Solver::new`] takes the scene and settings, meshes the
+//!    scene and builds its BVH ([`Solver::with_mesh`] takes a mesh of your
+//!    own). [`Solver::step`] makes one shot; [`Solver::run_until`] shoots
+//!    until an [`Until`] criterion is met — tolerance, shot count, time budget
+//!    or an `AtomicBool` set from another thread — calling back with
+//!    [`Progress`] after each shot, and says why it stopped ([`StopReason`]).
+//!    It stops only between shots, so the solution is always consistent.
+//! 4. **Query.** [`Solver::solution`] (with or without the ambient term for
+//!    the light not yet shot) gives a [`Solution`]: values at any point of a
+//!    surface ([`Solution::probe`], by final gather or mesh interpolation),
+//!    per-surface totals ([`Solution::surface_totals`]), and the shaded
+//!    triangles for a viewer of your own ([`Solution::triangles`]).
+//! 5. **Look.** [`Solution::render`] rasterizes into an [`Image`] of linear
+//!    radiance that you own; [`write_exr`] and [`write_png`] write it (to a
+//!    temporary file, then renamed). Export of the solved mesh to other
+//!    formats will sit beside them in `render`.
+//!
+//! `examples/embed.rs` and `examples/progress.rs` show all of it. To compare
+//! meshers: [`compare_receiver`], [`write_loglog_plot`] (error against vertex
+//! count) and [`write_mesh_panels`] (meshes side by side with their
+//! wireframes).
 //!
 //! # References
 //! - M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive

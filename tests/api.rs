@@ -60,32 +60,33 @@ fn room_polygons() -> Vec<(&'static str, usize, Vec<DVec3>)> {
     // A block's top and four sides, facing out, 1 m high, at x, z in
     // [1, 2] × [2.25, 3.25].
     let (x0, x1, z0, z1, h) = (1.0, 2.0, 2.25, 3.25, 1.0);
-    let mut block = Vec::new();
-    block.push((
-        "block",
-        white,
-        vec![v(x0, h, z0), v(x1, h, z0), v(x1, h, z1), v(x0, h, z1)],
-    ));
-    block.push((
-        "block",
-        white,
-        vec![v(x0, 0., z0), v(x1, 0., z0), v(x1, h, z0), v(x0, h, z0)],
-    ));
-    block.push((
-        "block",
-        white,
-        vec![v(x1, 0., z0), v(x1, 0., z1), v(x1, h, z1), v(x1, h, z0)],
-    ));
-    block.push((
-        "block",
-        white,
-        vec![v(x1, 0., z1), v(x0, 0., z1), v(x0, h, z1), v(x1, h, z1)],
-    ));
-    block.push((
-        "block",
-        white,
-        vec![v(x0, 0., z1), v(x0, 0., z0), v(x0, h, z0), v(x0, h, z1)],
-    ));
+    let block = [
+        (
+            "block",
+            white,
+            vec![v(x0, h, z0), v(x1, h, z0), v(x1, h, z1), v(x0, h, z1)],
+        ),
+        (
+            "block",
+            white,
+            vec![v(x0, 0., z0), v(x1, 0., z0), v(x1, h, z0), v(x0, h, z0)],
+        ),
+        (
+            "block",
+            white,
+            vec![v(x1, 0., z0), v(x1, 0., z1), v(x1, h, z1), v(x1, h, z0)],
+        ),
+        (
+            "block",
+            white,
+            vec![v(x1, 0., z1), v(x0, 0., z1), v(x0, h, z1), v(x1, h, z1)],
+        ),
+        (
+            "block",
+            white,
+            vec![v(x0, 0., z1), v(x0, 0., z0), v(x0, h, z0), v(x0, h, z1)],
+        ),
+    ];
     for (name, material, mut vertices) in block {
         vertices.reverse();
         polygons.push((name, material, vertices));
