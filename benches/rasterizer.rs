@@ -2,22 +2,17 @@
 //! one and 3 × 3 samples per pixel. The solve (tolerance 0.05) is setup.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use isorad::{
-    RenderSettings, Solver, SolverSettings, SquareMeshSettings, Visibility, load_scene,
-    mesh_square, mesh_triangles, rasterize,
-};
+use isorad::{RenderSettings, Settings, Solver, load_scene, rasterize};
 
 fn rasterizer(c: &mut Criterion) {
     // Solve once: mesh, BVH, shooting to 5 % unshot power.
     let scene = load_scene("cornell").expect("built-in Cornell box").scene;
-    let mesh = mesh_square(&scene, &SquareMeshSettings::for_scene(&scene));
-    let visibility = Visibility::new(&scene);
-    let mut settings = SolverSettings::default();
-    settings.tolerance = 0.05;
-    let mut solver = Solver::new(&scene, &mesh, &visibility, settings).expect("valid settings");
-    solver.run(|_| {});
-    let triangles = mesh_triangles(&mesh, &solver.radiosity_with_ambient());
     let mut camera = scene.camera_or_default();
+    let mut settings = Settings::default();
+    settings.solver.tolerance = 0.05;
+    let mut solver = Solver::new(scene, settings).expect("valid settings");
+    solver.run();
+    let triangles = solver.solution(true).triangles();
     (camera.width, camera.height) = (512, 512);
 
     let mut group = c.benchmark_group("rasterize_cornell_512");

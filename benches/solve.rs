@@ -2,14 +2,13 @@
 //! default tolerance), on every core rayon finds; meshing and the BVH are
 //! setup, measured apart in `prepare`.
 
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
 use isorad::{Solver, SolverSettings, SquareMeshSettings, Visibility, load_scene, mesh_square};
 
 fn solve(c: &mut Criterion) {
     let scene = load_scene("cornell").expect("built-in Cornell box").scene;
     let mesh_settings = SquareMeshSettings::for_scene(&scene);
     let mesh = mesh_square(&scene, &mesh_settings);
-    let visibility = Visibility::new(&scene);
     let mut settings = SolverSettings::default();
     settings.tolerance = 0.01;
 
@@ -23,12 +22,17 @@ fn solve(c: &mut Criterion) {
         })
     });
     group.bench_function("solve_tolerance_0.01", |b| {
-        b.iter(|| {
-            let mut solver =
-                Solver::new(&scene, &mesh, &visibility, settings.clone()).expect("valid settings");
-            solver.run(|_| {});
-            solver.rays()
-        })
+        b.iter_batched(
+            || {
+                Solver::with_mesh(scene.clone(), mesh.clone(), settings.clone())
+                    .expect("valid settings")
+            },
+            |mut solver| {
+                solver.run();
+                solver.rays()
+            },
+            BatchSize::LargeInput,
+        )
     });
     group.finish();
 }

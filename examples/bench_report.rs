@@ -115,15 +115,12 @@ struct SolveRun {
     rays: u64,
 }
 
-fn solve(
-    scene: &Scene,
-    mesh: &Mesh,
-    visibility: &Visibility,
-    settings: &SolverSettings,
-) -> SolveRun {
-    let mut solver =
-        Solver::new(scene, mesh, visibility, settings.clone()).expect("valid solver settings");
-    solver.run(|_| {});
+/// Solves a copy of the scene on a copy of the mesh (the copies and the
+/// shadow-ray BVH are a few milliseconds of the time measured).
+fn solve(scene: &Scene, mesh: &Mesh, settings: &SolverSettings) -> SolveRun {
+    let mut solver = Solver::with_mesh(scene.clone(), mesh.clone(), settings.clone())
+        .expect("valid solver settings");
+    solver.run();
     SolveRun {
         vertices: mesh.vertices.len(),
         shots: solver.shots(),
@@ -156,8 +153,7 @@ fn ray_throughput_section(md: &mut String) -> Report {
         let mesh = mesh_square(&scene, &SquareMeshSettings::for_scene(&scene));
         let visibility = Visibility::new(&scene);
         let settings = SolverSettings::default();
-        let (solve_seconds, run) =
-            median_seconds(3, || solve(&scene, &mesh, &visibility, &settings));
+        let (solve_seconds, run) = median_seconds(3, || solve(&scene, &mesh, &settings));
         let segments = random_segments(&scene, SEGMENTS, 7);
         let raw = RawBvh::new(&scene);
         let (isorad_seconds, isorad_unblocked) = median_seconds(5, || {
@@ -226,7 +222,6 @@ fn peak_memory_mib() -> Option<f64> {
 /// (b): solve time and shots against vertices; time against shots.
 fn scaling_section(md: &mut String, out_dir: &Path) -> Report {
     let scene = load_scene("cornell")?.scene;
-    let visibility = Visibility::new(&scene);
     let base = SquareMeshSettings::for_scene(&scene);
     writeln!(md, "## (b) Scaling on the Cornell box\n")?;
     writeln!(
@@ -252,7 +247,7 @@ fn scaling_section(md: &mut String, out_dir: &Path) -> Report {
         mesh_settings.max_edge = base.max_edge * scale;
         let (mesh_seconds, mesh) = median_seconds(1, || mesh_square(&scene, &mesh_settings));
         let runs = if mesh.vertices.len() < 20_000 { 3 } else { 1 };
-        let (seconds, run) = median_seconds(runs, || solve(&scene, &mesh, &visibility, &settings));
+        let (seconds, run) = median_seconds(runs, || solve(&scene, &mesh, &settings));
         let memory = peak_memory_mib().map_or("?".into(), |m| format!("{m:.0}"));
         eprintln!(
             "  {} vertices: {seconds:.3} s, {} shots",
@@ -312,7 +307,7 @@ fn scaling_section(md: &mut String, out_dir: &Path) -> Report {
     let mut points = Vec::new();
     for max_shots in [25, 50, 100, 200, 400, 800] {
         fixed.max_shots = max_shots;
-        let (seconds, run) = median_seconds(3, || solve(&scene, &mesh, &visibility, &fixed));
+        let (seconds, run) = median_seconds(3, || solve(&scene, &mesh, &fixed));
         writeln!(
             md,
             "| {max_shots} | {} | {} | {seconds:.3} | {:.2} |",

@@ -8,19 +8,15 @@
 //!
 //! # Example
 //!
-//! A closed cube whose faces all emit E = π and reflect half: the radiosity
-//! everywhere is E/(1 − ρ) = 2π.
+//! A closed cube whose faces all emit E = π and reflect half, built in code:
+//! the radiosity everywhere is E/(1 − ρ) = 2π.
 //!
 //! ```
 //! use glam::DVec3;
-//! use isorad::{Material, Rgb, Scene, Solver, SolverSettings, SquareMeshSettings, Surface, Visibility, mesh_square};
+//! use isorad::{Length, Material, Rgb, Scene, Settings, Solver, StopReason, Until};
 //!
-//! let mut scene = Scene::default();
-//! scene.materials.push(Material {
-//!     name: "glowing wall".into(),
-//!     reflectance: Rgb::splat(0.5),
-//!     emitted_radiance: Rgb::splat(1.0),
-//! });
+//! let mut scene = Scene::new();
+//! let glow = scene.add_material(Material::emitter("glowing wall", Rgb::splat(1.0)).with_reflectance(Rgb::splat(0.5)))?;
 //! // Six faces of the unit cube, counter-clockwise seen from inside.
 //! let corner = |axis: usize, side: f64, s: f64, t: f64| {
 //!     let mut p = [0.0; 3];
@@ -30,32 +26,61 @@
 //!     DVec3::from_array(p)
 //! };
 //! for axis in 0..3 {
-//!     let low = vec![corner(axis, 0.0, 0.0, 0.0), corner(axis, 0.0, 1.0, 0.0), corner(axis, 0.0, 1.0, 1.0), corner(axis, 0.0, 0.0, 1.0)];
+//!     let low = [corner(axis, 0.0, 0.0, 0.0), corner(axis, 0.0, 1.0, 0.0), corner(axis, 0.0, 1.0, 1.0), corner(axis, 0.0, 0.0, 1.0)];
 //!     let high: Vec<DVec3> = low.iter().rev().map(|p| *p + DVec3::from_array({ let mut d = [0.0; 3]; d[axis] = 1.0; d })).collect();
-//!     scene.surfaces.push(Surface::new("face", 0, low).unwrap());
-//!     scene.surfaces.push(Surface::new("face", 0, high).unwrap());
+//!     scene.add_polygon("face", glow, &low)?;
+//!     scene.add_polygon("face", glow, &high)?;
 //! }
 //!
-//! let mut mesh_settings = SquareMeshSettings::for_scene(&scene);
-//! mesh_settings.max_edge = 0.125;
-//! let mesh = mesh_square(&scene, &mesh_settings);
-//! let visibility = Visibility::new(&scene);
-//! let mut settings = SolverSettings::default();
-//! settings.tolerance = 1e-3;
-//! let mut solver = Solver::new(&scene, &mesh, &visibility, settings)?;
-//! solver.run(|_| {});
+//! let mut settings = Settings::default();
+//! settings.mesh.max_edge = Length::Absolute(0.125);
+//! let mut solver = Solver::new(scene, settings)?;
+//! let stop = solver.run_until(&Until::default().tolerance(1e-3), |_progress| {});
+//! assert_eq!(stop, StopReason::Converged);
 //! for radiosity in solver.radiosity() {
 //!     assert!((radiosity.x / (2.0 * std::f64::consts::PI) - 1.0).abs() < 0.01);
 //! }
 //! # Ok::<(), isorad::Error>(())
 //! ```
 //!
-//! To load files instead, use [`load_scene`] with a scene TOML, an OBJ path or
-//! the built-in name `"cornell"`; to look at the result, [`mesh_triangles`],
-//! [`rasterize`], [`write_exr`] and [`write_png`]; to take the lit mesh to
-//! another program, [`export_glb`] and [`export_ply`]; to compare meshers,
-//! [`write_loglog_plot`] (error against vertex count) and
-//! [`write_mesh_panels`] (meshes side by side with their wireframes).
+//! # The API in five steps
+//!
+//! 1. **A scene.** Build it in code with [`Scene::new`],
+//!    [`Scene::add_material`] ([`Material::diffuse`], [`Material::emitter`]),
+//!    [`Scene::add_polygon`] and [`Scene::set_camera`], or load a scene TOML,
+//!    an OBJ + MTL or the built-in `"cornell"` with [`load_scene`]
+//!    ([`load_scene_with`] and [`LoadSettings`] to keep the adjacent coplanar
+//!    faces of a triangulated OBJ apart instead of merging them). Both paths
+//!    check the same things and fail with the same [`Error`] variants; what
+//!    was repaired or skipped (a non-planar face split, a degenerate one
+//!    dropped) is listed in [`Scene::warnings`]. The library prints nothing.
+//! 2. **Settings.** [`Settings`] holds [`MeshSettings`] and
+//!    [`SolverSettings`]: plain data with defaults and the presets
+//!    [`Settings::preview`] and [`Settings::final_quality`]; lengths may be
+//!    fractions of the scene's size ([`Length::OfDiagonal`]).
+//! 3. **Solve.** [`Solver::new`] takes the scene and settings, meshes the
+//!    scene and builds its BVH ([`Solver::with_mesh`] takes a mesh of your
+//!    own). [`Solver::step`] makes one shot; [`Solver::run_until`] shoots
+//!    until an [`Until`] criterion is met — tolerance, shot count, time budget
+//!    or an `AtomicBool` set from another thread — calling back with
+//!    [`Progress`] after each shot, and says why it stopped ([`StopReason`]).
+//!    It stops only between shots, so the solution is always consistent.
+//! 4. **Query.** [`Solver::solution`] (with or without the ambient term for
+//!    the light not yet shot) gives a [`Solution`]: values at any point of a
+//!    surface ([`Solution::probe`], by final gather or mesh interpolation),
+//!    per-surface totals ([`Solution::surface_totals`]), and the shaded
+//!    triangles for a viewer of your own ([`Solution::triangles`]).
+//! 5. **Look.** [`Solution::render`] rasterizes into an [`Image`] of linear
+//!    radiance that you own; [`write_exr`] and [`write_png`] write it (to a
+//!    temporary file, then renamed). Beside them, [`export_glb`] and
+//!    [`export_ply`] (or [`export_solution`], by the path's extension) write
+//!    the solved mesh with its light baked into the vertices, for a viewer or
+//!    another tool, with the PNG's exposure ([`ToneMap`]).
+//!
+//! `examples/embed.rs` and `examples/progress.rs` show all of it. To compare
+//! meshers: [`compare_receiver`], [`write_loglog_plot`] (error against vertex
+//! count) and [`write_mesh_panels`] (meshes side by side with their
+//! wireframes).
 //!
 //! # References
 //! - M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive
@@ -70,6 +95,8 @@
 //!   model and its maximum; the contour mesher to come).
 //! - Y. Ylitie, T. Karras, S. Laine, "Efficient Incoherent Ray Traversal on
 //!   GPUs Through Compressed Wide BVHs", HPG 2017 (obvhs's CWBVH).
+
+#![warn(missing_docs)]
 
 mod compare;
 mod error;
@@ -107,7 +134,8 @@ pub use scene::{
     load_scene_with, merge_coplanar_faces, newell_normal, parse_probe_points, triangulate_polygon,
 };
 pub use solver::{
-    DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Luminaire, MeshKind,
-    MeshSettings, Probe, ProbeMode, ReceiverAnalysis, SceneMesh, Solution, Solver, SolverSettings,
+    DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Length, Luminaire,
+    MeshAnalysis, MeshKind, MeshSettings, Probe, ProbeMode, Progress, ReceiverAnalysis, SceneMesh,
+    Settings, Solution, Solver, SolverSettings, StopReason, SurfaceTotals, Until,
     analyse_receivers, luminaires, mesh_scene, receiver_layout,
 };

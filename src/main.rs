@@ -6,15 +6,15 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use isorad::{
-    CompareSettings, DominanceSettings, ExportFormat, LoadSettings, LoadedScene, Luminaire, Mesh,
-    MeshKind, MeshSettings, ProbeMode, ReceiverAnalysis, RenderSettings, Scene, Solver,
-    SolverSettings, ToneMap, Visibility, analyse_receivers, auto_exposure, compare_receiver,
-    export_solution, load_probe_points, load_scene, load_scene_with, luminaires, mesh_scene,
-    mesh_triangles, panels_for_figure, rasterize, write_exr, write_json, write_loglog_plot,
-    write_mesh_panels, write_png,
+    CompareSettings, DominanceSettings, ExportFormat, Length, LoadSettings, Luminaire, MeshKind,
+    ProbeMode, Progress, ReceiverAnalysis, RenderSettings, Scene, SceneOptions, Settings, Solver,
+    StopReason, ToneMap, Until, Visibility, analyse_receivers, auto_exposure, compare_receiver,
+    export_solution, load_probe_points, load_scene, load_scene_with, luminaires, panels_for_figure,
+    write_exr, write_json, write_loglog_plot, write_mesh_panels, write_png,
 };
 
 /// Global illumination by progressive radiosity.
@@ -98,6 +98,9 @@ struct RenderArgs {
     /// Anti-aliasing: S × S samples per pixel.
     #[arg(long, default_value_t = 3)]
     supersampling: u32,
+    /// Write the images (ambient term added) every N shots while solving.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    preview_every: Option<u64>,
     /// Also export the solved mesh with baked light: .ply or .glb (repeatable).
     #[arg(long, value_name = "FILE")]
     export: Vec<PathBuf>,
@@ -147,6 +150,10 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(error) if error.is::<Interrupted>() => {
+            eprintln!("{error}");
+            ExitCode::from(130)
+        }
         Err(error) => {
             eprintln!("error: {error:#}");
             ExitCode::FAILURE
@@ -156,22 +163,9 @@ fn main() -> ExitCode {
 
 /// A loaded and meshed scene, ready to solve.
 struct Prepared {
-    loaded: LoadedScene,
-    mesh: Mesh,
-    visibility: Visibility,
-    settings: SolverSettings,
-}
-
-impl Prepared {
-    /// A solver for the prepared scene, nothing shot yet.
-    fn solver(&self) -> isorad::Result<Solver<'_>> {
-        Solver::new(
-            &self.loaded.scene,
-            &self.mesh,
-            &self.visibility,
-            self.settings.clone(),
-        )
-    }
+    solver: Solver,
+    /// Where the scene came from, for messages.
+    source: String,
 }
 
 /// Loads and meshes a scene: the scene file's settings, then the flags.
@@ -179,68 +173,69 @@ fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
     let mut load_settings = LoadSettings::default();
     load_settings.merge_coplanar = !args.no_merge;
     let loaded = load_scene_with(&args.scene, &load_settings)?;
-    let (scene, options) = (&loaded.scene, &loaded.options);
-    for warning in &scene.warnings {
+    for warning in &loaded.scene.warnings {
         eprintln!("warning: {}", warning.message);
     }
-    let mut mesh_settings = MeshSettings::for_scene(scene);
-    let mesh_kind = args
-        .mesh
-        .as_deref()
-        .or(options.mesh_kind.as_deref())
-        .unwrap_or("square");
-    mesh_settings.kind = mesh_kind.parse()?;
-    if let Some(max_edge) = args.max_edge.or(options.max_edge) {
-        anyhow::ensure!(
-            max_edge > 0.0 && max_edge.is_finite(),
-            "--max-edge {max_edge} is not positive"
-        );
-        mesh_settings.square.max_edge = max_edge;
-        mesh_settings.square.patch_max_edge = mesh_settings.square.patch_max_edge.max(max_edge);
-    }
-    mesh_settings.square.elements_per_side = args.elements_per_side.or(options.elements_per_side);
-    for (value, name, target) in [
-        (
-            args.directions,
-            "directions",
-            &mut mesh_settings.contour.directions,
-        ),
-        (args.levels, "levels", &mut mesh_settings.contour.levels),
-    ] {
-        if let Some(value) = value {
-            anyhow::ensure!(
-                (1..=1000).contains(&value),
-                "--{name} {value} is not in 1..=1000"
-            );
-            *target = value;
-        }
-    }
-    let mut settings = SolverSettings::default();
-    if let Some(tolerance) = args.tolerance.or(options.tolerance) {
-        settings.tolerance = tolerance;
-    }
-    if let Some(kernel) = &args.form_factor {
-        settings.kernel = kernel.parse()?;
-    }
-    settings.validate()?;
-    let visibility = Visibility::new(scene);
-    let scene_mesh = mesh_scene(scene, &visibility, &mesh_settings);
-    if mesh_settings.kind == MeshKind::Contour {
+    let settings = settings_from(args, &loaded.options)?;
+    let contour = settings.mesh.kind == MeshKind::Contour;
+    let solver = Solver::new(loaded.scene, settings)?;
+    let analysis = solver.mesh_analysis();
+    if contour {
         eprintln!(
             "contour mesher on {} of {} receivers ({} vertices placed in {} Newton iterations)",
-            scene_mesh.contour_surfaces.len(),
-            scene_mesh.receivers.len(),
-            scene_mesh.newton_solves,
-            scene_mesh.newton_iterations
+            analysis.contour_surfaces.len(),
+            analysis.receivers.len(),
+            analysis.newton_solves,
+            analysis.newton_iterations
         );
     }
     Ok(Prepared {
-        loaded,
-        mesh: scene_mesh.mesh,
-        visibility,
-        settings,
+        solver,
+        source: loaded.source,
     })
 }
+
+/// The library's settings: its defaults, then the scene file's, then the flags.
+fn settings_from(args: &SolveArgs, options: &SceneOptions) -> anyhow::Result<Settings> {
+    let mut settings = Settings::default();
+    let mesh = &mut settings.mesh;
+    mesh.kind = args
+        .mesh
+        .as_deref()
+        .or(options.mesh_kind.as_deref())
+        .unwrap_or("square")
+        .parse()?;
+    if let Some(max_edge) = args.max_edge.or(options.max_edge) {
+        mesh.max_edge = Length::Absolute(max_edge);
+    }
+    mesh.elements_per_side = args.elements_per_side.or(options.elements_per_side);
+    mesh.contour.directions = args.directions.unwrap_or(mesh.contour.directions);
+    mesh.contour.levels = args.levels.unwrap_or(mesh.contour.levels);
+    if let Some(tolerance) = args.tolerance.or(options.tolerance) {
+        settings.solver.tolerance = tolerance;
+    }
+    if let Some(kernel) = &args.form_factor {
+        settings.solver.kernel = kernel.parse()?;
+    }
+    settings.validate()?;
+    Ok(settings)
+}
+
+/// Set by Ctrl-C: the solve stops between two shots and the solution so far
+/// is written.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// The error `render` ends with after Ctrl-C, once the images are written.
+#[derive(Debug)]
+struct Interrupted(String);
+
+impl std::fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Interrupted {}
 
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
@@ -251,35 +246,58 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     for path in &args.export {
         ExportFormat::from_path(path)?;
     }
-    let prepared = prepare(&args.solve)?;
-    let scene = &prepared.loaded.scene;
-    let mut camera = scene.camera_or_default();
+    ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed))
+        .context("cannot install the Ctrl-C handler")?;
+    let Prepared { mut solver, source } = prepare(&args.solve)?;
+    let mut camera = solver.scene().camera_or_default();
     camera.width = args.width.unwrap_or(camera.width);
     camera.height = args.height.unwrap_or(camera.height);
     camera
         .validate()
         .map_err(anyhow::Error::msg)
         .context("camera")?;
-    let mut solver = prepared.solver()?;
-    let solve_seconds = solve_with_progress(&mut solver, args.solve.quiet);
-    // Render, with the ambient term standing in for the light not yet shot.
-    let solution = solver.solution(true);
-    let triangles = mesh_triangles(&prepared.mesh, &solution.radiosity);
     let mut render_settings = RenderSettings::default();
     render_settings.supersampling = args.supersampling.clamp(1, 16);
-    let image = rasterize(&triangles, &camera, &render_settings);
-    write_exr(&image, &args.output)?;
-    let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
-    write_png(&image, &ToneMap { exposure }, &args.png)?;
+    // Intermediate and final images add the ambient term for the light not yet shot.
+    let write_images = |solver: &Solver| -> anyhow::Result<f64> {
+        let image = solver.solution(true).render(&camera, &render_settings);
+        write_exr(&image, &args.output)?;
+        let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
+        write_png(&image, &ToneMap { exposure }, &args.png)?;
+        Ok(exposure)
+    };
+    let until = Until::default().cancelled_by(&INTERRUPTED);
+    let (stop, solve_seconds) = solve_with_progress(
+        &mut solver,
+        &until,
+        args.solve.quiet,
+        args.preview_every,
+        |solver| write_images(solver).map(|_| ()),
+    )?;
+    let exposure = write_images(&solver)?;
+    // Exports (final only, not at previews) take the PNG's exposure.
+    let solution = solver.solution(true);
     for path in &args.export {
         export_solution(&solution, &ToneMap { exposure }, path)?;
-        eprintln!("exported {}", path.display());
     }
-    print_summary(&prepared, &solver, solve_seconds);
+    print_summary(&source, &solver, solve_seconds);
+    let mut written: Vec<String> = [&args.output, &args.png]
+        .into_iter()
+        .chain(&args.export)
+        .map(|path| path.display().to_string())
+        .collect();
+    let last = written.pop().unwrap_or_default();
+    let outputs = format!("{} and {last}", written.join(", "));
+    if stop == StopReason::Cancelled {
+        return Err(Interrupted(format!(
+            "interrupted: wrote the solution after {} shots (unshot {:.3} %, ambient term added) to {outputs}",
+            solver.shots(),
+            100.0 * solver.unshot_fraction()
+        ))
+        .into());
+    }
     eprintln!(
-        "wrote {} and {} (exposure {exposure:+.2}) in {:.2} s total",
-        args.output.display(),
-        args.png.display(),
+        "wrote {outputs} (exposure {exposure:+.2}) in {:.2} s total",
         start.elapsed().as_secs_f64()
     );
     Ok(())
@@ -287,9 +305,15 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
 
 fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
     let points = load_probe_points(&args.points)?;
-    let prepared = prepare(&args.solve)?;
-    let mut solver = prepared.solver()?;
-    solve_with_progress(&mut solver, args.solve.quiet);
+    let mut solver = prepare(&args.solve)?.solver;
+    let no_previews = |_: &Solver| Ok(());
+    solve_with_progress(
+        &mut solver,
+        &Until::default(),
+        args.solve.quiet,
+        None,
+        no_previews,
+    )?;
     let solution = solver.solution(true);
     let mode = match args.mode {
         Mode::Gather => ProbeMode::Gather,
@@ -475,12 +499,11 @@ fn with_points_path(error: isorad::Error, path: &Path) -> anyhow::Error {
     }
 }
 
-fn print_summary(prepared: &Prepared, solver: &Solver, solve_seconds: f64) {
-    let (scene, mesh) = (&prepared.loaded.scene, &prepared.mesh);
+fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
+    let (scene, mesh) = (solver.scene(), solver.mesh());
     let rays = solver.rays();
     eprintln!(
-        "{}: {} surfaces, {} patches, {} elements, {} vertices",
-        prepared.loaded.source,
+        "{source}: {} surfaces, {} patches, {} elements, {} vertices",
         scene.surfaces.len(),
         mesh.patches.len(),
         mesh.elements.len(),
@@ -510,10 +533,19 @@ fn ensure_directory_exists(path: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Runs the solver with a progress bar of the unshot fraction, on a log
-/// scale from 100 % down to the tolerance. Returns the seconds it took.
-fn solve_with_progress(solver: &mut Solver, quiet: bool) -> f64 {
+/// Runs the solver until `until` stops it, with a progress bar of the
+/// unshot fraction on a log scale from 100 % down to the tolerance, and
+/// calls `preview` every `preview_every` shots. Returns why it stopped and
+/// the seconds spent solving (previews not counted).
+fn solve_with_progress(
+    solver: &mut Solver,
+    until: &Until,
+    quiet: bool,
+    preview_every: Option<u64>,
+    mut preview: impl FnMut(&Solver) -> anyhow::Result<()>,
+) -> anyhow::Result<(StopReason, f64)> {
     let start = Instant::now();
+    let mut preview_seconds = 0.0;
     let tolerance = solver.settings().tolerance;
     let bar = if quiet {
         ProgressBar::hidden()
@@ -526,18 +558,36 @@ fn solve_with_progress(solver: &mut Solver, quiet: bool) -> f64 {
             .progress_chars("=> "),
     );
     bar.enable_steady_tick(Duration::from_millis(100));
-    solver.run(|solver| {
-        let unshot = solver.unshot_fraction().max(1e-12);
+    let show = |progress: &Progress| {
+        let unshot = progress.unshot_fraction.max(1e-12);
         let done = (unshot.ln() / tolerance.ln()).clamp(0.0, 1.0);
         bar.set_position((1000.0 * done) as u64);
         bar.set_message(format!(
             "unshot {:.2} %, {} shots",
             100.0 * unshot,
-            solver.shots()
+            progress.shots
         ));
-    });
+    };
+    let max_shots = until.total_shots.unwrap_or(solver.settings().max_shots);
+    let stop = loop {
+        // Solve to the next preview, if any, then draw it.
+        let next = match preview_every {
+            Some(every) => {
+                let every = usize::try_from(every).unwrap_or(usize::MAX);
+                max_shots.min(solver.shots().saturating_add(every))
+            }
+            None => max_shots,
+        };
+        let stop = solver.run_until(&until.total_shots(next), show);
+        if stop != StopReason::ShotLimit || next >= max_shots {
+            break stop;
+        }
+        let preview_start = Instant::now();
+        preview(solver)?;
+        preview_seconds += preview_start.elapsed().as_secs_f64();
+    };
     bar.finish_and_clear();
-    start.elapsed().as_secs_f64()
+    Ok((stop, start.elapsed().as_secs_f64() - preview_seconds))
 }
 
 #[derive(Args)]

@@ -5,8 +5,7 @@ mod support;
 
 use glam::DVec3;
 use isorad::{
-    Mesh, ProbeMode, ProbePoint, Scene, Solver, SolverSettings, SquareMeshSettings, Visibility,
-    mesh_square,
+    Mesh, ProbeMode, ProbePoint, Scene, Solver, SolverSettings, SquareMeshSettings, mesh_square,
 };
 use support::*;
 
@@ -88,11 +87,10 @@ fn the_floor_under_a_block_is_cut_out_along_the_contact_lines() {
 fn no_darkness_bleeds_out_from_under_a_block() {
     let scene = block_on_floor();
     let mesh = mesh_of(&scene);
-    let visibility = Visibility::new(&scene);
     let mut settings = SolverSettings::default();
     settings.tolerance = 1e-3;
-    let mut solver = Solver::new(&scene, &mesh, &visibility, settings).unwrap();
-    solver.run(|_| {});
+    let mut solver = Solver::with_mesh(scene, mesh, settings).unwrap();
+    solver.run();
     let solution = solver.solution(true);
     // Just outside each side of the block, the rendered mesh agrees with an
     // exact gather: the dark floor under the block no longer exists.

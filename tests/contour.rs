@@ -311,11 +311,11 @@ fn a_contour_meshed_scene_solves_with_its_energy_balanced() {
     .unwrap()
     .scene;
     let visibility = Visibility::new(&scene);
-    let mut settings = MeshSettings::for_scene(&scene);
+    let mut settings = MeshSettings::default();
     settings.kind = MeshKind::Contour;
     let meshed = mesh_scene(&scene, &visibility, &settings);
     assert_eq!(
-        meshed.contour_surfaces,
+        meshed.analysis.contour_surfaces,
         vec![0],
         "the floor gets the contour mesher"
     );
@@ -323,8 +323,8 @@ fn a_contour_meshed_scene_solves_with_its_energy_balanced() {
     meshed.mesh.validate(&areas).unwrap();
     let mut solver_settings = SolverSettings::default();
     solver_settings.tolerance = 1e-3;
-    let mut solver = Solver::new(&scene, &meshed.mesh, &visibility, solver_settings).unwrap();
-    solver.run(|_| {});
+    let mut solver = Solver::with_mesh(scene, meshed.mesh, solver_settings).unwrap();
+    solver.run();
     let e = solver.energy_balance();
     let sum = e.absorbed + e.unshot + e.escaped;
     assert!((sum - e.emitted).abs().max_element() < 1e-6 * e.emitted.max_element());

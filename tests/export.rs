@@ -5,37 +5,19 @@
 use std::path::Path;
 
 use isorad::{
-    Error, Mesh, Solution, Solver, SolverSettings, SquareMeshSettings, ToneMap, Visibility,
-    export_glb, export_ply, export_solution, load_scene, mesh_square, mesh_triangles,
+    Error, Length, Settings, Solver, ToneMap, export_glb, export_ply, export_solution, load_scene,
 };
 
-/// The Cornell box, coarsely meshed and solved to 5 %.
-struct Solved {
-    scene: isorad::Scene,
-    mesh: Mesh,
-    visibility: Visibility,
-}
-
-fn cornell() -> Solved {
+/// The Cornell box, coarsely meshed (elements of 3/40 of its diagonal) and
+/// solved to 5 %.
+fn solved_cornell() -> Solver {
     let scene = load_scene("cornell").unwrap().scene;
-    let mut settings = SquareMeshSettings::for_scene(&scene);
-    settings.max_edge *= 3.0;
-    let mesh = mesh_square(&scene, &settings);
-    let visibility = Visibility::new(&scene);
-    Solved {
-        scene,
-        mesh,
-        visibility,
-    }
-}
-
-fn solve(solved: &Solved) -> Solution<'_> {
-    let mut settings = SolverSettings::default();
-    settings.tolerance = 0.05;
-    let mut solver =
-        Solver::new(&solved.scene, &solved.mesh, &solved.visibility, settings).unwrap();
-    solver.run(|_| {});
-    solver.solution(true)
+    let mut settings = Settings::default();
+    settings.mesh.max_edge = Length::OfDiagonal(3.0 / 40.0);
+    settings.solver.tolerance = 0.05;
+    let mut solver = Solver::new(scene, settings).unwrap();
+    solver.run();
+    solver
 }
 
 /// An exposure that clips the light but not the walls: both branches of
@@ -52,8 +34,8 @@ fn display_colour(radiosity: isorad::Rgb, tone_map: &ToneMap) -> [f32; 3] {
 
 #[test]
 fn glb_parses_back_with_the_solutions_vertices_and_colours() {
-    let solved = cornell();
-    let solution = solve(&solved);
+    let solver = solved_cornell();
+    let solution = solver.solution(true);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cornell.glb");
     export_glb(&solution, &tone_map(), &path).unwrap();
@@ -77,8 +59,8 @@ fn glb_parses_back_with_the_solutions_vertices_and_colours() {
 
     // As many vertices as the solution, at the same places.
     let positions: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
-    assert_eq!(positions.len(), solved.mesh.vertices.len());
-    for (p, v) in positions.iter().zip(&solved.mesh.vertices) {
+    assert_eq!(positions.len(), solver.mesh().vertices.len());
+    for (p, v) in positions.iter().zip(&solver.mesh().vertices) {
         assert!((v.position.as_vec3() - glam::Vec3::from(*p)).length() < 1e-3);
     }
     // POSITION's bounds enclose every vertex (the spec requires them).
@@ -112,11 +94,11 @@ fn glb_parses_back_with_the_solutions_vertices_and_colours() {
 
     // The renderer's triangles, and flat unit normals.
     let indices: Vec<u32> = reader.read_indices().unwrap().into_u32().collect();
-    let rendered = mesh_triangles(&solved.mesh, &solution.radiosity);
+    let rendered = solution.triangles();
     assert_eq!(indices.len(), 3 * rendered.len());
     for (triangle, shaded) in indices.chunks(3).zip(&rendered) {
         for (&v, &p) in triangle.iter().zip(&shaded.positions) {
-            assert_eq!(solved.mesh.vertices[v as usize].position, p);
+            assert_eq!(solver.mesh().vertices[v as usize].position, p);
         }
     }
     let normals: Vec<[f32; 3]> = reader.read_normals().unwrap().collect();
@@ -132,7 +114,7 @@ fn glb_parses_back_with_the_solutions_vertices_and_colours() {
         .find(|(semantic, _)| semantic.to_string() == "_RADIANCE")
         .expect("a _RADIANCE attribute")
         .1;
-    assert_eq!(radiance.count(), solved.mesh.vertices.len());
+    assert_eq!(radiance.count(), solver.mesh().vertices.len());
     assert_eq!(radiance.dimensions(), gltf::accessor::Dimensions::Vec3);
 }
 
@@ -198,8 +180,8 @@ fn read_ply(bytes: &[u8]) -> Ply {
 
 #[test]
 fn ply_round_trips_positions_radiance_colours_and_faces() {
-    let solved = cornell();
-    let solution = solve(&solved);
+    let solver = solved_cornell();
+    let solution = solver.solution(true);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cornell.ply");
     let tone_map = tone_map();
@@ -214,8 +196,8 @@ fn ply_round_trips_positions_radiance_colours_and_faces() {
             "{property}"
         );
     }
-    assert_eq!(ply.positions.len(), solved.mesh.vertices.len());
-    for (k, vertex) in solved.mesh.vertices.iter().enumerate() {
+    assert_eq!(ply.positions.len(), solver.mesh().vertices.len());
+    for (k, vertex) in solver.mesh().vertices.iter().enumerate() {
         assert_eq!(
             glam::Vec3::from(ply.positions[k]),
             vertex.position.as_vec3()
@@ -231,18 +213,18 @@ fn ply_round_trips_positions_radiance_colours_and_faces() {
             radiance.to_array().map(|c| tone_map.map_channel(c))
         );
     }
-    let rendered = mesh_triangles(&solved.mesh, &solution.radiosity);
+    let rendered = solution.triangles();
     assert_eq!(ply.faces.len(), rendered.len());
     for (face, shaded) in ply.faces.iter().zip(&rendered) {
-        let corners = face.map(|v| solved.mesh.vertices[v as usize].position);
+        let corners = face.map(|v| solver.mesh().vertices[v as usize].position);
         assert_eq!(corners, shaded.positions);
     }
 }
 
 #[test]
 fn non_finite_radiosity_is_refused_and_nothing_is_written() {
-    let solved = cornell();
-    let mut solution = solve(&solved);
+    let solver = solved_cornell();
+    let mut solution = solver.solution(true);
     solution.radiosity[7].y = f64::NAN;
     let dir = tempfile::tempdir().unwrap();
     for name in ["bad.glb", "bad.ply"] {
@@ -261,8 +243,8 @@ fn non_finite_radiosity_is_refused_and_nothing_is_written() {
 
 #[test]
 fn unknown_extension_is_refused() {
-    let solved = cornell();
-    let solution = solve(&solved);
+    let solver = solved_cornell();
+    let solution = solver.solution(true);
     let error = export_solution(&solution, &tone_map(), Path::new("out.obj")).unwrap_err();
     assert!(error.to_string().contains(".ply or .glb"), "{error}");
 }

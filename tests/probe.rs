@@ -4,8 +4,7 @@ mod support;
 
 use glam::DVec3;
 use isorad::{
-    Mesh, ProbeMode, ProbePoint, Scene, Solver, SolverSettings, SquareMeshSettings, Visibility,
-    mesh_square,
+    Mesh, ProbeMode, ProbePoint, Scene, Solver, SolverSettings, SquareMeshSettings, mesh_square,
 };
 use std::f64::consts::PI;
 use support::*;
@@ -39,11 +38,10 @@ fn solve(scene: &Scene, run: impl FnOnce(&Solver)) {
     mesh_settings.max_edge = 0.5;
     mesh_settings.patch_max_edge = 2.0;
     let mesh: Mesh = mesh_square(scene, &mesh_settings);
-    let visibility = Visibility::new(scene);
     let mut settings = SolverSettings::default();
     settings.tolerance = 1e-3;
-    let mut solver = Solver::new(scene, &mesh, &visibility, settings).unwrap();
-    solver.run(|_| {});
+    let mut solver = Solver::with_mesh(scene.clone(), mesh, settings).unwrap();
+    solver.run();
     run(&solver);
 }
 

@@ -3,9 +3,7 @@
 mod support;
 
 use glam::DVec3;
-use isorad::{
-    FormFactorKernel, Scene, SolverSettings, SquareMeshSettings, Visibility, mesh_square,
-};
+use isorad::{FormFactorKernel, Scene, SolverSettings, SquareMeshSettings, mesh_square};
 use std::f64::consts::PI;
 use support::*;
 
@@ -36,10 +34,8 @@ fn mesh(scene: &Scene, max_edge: f64, patch_max_edge: f64) -> isorad::Mesh {
 fn closed_cube_worst_error(kernel: FormFactorKernel) -> f64 {
     let scene = closed_cube(0.5, 1.0);
     let mesh = mesh(&scene, 0.1, 0.25);
-    let visibility = Visibility::new(&scene);
-    let mut solver =
-        isorad::Solver::new(&scene, &mesh, &visibility, with_kernel(1e-3, kernel)).unwrap();
-    solver.run(|_| {});
+    let mut solver = isorad::Solver::with_mesh(scene, mesh, with_kernel(1e-3, kernel)).unwrap();
+    solver.run();
     let expected = PI / (1.0 - 0.5);
     solver
         .radiosity()
@@ -70,8 +66,7 @@ fn wallace_disc_kernel_alone_darkens_corners() {
 fn energy_is_conserved() {
     let scene = closed_cube(0.6, 1.0);
     let mesh = mesh(&scene, 0.125, 0.5);
-    let visibility = Visibility::new(&scene);
-    let mut solver = isorad::Solver::new(&scene, &mesh, &visibility, settings(1e-3)).unwrap();
+    let mut solver = isorad::Solver::with_mesh(scene, mesh, settings(1e-3)).unwrap();
     let mut worst: f64 = 0.0;
     for _ in 0..40 {
         solver.step();
@@ -115,14 +110,12 @@ fn small_disc_over_a_floor(kernel: FormFactorKernel) {
     );
     let scene = b.scene;
     let mesh = mesh(&scene, 0.4, 2.0);
-    let visibility = Visibility::new(&scene);
-    let mut solver =
-        isorad::Solver::new(&scene, &mesh, &visibility, with_kernel(1e-3, kernel)).unwrap();
-    solver.run(|_| {});
+    let mut solver = isorad::Solver::with_mesh(scene, mesh, with_kernel(1e-3, kernel)).unwrap();
+    solver.run();
     let emitted = PI * 10.0;
     let peak = coaxial_disc_form_factor(radius, height, 0.0);
     let mut checked = 0;
-    for (vertex, b) in mesh.vertices.iter().zip(solver.radiosity()) {
+    for (vertex, b) in solver.mesh().vertices.iter().zip(solver.radiosity()) {
         if vertex.surface != 0 {
             continue;
         }
@@ -152,13 +145,12 @@ fn a_blocker_casts_an_exactly_black_umbra() {
     b.polygon("light", light, square_z(-0.25, 0.25, 2.0, false));
     let scene = b.scene;
     let mesh = mesh(&scene, 0.2, 1.0);
-    let visibility = Visibility::new(&scene);
-    let mut solver = isorad::Solver::new(&scene, &mesh, &visibility, settings(1e-3)).unwrap();
-    solver.run(|_| {});
+    let mut solver = isorad::Solver::with_mesh(scene, mesh, settings(1e-3)).unwrap();
+    solver.run();
     // Umbra: |x|, |y| < 1.5·2 − 0.25·... — points whose whole view of the light passes the blocker.
     // A ray from (x, 0) to the light edge at 0.25 crosses z = 1 at (x + 0.25)/2; inside if < 1.5.
     let mut dark = 0;
-    for (vertex, h) in mesh.vertices.iter().zip(solver.irradiance()) {
+    for (vertex, h) in solver.mesh().vertices.iter().zip(solver.irradiance()) {
         let p = vertex.position;
         if vertex.surface == 0 && p.x.abs() < 2.5 && p.y.abs() < 2.5 {
             assert_eq!(h.x, 0.0, "lit umbra vertex at {p}");

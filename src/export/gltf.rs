@@ -45,7 +45,7 @@ const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 /// [`crate::Error::Output`] when a position or radiosity is not finite or the
 /// mesh is empty; [`crate::Error::Io`] when the file cannot be written. The
 /// target is then left untouched.
-pub fn export_glb(solution: &Solution, tone_map: &ToneMap, path: &Path) -> Result<()> {
+pub fn export_glb(solution: &Solution<'_>, tone_map: &ToneMap, path: &Path) -> Result<()> {
     let baked = BakedMesh::new(solution, tone_map, path)?;
     let bytes = glb_bytes(&baked, tone_map.exposure, path)?;
     write_atomically(path, |writer| {

@@ -35,7 +35,7 @@ mod ply;
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::render::{ToneMap, radiosity_gap};
+use crate::render::ToneMap;
 use crate::solver::Solution;
 
 pub use gltf::export_glb;
@@ -79,7 +79,22 @@ impl ExportFormat {
 ///
 /// As [`export_ply`] and [`export_glb`], and [`Error::Output`] for an
 /// unknown extension.
-pub fn export_solution(solution: &Solution, tone_map: &ToneMap, path: &Path) -> Result<()> {
+///
+/// ```
+/// use isorad::{Settings, Solver, ToneMap, auto_exposure, export_solution, load_scene};
+///
+/// let mut solver = Solver::new(load_scene("cornell")?.scene, Settings::preview())?;
+/// solver.run();
+/// let solution = solver.solution(true);
+/// // The PNG's exposure, so the exported colours look as the image does.
+/// let image = solution.render(&solver.scene().camera_or_default(), &Default::default());
+/// let tone_map = ToneMap::new(auto_exposure(&image));
+/// let dir = tempfile::tempdir().unwrap();
+/// export_solution(&solution, &tone_map, &dir.path().join("cornell.glb"))?;
+/// export_solution(&solution, &tone_map, &dir.path().join("cornell.ply"))?;
+/// # Ok::<(), isorad::Error>(())
+/// ```
+pub fn export_solution(solution: &Solution<'_>, tone_map: &ToneMap, path: &Path) -> Result<()> {
     match ExportFormat::from_path(path)? {
         ExportFormat::Ply => export_ply(solution, tone_map, path),
         ExportFormat::Glb => export_glb(solution, tone_map, path),
@@ -106,7 +121,7 @@ struct BakedMesh {
 impl BakedMesh {
     /// Flattens `solution`, or fails naming `path` when a value is not
     /// finite or there is nothing to export.
-    fn new(solution: &Solution, tone_map: &ToneMap, path: &Path) -> Result<BakedMesh> {
+    fn new(solution: &Solution<'_>, tone_map: &ToneMap, path: &Path) -> Result<BakedMesh> {
         let (scene, mesh) = (solution.scene, solution.mesh);
         let radiosity = &solution.radiosity;
         if radiosity.len() != mesh.vertices.len() {
@@ -128,12 +143,8 @@ impl BakedMesh {
                 ));
             }
         }
-        // Split elements as the renderer does.
-        let mut triangles = Vec::with_capacity(2 * mesh.elements.len());
-        for element in &mesh.elements {
-            let (split, count) = element.triangles(radiosity_gap(radiosity));
-            triangles.extend_from_slice(&split[..count]);
-        }
+        // The renderer's triangles (Solution::triangles), as indices.
+        let triangles = solution.triangle_indices();
         if triangles.is_empty() {
             return Err(export_error(path, "the mesh has no triangles to export"));
         }

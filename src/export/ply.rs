@@ -20,7 +20,7 @@ use crate::solver::Solution;
 /// [`crate::Error::Output`] when a position or radiosity is not finite or the
 /// mesh is empty; [`crate::Error::Io`] when the file cannot be written. The
 /// target is then left untouched.
-pub fn export_ply(solution: &Solution, tone_map: &ToneMap, path: &Path) -> Result<()> {
+pub fn export_ply(solution: &Solution<'_>, tone_map: &ToneMap, path: &Path) -> Result<()> {
     let baked = BakedMesh::new(solution, tone_map, path)?;
     let bytes = ply_bytes(&baked, tone_map.exposure);
     write_atomically(path, |writer| {

@@ -75,7 +75,7 @@ pub fn receiver_inset(scene: &Scene) -> f64 {
 /// Meshes every surface of the scene uniformly. Where another surface
 /// stands on one (a block on a floor), the grid is re-triangulated with
 /// element edges along the contact lines, and the elements hidden under the
-/// object are dropped (see [`super::contacts`]).
+/// object are dropped (see `mesh/contacts.rs`).
 #[must_use]
 pub fn mesh_square(scene: &Scene, settings: &SquareMeshSettings) -> Mesh {
     mesh_surfaces(scene, settings, &|_| None)

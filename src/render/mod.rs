@@ -16,11 +16,11 @@ mod plot;
 mod rasterizer;
 mod setup;
 mod tone_map;
+mod view;
 
 pub use image::Image;
 pub use mesh_image::{MeshPanel, write_mesh_panels};
 pub use mesh_triangles::mesh_triangles;
-pub(crate) use mesh_triangles::radiosity_gap;
 pub(crate) use output::write_atomically;
 pub use output::{read_exr, write_exr, write_png};
 pub use plot::{Series, write_loglog_plot};

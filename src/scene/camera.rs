@@ -45,6 +45,21 @@ impl Camera {
         CameraFrame { right, up, forward }
     }
 
+    /// A camera at `position` looking at `look_at`, with the world's `up`
+    /// and a full vertical field of view of `vfov_deg` degrees, at
+    /// 512 × 512 pixels (set `width` and `height` to change).
+    #[must_use]
+    pub fn look_at(position: DVec3, look_at: DVec3, up: DVec3, vfov_deg: f64) -> Camera {
+        Camera {
+            position,
+            look_at,
+            up,
+            vfov_deg,
+            width: 512,
+            height: 512,
+        }
+    }
+
     /// A camera that frames an axis-aligned box from its −z side, y up,
     /// at 512 × 512 with a 40° field of view.
     #[must_use]

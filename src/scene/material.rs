@@ -22,6 +22,48 @@ pub struct Material {
 }
 
 impl Material {
+    /// A diffuse material that emits nothing.
+    #[must_use]
+    pub fn diffuse(name: impl Into<String>, reflectance: Rgb) -> Material {
+        Material {
+            name: name.into(),
+            reflectance,
+            emitted_radiance: Rgb::ZERO,
+        }
+    }
+
+    /// An emitter of radiance L_e (W/(m²·sr) per channel) that reflects
+    /// nothing; see [`Material::with_reflectance`].
+    #[must_use]
+    pub fn emitter(name: impl Into<String>, emitted_radiance: Rgb) -> Material {
+        Material {
+            name: name.into(),
+            reflectance: Rgb::ZERO,
+            emitted_radiance,
+        }
+    }
+
+    /// The same material with diffuse reflectance ρ.
+    #[must_use]
+    pub fn with_reflectance(self, reflectance: Rgb) -> Material {
+        Material {
+            reflectance,
+            ..self
+        }
+    }
+
+    /// What is wrong with the material, as the MTL loader words it (`Kd`
+    /// finite and in [0, 1), `Ke` finite and ≥ 0), or `None`.
+    #[must_use]
+    pub fn problem(&self) -> Option<String> {
+        let shown = |keyword: &str, c: Rgb| format!("{keyword} = ({} {} {})", c.x, c.y, c.z);
+        if let Some(problem) = reflectance_problem(self.reflectance) {
+            return Some(format!("{}: {problem}", shown("Kd", self.reflectance)));
+        }
+        emitted_radiance_problem(self.emitted_radiance)
+            .map(|problem| format!("{}: {problem}", shown("Ke", self.emitted_radiance)))
+    }
+
     /// Emitted exitance (radiosity) E = π L_e, W/m².
     #[must_use]
     pub fn emitted_radiosity(&self) -> Rgb {
@@ -32,5 +74,32 @@ impl Material {
     #[must_use]
     pub fn is_emitter(&self) -> bool {
         self.emitted_radiance.max_element() > 0.0
+    }
+}
+
+/// A colour that is not finite in every channel.
+pub(crate) const NOT_FINITE: &str = "not a finite colour";
+
+/// Why a diffuse reflectance is out of range (each channel finite, ≥ 0 and
+/// < 1), or `None`.
+pub(crate) fn reflectance_problem(rgb: Rgb) -> Option<&'static str> {
+    if !rgb.is_finite() {
+        Some(NOT_FINITE)
+    } else if rgb.min_element() < 0.0 || rgb.max_element() >= 1.0 {
+        Some("diffuse reflectance must be at least 0 and below 1 in every channel")
+    } else {
+        None
+    }
+}
+
+/// Why an emitted radiance is out of range (each channel finite and ≥ 0),
+/// or `None`.
+pub(crate) fn emitted_radiance_problem(rgb: Rgb) -> Option<&'static str> {
+    if !rgb.is_finite() {
+        Some(NOT_FINITE)
+    } else if rgb.min_element() < 0.0 {
+        Some("emitted radiance must not be negative")
+    } else {
+        None
     }
 }

@@ -1,5 +1,6 @@
 //! Scenes: planar surfaces with diffuse materials, a camera, and loaders.
 
+mod build;
 mod builtin;
 mod camera;
 mod coplanar_merge;

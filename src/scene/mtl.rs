@@ -9,7 +9,7 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 
-use super::material::{Material, Rgb};
+use super::material::{Material, NOT_FINITE, Rgb, emitted_radiance_problem, reflectance_problem};
 
 /// Checks an MTL text before tobj parses it, so that errors carry a line
 /// number and out-of-range colours are caught (tobj itself would panic on a
@@ -71,22 +71,21 @@ fn parse_rgb(words: &mut std::str::SplitWhitespace) -> Option<[f32; 3]> {
     Some(rgb)
 }
 
-/// Range checks: `Kd` finite and in [0, 1), `Ke` finite and ≥ 0.
+/// Range checks: `Kd` finite and in [0, 1), `Ke` finite and ≥ 0, the others
+/// finite (the checks [`Material::problem`] makes).
 fn check_colour(keyword: &str, rgb: [f32; 3]) -> Result<(), String> {
-    let shown = || format!("{keyword} = ({} {} {})", rgb[0], rgb[1], rgb[2]);
-    if rgb.iter().any(|c| !c.is_finite()) {
-        return Err(format!("{}: not a finite colour", shown()));
-    }
-    match keyword {
-        "Kd" if rgb.iter().any(|&c| !(0.0..1.0).contains(&c)) => Err(format!(
-            "{}: diffuse reflectance must be at least 0 and below 1 in every channel",
-            shown()
+    let colour = Rgb::new(f64::from(rgb[0]), f64::from(rgb[1]), f64::from(rgb[2]));
+    let problem = match keyword {
+        "Kd" => reflectance_problem(colour),
+        "Ke" => emitted_radiance_problem(colour),
+        _ => (!colour.is_finite()).then_some(NOT_FINITE),
+    };
+    match problem {
+        Some(problem) => Err(format!(
+            "{keyword} = ({} {} {}): {problem}",
+            rgb[0], rgb[1], rgb[2]
         )),
-        "Ke" if rgb.iter().any(|&c| c < 0.0) => Err(format!(
-            "{}: emitted radiance must not be negative",
-            shown()
-        )),
-        _ => Ok(()),
+        None => Ok(()),
     }
 }
 

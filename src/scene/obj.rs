@@ -1,6 +1,6 @@
 //! Wavefront OBJ + MTL scenes, read with tobj.
 //!
-//! Every face (`f`) becomes one [`Surface`] — quads and n-gons stay whole —
+//! Every face (`f`) becomes one [`Surface`](crate::Surface) — quads and n-gons stay whole —
 //! named after its object or group (`o`/`g`), with the material of the last
 //! `usemtl`. MTL `Kd` is the diffuse reflectance ρ (0 ≤ ρ < 1 per channel),
 //! `Ke` the emitted radiance L_e (≥ 0), as in pbrt and Mitsuba.
@@ -17,7 +17,7 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::DVec3;
 
@@ -25,13 +25,13 @@ use crate::error::{Error, Result};
 
 use super::Scene;
 use super::Warning;
+use super::build::check_not_empty;
 use super::coplanar_merge::merge_scene_faces;
 use super::material::Material;
 use super::mtl::{parse_mtl, to_material};
 use super::obj_scan::{ObjScan, scan_obj};
 use super::polygon::clean_polygon;
 use super::source::{Disk, SourceFiles};
-use super::surface::Surface;
 
 /// Warnings kept per object before the rest are only counted.
 const WARNINGS_PER_OBJECT: usize = 10;
@@ -300,22 +300,4 @@ fn summarise_warnings(path: &Path, warned: &HashMap<&str, usize>, warnings: &mut
             ),
         });
     }
-}
-
-/// A scene needs a surface and an emitting surface.
-fn check_not_empty(path: &Path, scene: &Scene) -> Result<()> {
-    let empty = |message: &str| Error::EmptyScene {
-        path: PathBuf::from(path),
-        message: message.to_owned(),
-    };
-    if scene.surfaces.is_empty() {
-        return Err(empty("the scene has no usable faces"));
-    }
-    let emits = |s: &Surface| scene.material_of(s).is_emitter();
-    if !scene.surfaces.iter().any(emits) {
-        return Err(empty(
-            "the scene has no emitter: no face uses a material with a positive `Ke`",
-        ));
-    }
-    Ok(())
 }

@@ -6,6 +6,7 @@ mod direct_field;
 mod dominance;
 mod emitters;
 mod progressive;
+mod run;
 mod sampling;
 mod scene_mesh;
 mod settings;
@@ -17,6 +18,9 @@ pub use direct_field::DirectField;
 pub use dominance::{DominanceSettings, ReceiverAnalysis, analyse_receivers};
 pub use emitters::{Luminaire, luminaires};
 pub use progressive::{EnergyBalance, Solver};
-pub use scene_mesh::{MeshKind, MeshSettings, SceneMesh, mesh_scene, receiver_layout};
-pub use settings::{FormFactorKernel, SolverSettings};
-pub use solution::{Probe, ProbeMode, Solution};
+pub use run::{Progress, StopReason, Until};
+pub use scene_mesh::{
+    Length, MeshAnalysis, MeshKind, MeshSettings, SceneMesh, mesh_scene, receiver_layout,
+};
+pub use settings::{FormFactorKernel, Settings, SolverSettings};
+pub use solution::{Probe, ProbeMode, Solution, SurfaceTotals};

@@ -2,7 +2,8 @@
 
 use rayon::prelude::*;
 
-use super::settings::SolverSettings;
+use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene};
+use super::settings::{Settings, SolverSettings};
 use super::solution::Solution;
 use super::source_sampling::{Receiver, Shooter};
 use crate::mesh::Mesh;
@@ -34,13 +35,19 @@ pub struct EnergyBalance {
 /// patch's unshot radiosity then grows by the area-weighted mean of what its
 /// elements' vertices reflected.
 ///
+/// The solver owns its scene, mesh and shadow-ray structure; drive it with
+/// [`Solver::step`] or [`Solver::run_until`], and read it at any moment with
+/// [`Solver::solution`].
+///
 /// # References
 /// M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive
 /// Refinement Approach to Fast Radiosity Image Generation", SIGGRAPH 1988.
-pub struct Solver<'a> {
-    scene: &'a Scene,
-    mesh: &'a Mesh,
-    visibility: &'a Visibility,
+pub struct Solver {
+    scene: Scene,
+    mesh: Mesh,
+    visibility: Visibility,
+    /// What meshing found (empty when the caller brought the mesh).
+    analysis: MeshAnalysis,
     settings: SolverSettings,
     /// Radiosity B per vertex (emission included), W/m².
     radiosity: Vec<Rgb>,
@@ -58,15 +65,48 @@ pub struct Solver<'a> {
     rays: u64,
 }
 
-impl<'a> Solver<'a> {
-    /// A solver with emitters' radiosity set and nothing yet shot.
-    pub fn new(
-        scene: &'a Scene,
-        mesh: &'a Mesh,
-        visibility: &'a Visibility,
-        settings: SolverSettings,
-    ) -> crate::Result<Self> {
+impl Solver {
+    /// A solver for `scene`: checks the scene and settings, builds the
+    /// shadow-ray BVH, meshes the scene as `settings.mesh` asks, and sets the
+    /// emitters' radiosity, with nothing yet shot.
+    ///
+    /// Fails with the loaders' errors for a scene without surfaces or
+    /// emitters or with a material out of range, and with
+    /// [`crate::Error::InvalidSetting`] for settings out of range.
+    pub fn new(scene: Scene, settings: Settings) -> crate::Result<Self> {
         settings.validate()?;
+        scene.validate()?;
+        let visibility = Visibility::new(&scene);
+        let SceneMesh { mesh, analysis } = mesh_scene(&scene, &visibility, &settings.mesh);
+        Ok(Self::with_parts(
+            scene,
+            mesh,
+            visibility,
+            analysis,
+            settings.solver,
+        ))
+    }
+
+    /// A solver for `scene` on a mesh the caller made (with [`crate::mesh_square`]
+    /// or [`crate::mesh_scene`], say), nothing yet shot.
+    pub fn with_mesh(scene: Scene, mesh: Mesh, settings: SolverSettings) -> crate::Result<Self> {
+        settings.validate()?;
+        scene.validate()?;
+        let visibility = Visibility::new(&scene);
+        let analysis = MeshAnalysis::default();
+        Ok(Self::with_parts(
+            scene, mesh, visibility, analysis, settings,
+        ))
+    }
+
+    /// Emitters' radiosity set, nothing shot.
+    fn with_parts(
+        scene: Scene,
+        mesh: Mesh,
+        visibility: Visibility,
+        analysis: MeshAnalysis,
+        settings: SolverSettings,
+    ) -> Self {
         let emitted = |surface: usize| {
             scene
                 .material_of(&scene.surfaces[surface])
@@ -81,10 +121,11 @@ impl<'a> Solver<'a> {
         let powers = mesh.patches.iter().zip(&unshot).map(|(p, b)| *b * p.area);
         let emitted_power = powers.clone().sum::<Rgb>();
         let reference_power = powers.map(|p| p.element_sum()).fold(0.0, f64::max);
-        Ok(Solver {
+        Solver {
             scene,
             mesh,
             visibility,
+            analysis,
             settings,
             irradiance: vec![Rgb::ZERO; radiosity.len()],
             radiosity,
@@ -95,7 +136,7 @@ impl<'a> Solver<'a> {
             reference_power,
             shots: 0,
             rays: 0,
-        })
+        }
     }
 
     /// Shoots the patch with the most unshot power. Returns false when no
@@ -138,7 +179,7 @@ impl<'a> Solver<'a> {
             min_side,
             max_side,
         );
-        let (scene, mesh, visibility) = (self.scene, self.mesh, self.visibility);
+        let (scene, mesh, visibility) = (&self.scene, &self.mesh, &self.visibility);
         let (density, shot, kernel) = (
             self.settings.sample_density,
             self.shots as u64,
@@ -202,19 +243,6 @@ impl<'a> Solver<'a> {
         self.scene.material_of(surface).reflectance
     }
 
-    /// Shoots until the unshot fraction is under the tolerance or the shot
-    /// budget is spent, calling `progress` after every shot.
-    pub fn run(&mut self, mut progress: impl FnMut(&Solver)) {
-        while self.unshot_fraction() > self.settings.tolerance
-            && self.shots < self.settings.max_shots
-        {
-            if !self.step() {
-                break;
-            }
-            progress(self);
-        }
-    }
-
     /// Unshot power over emitted power (sums of channels); 0 for a dark scene.
     #[must_use]
     pub fn unshot_fraction(&self) -> f64 {
@@ -226,7 +254,7 @@ impl<'a> Solver<'a> {
         }
     }
 
-    fn unshot_power(&self) -> Rgb {
+    pub(super) fn unshot_power(&self) -> Rgb {
         self.mesh
             .patches
             .iter()
@@ -280,7 +308,7 @@ impl<'a> Solver<'a> {
     /// The solution so far, with the ambient term for unshot light added
     /// (`with_ambient`) or not.
     #[must_use]
-    pub fn solution(&self, with_ambient: bool) -> Solution<'a> {
+    pub fn solution(&self, with_ambient: bool) -> Solution<'_> {
         let (radiosity, irradiance) = if with_ambient {
             let ambient = self.ambient_irradiance();
             let irradiance: Vec<Rgb> = self.irradiance.iter().map(|h| *h + ambient).collect();
@@ -292,9 +320,9 @@ impl<'a> Solver<'a> {
             (self.radiosity.clone(), self.irradiance.clone())
         };
         Solution {
-            scene: self.scene,
-            mesh: self.mesh,
-            visibility: self.visibility,
+            scene: &self.scene,
+            mesh: &self.mesh,
+            visibility: &self.visibility,
             radiosity,
             irradiance,
         }
@@ -345,5 +373,30 @@ impl<'a> Solver<'a> {
     #[must_use]
     pub fn settings(&self) -> &SolverSettings {
         &self.settings
+    }
+
+    /// The scene being solved.
+    #[must_use]
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The mesh whose vertices receive light.
+    #[must_use]
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// The shadow-ray structure over the scene.
+    #[must_use]
+    pub fn visibility(&self) -> &Visibility {
+        &self.visibility
+    }
+
+    /// What meshing found: luminaires, receivers' analyses, contour-meshed
+    /// surfaces (empty for square meshing or a caller's mesh).
+    #[must_use]
+    pub fn mesh_analysis(&self) -> &MeshAnalysis {
+        &self.analysis
     }
 }

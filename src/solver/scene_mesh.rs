@@ -37,37 +37,130 @@ impl std::str::FromStr for MeshKind {
     }
 }
 
-/// How a scene is meshed.
+/// A length in scene units, given outright or as a fraction of the scene's
+/// bounding diagonal (so that settings can be written before a scene exists).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Length {
+    /// This many scene units.
+    Absolute(f64),
+    /// This fraction of the scene's bounding diagonal.
+    OfDiagonal(f64),
+}
+
+impl Length {
+    /// The length in scene units, for a scene whose diagonal is `diagonal`.
+    #[must_use]
+    pub fn resolve(self, diagonal: f64) -> f64 {
+        match self {
+            Length::Absolute(length) => length,
+            Length::OfDiagonal(fraction) => fraction * diagonal,
+        }
+    }
+
+    fn validate(self, name: &str) -> crate::Result<()> {
+        let (Length::Absolute(x) | Length::OfDiagonal(x)) = self;
+        if x > 0.0 && x.is_finite() {
+            Ok(())
+        } else {
+            Err(crate::Error::InvalidSetting {
+                name: name.into(),
+                message: format!("{x} is not positive"),
+            })
+        }
+    }
+}
+
+/// How a scene is meshed. Lengths may be relative to the scene's size, so
+/// the defaults and presets need no scene.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct MeshSettings {
     /// Square or contour.
     pub kind: MeshKind,
-    /// The square grid (also the patches of contour-meshed receivers).
-    pub square: SquareMeshSettings,
+    /// Longest element edge (default: 1/40 of the scene's diagonal).
+    pub max_edge: Length,
+    /// N for an N × N grid on every quad (and N divisions of every triangle
+    /// edge), instead of `max_edge`.
+    pub elements_per_side: Option<usize>,
+    /// Longest shooting-patch edge (default: 1/8 of the scene's diagonal);
+    /// never shorter than `max_edge`.
+    pub patch_max_edge: Length,
     /// D and K of the contour mesher.
     pub contour: ContourSettings,
     /// What makes a receiver qualify for the contour mesher.
     pub dominance: DominanceSettings,
 }
 
-impl MeshSettings {
-    /// Square meshing with defaults scaled to the scene.
-    #[must_use]
-    pub fn for_scene(scene: &Scene) -> MeshSettings {
+impl Default for MeshSettings {
+    /// Square meshing, elements of 1/40 and patches of 1/8 of the scene's
+    /// diagonal.
+    fn default() -> Self {
         MeshSettings {
             kind: MeshKind::Square,
-            square: SquareMeshSettings::for_scene(scene),
+            max_edge: Length::OfDiagonal(1.0 / 40.0),
+            elements_per_side: None,
+            patch_max_edge: Length::OfDiagonal(1.0 / 8.0),
             contour: ContourSettings::default(),
             dominance: DominanceSettings::default(),
         }
     }
 }
 
-/// A meshed scene, with what the analysis found on each receiver.
-pub struct SceneMesh {
-    /// The mesh.
-    pub mesh: Mesh,
+impl MeshSettings {
+    /// Coarser elements for quick images: 1/20 of the scene's diagonal.
+    #[must_use]
+    pub fn preview() -> Self {
+        MeshSettings {
+            max_edge: Length::OfDiagonal(1.0 / 20.0),
+            ..Self::default()
+        }
+    }
+
+    /// Finer elements for smooth images: 1/80 of the scene's diagonal.
+    #[must_use]
+    pub fn final_quality() -> Self {
+        MeshSettings {
+            max_edge: Length::OfDiagonal(1.0 / 80.0),
+            ..Self::default()
+        }
+    }
+
+    /// The square mesher's settings for `scene`, lengths resolved.
+    #[must_use]
+    pub fn square_for(&self, scene: &Scene) -> SquareMeshSettings {
+        let diagonal = scene.diagonal();
+        let mut square = SquareMeshSettings::for_scene(scene);
+        square.max_edge = self.max_edge.resolve(diagonal);
+        square.patch_max_edge = self.patch_max_edge.resolve(diagonal).max(square.max_edge);
+        square.elements_per_side = self.elements_per_side;
+        square
+    }
+
+    /// Checks every field is in range; returns the first problem.
+    pub fn validate(&self) -> crate::Result<()> {
+        self.max_edge.validate("max-edge")?;
+        self.patch_max_edge.validate("patch-max-edge")?;
+        let counts = [
+            ("elements-per-side", self.elements_per_side.unwrap_or(1)),
+            ("directions", self.contour.directions),
+            ("levels", self.contour.levels),
+        ];
+        for (name, value) in counts {
+            if !(1..=1000).contains(&value) {
+                return Err(crate::Error::InvalidSetting {
+                    name: name.into(),
+                    message: format!("{value} is not in 1..=1000"),
+                });
+            }
+        }
+        self.dominance.validate()
+    }
+}
+
+/// What meshing found: the luminaires, each receiver's analysis, and where
+/// the contour mesher was used.
+#[derive(Clone, Debug, Default)]
+pub struct MeshAnalysis {
     /// One analysis per non-emitting surface (empty for square meshing).
     pub receivers: Vec<ReceiverAnalysis>,
     /// The luminaires the analysis grouped.
@@ -80,46 +173,48 @@ pub struct SceneMesh {
     pub newton_solves: usize,
 }
 
+/// A meshed scene, with what the analysis found on each receiver.
+pub struct SceneMesh {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// What the analysis found (empty for square meshing).
+    pub analysis: MeshAnalysis,
+}
+
 /// Meshes a scene as `settings` asks: for [`MeshKind::Contour`], every
 /// receiver whose direct light comes mostly from one small luminaire gets a
 /// contour layout of that luminaire's direct radiosity (with its shadow
 /// boundaries refined), the rest the square grid.
 #[must_use]
 pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSettings) -> SceneMesh {
-    let mut result = SceneMesh {
-        mesh: Mesh::default(),
-        receivers: Vec::new(),
-        luminaires: Vec::new(),
-        contour_surfaces: Vec::new(),
-        newton_iterations: 0,
-        newton_solves: 0,
-    };
+    let square = settings.square_for(scene);
+    let mut analysis = MeshAnalysis::default();
     if settings.kind == MeshKind::Square {
-        result.mesh = mesh_surfaces(scene, &settings.square, &|_| None);
-        return result;
+        let mesh = mesh_surfaces(scene, &square, &|_| None);
+        return SceneMesh { mesh, analysis };
     }
-    result.luminaires = luminaires(scene);
-    result.receivers =
-        analyse_receivers(scene, visibility, &result.luminaires, &settings.dominance);
+    analysis.luminaires = luminaires(scene);
+    analysis.receivers =
+        analyse_receivers(scene, visibility, &analysis.luminaires, &settings.dominance);
     let layouts: Vec<Option<ContourLayout>> = (0..scene.surfaces.len())
         .map(|surface| {
-            let analysis = result
+            let found = analysis
                 .receivers
                 .iter()
                 .find(|a| a.receiver == surface && a.qualifies)?;
-            let luminaire = &result.luminaires[analysis.dominant?];
+            let luminaire = &analysis.luminaires[found.dominant?];
             receiver_layout(scene, visibility, surface, luminaire, &settings.contour)
         })
         .collect();
     for (surface, layout) in layouts.iter().enumerate() {
         if let Some(layout) = layout {
-            result.contour_surfaces.push(surface);
-            result.newton_iterations += layout.newton_iterations;
-            result.newton_solves += layout.newton_solves;
+            analysis.contour_surfaces.push(surface);
+            analysis.newton_iterations += layout.newton_iterations;
+            analysis.newton_solves += layout.newton_solves;
         }
     }
-    result.mesh = mesh_surfaces(scene, &settings.square, &|surface| layouts[surface].clone());
-    result
+    let mesh = mesh_surfaces(scene, &square, &|surface| layouts[surface].clone());
+    SceneMesh { mesh, analysis }
 }
 
 /// Shadow rays per luminaire polygon when looking for penumbrae.

@@ -1,4 +1,6 @@
-//! Settings of the progressive shooting solver.
+//! Settings of the progressive shooting solver, and of a whole solve.
+
+use super::scene_mesh::MeshSettings;
 
 /// How a vertex-to-patch form factor is estimated. Each kernel splits the
 /// patch into m × m strata with one shadow ray each; they differ in what a
@@ -137,5 +139,50 @@ impl SolverSettings {
             ));
         }
         Ok(())
+    }
+}
+
+/// Everything [`crate::Solver::new`] needs: how to mesh the scene and how
+/// to shoot. Plain data with named presets.
+///
+/// ```
+/// let mut settings = isorad::Settings::preview();
+/// settings.solver.tolerance = 0.02;
+/// assert!(settings.validate().is_ok());
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct Settings {
+    /// How the scene is meshed.
+    pub mesh: MeshSettings,
+    /// How light is shot.
+    pub solver: SolverSettings,
+}
+
+impl Settings {
+    /// Quick, noisier images: coarser elements, 5 % tolerance, fewer
+    /// shadow samples.
+    #[must_use]
+    pub fn preview() -> Self {
+        Settings {
+            mesh: MeshSettings::preview(),
+            solver: SolverSettings::preview(),
+        }
+    }
+
+    /// Converged, smooth images: finer elements, 0.1 % tolerance, more
+    /// shadow samples.
+    #[must_use]
+    pub fn final_quality() -> Self {
+        Settings {
+            mesh: MeshSettings::final_quality(),
+            solver: SolverSettings::final_quality(),
+        }
+    }
+
+    /// Checks every field is in range; returns the first problem.
+    pub fn validate(&self) -> crate::Result<()> {
+        self.mesh.validate()?;
+        self.solver.validate()
     }
 }
