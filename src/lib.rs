@@ -86,7 +86,7 @@ pub use error::{Error, Result};
 pub use mesh::{
     Cell, ContourLayout, ContourSettings, Element, ErrorGrid, InterpolationError, Mesh, MeshVertex,
     Patch, PlaneTriangulation, ScalarField, SquareMeshSettings, contour_layout,
-    interpolation_error, mesh_square,
+    estimate_square_elements, interpolation_error, mesh_square, mesh_surfaces,
 };
 pub use radiometry::{
     DiscModel, ReceiverPlane, SmallDisc, TiltFrame, disc_form_factor, polygon_form_factor,

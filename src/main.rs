@@ -66,6 +66,10 @@ struct SolveArgs {
     /// N × N elements on every quad instead of --max-edge.
     #[arg(long)]
     elements_per_side: Option<usize>,
+    /// Refuse to mesh when the mesh would have more elements than this
+    /// (counted before meshing, so absurd settings fail at once).
+    #[arg(long, default_value_t = MeshSettings::DEFAULT_MAX_ELEMENTS)]
+    max_elements: usize,
     /// No progress bar.
     #[arg(long, short)]
     quiet: bool,
@@ -213,6 +217,8 @@ fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
         settings.kernel = kernel.parse()?;
     }
     settings.validate()?;
+    mesh_settings.max_elements = args.max_elements;
+    mesh_settings.check_budget(scene)?;
     let visibility = Visibility::new(scene);
     let scene_mesh = mesh_scene(scene, &visibility, &mesh_settings);
     if mesh_settings.kind == MeshKind::Contour {
@@ -237,6 +243,12 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     // Outputs are checked first, so that a typo costs no solve.
     for path in [&args.output, &args.png] {
         ensure_directory_exists(path)?;
+    }
+    if let Some(exposure) = args.exposure {
+        anyhow::ensure!(
+            exposure.is_finite(),
+            "--exposure {exposure} is not a number of stops"
+        );
     }
     let prepared = prepare(&args.solve)?;
     let scene = &prepared.loaded.scene;
@@ -519,7 +531,21 @@ fn solve_with_progress(solver: &mut Solver, quiet: bool) -> f64 {
         ));
     });
     bar.finish_and_clear();
+    warn_if_nothing_is_lit(solver);
     start.elapsed().as_secs_f64()
+}
+
+/// Warns when the emitters' light reaches no surface (they face away from
+/// the scene, or nothing else is there): the image is black but for them.
+fn warn_if_nothing_is_lit(solver: &Solver) {
+    let lit = |h: &isorad::Rgb| h.element_sum() > 0.0;
+    if solver.shots() > 0 && !solver.irradiance().iter().any(lit) {
+        eprintln!(
+            "warning: no surface receives light from the emitters: all of it leaves the scene. \
+             Faces emit from their front only (vertices counter-clockwise seen from the front); \
+             check that the emitting faces face the scene"
+        );
+    }
 }
 
 #[derive(Args)]

@@ -49,6 +49,10 @@ pub struct MeshSettings {
     pub contour: ContourSettings,
     /// What makes a receiver qualify for the contour mesher.
     pub dominance: DominanceSettings,
+    /// The most elements [`MeshSettings::check_budget`] allows (estimated
+    /// before meshing): a guard against settings that would exhaust memory.
+    /// Raise it to mesh a scene that truly needs more.
+    pub max_elements: usize,
 }
 
 impl MeshSettings {
@@ -60,6 +64,7 @@ impl MeshSettings {
             square: SquareMeshSettings::for_scene(scene),
             contour: ContourSettings::default(),
             dominance: DominanceSettings::default(),
+            max_elements: MeshSettings::DEFAULT_MAX_ELEMENTS,
         }
     }
 }
