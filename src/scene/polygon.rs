@@ -4,8 +4,9 @@
 //! A face read from a file is a list of 3D points. Radiosity needs planar
 //! polygons, so each face is
 //! - cleaned of consecutive repeated vertices;
-//! - **skipped** when fewer than three distinct vertices remain or its area
-//!   is below [`DEGENERATE_AREA_RATIO`] × diameter²;
+//! - **skipped** when fewer than three distinct vertices remain, its area
+//!   is below [`DEGENERATE_AREA_RATIO`] × diameter², or two of its edges
+//!   cross (a bow-tie: no side is its front);
 //! - **projected** onto its best-fit plane when nearly planar (every vertex
 //!   within [`PLANARITY_TOLERANCE`] × diameter of the plane: measured scenes
 //!   such as the Cornell box have walls a millimetre off plane);
