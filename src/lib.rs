@@ -99,9 +99,9 @@ pub use render::{
 };
 pub use scene::{
     Camera, CameraFrame, LoadedScene, Material, PlaneFrame, PolygonPlane, ProbePoint, Rgb, Scene,
-    SceneOptions, Surface, Visibility, Warning, best_fit_plane, builtin_names, load_obj,
-    load_probe_points, load_scene, load_scene_file, newell_normal, parse_probe_points,
-    triangulate_polygon,
+    SceneOptions, Surface, Visibility, Warning, best_fit_plane, builtin_names,
+    distance_to_boundary, load_obj, load_probe_points, load_scene, load_scene_file, newell_normal,
+    parse_probe_points, polygon_contains, triangulate_polygon,
 };
 pub use solver::{
     DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Luminaire, MeshKind,

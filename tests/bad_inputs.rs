@@ -328,7 +328,7 @@ fn a_concave_face_is_meshed_inside_its_outline() {
             / element.corners().len() as f64;
         let p = floor.frame().to_plane(centroid);
         assert!(
-            contains(&outline, p),
+            isorad::polygon_contains(&outline, p),
             "element outside the comb at {centroid}"
         );
         covered += element.area;
@@ -337,16 +337,4 @@ fn a_concave_face_is_meshed_inside_its_outline() {
         (covered - floor.area()).abs() < 1e-9 * floor.area(),
         "{covered}"
     );
-}
-
-/// Even-odd point-in-polygon test.
-fn contains(polygon: &[glam::DVec2], p: glam::DVec2) -> bool {
-    let mut inside = false;
-    for k in 0..polygon.len() {
-        let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
-            inside = !inside;
-        }
-    }
-    inside
 }

@@ -20,9 +20,11 @@ use std::collections::HashMap;
 use glam::{DVec2, DVec3};
 use isorad::{
     ContourSettings, Material, Mesh, Rgb, Scene, SolverSettings, SquareMeshSettings, Surface,
-    Visibility, contour_layout, mesh_square, mesh_surfaces, polygon_form_factor,
+    Visibility, contour_layout, distance_to_boundary, mesh_square, mesh_surfaces, polygon_contains,
+    polygon_form_factor,
 };
 use proptest::prelude::*;
+use support::box_faces;
 
 // ---- Random polygons --------------------------------------------------------
 
@@ -128,7 +130,7 @@ fn check_mesh_of_polygon(scene: &Scene, mesh: &Mesh) -> Result<(), TestCaseError
     for v in 0..mesh.vertices.len() as u32 {
         let p = plane(v);
         prop_assert!(
-            contains(&outline, p) || distance_to_boundary(&outline, p) <= eps,
+            polygon_contains(&outline, p) || distance_to_boundary(&outline, p) <= eps,
             "vertex {p} outside the polygon"
         );
     }
@@ -154,28 +156,6 @@ fn check_mesh_of_polygon(scene: &Scene, mesh: &Mesh) -> Result<(), TestCaseError
         }
     }
     Ok(())
-}
-
-/// Even-odd point-in-polygon test.
-fn contains(polygon: &[DVec2], p: DVec2) -> bool {
-    let mut inside = false;
-    for k in 0..polygon.len() {
-        let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
-            inside = !inside;
-        }
-    }
-    inside
-}
-
-fn distance_to_boundary(polygon: &[DVec2], p: DVec2) -> f64 {
-    (0..polygon.len())
-        .map(|k| {
-            let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
-            let t = ((p - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
-            p.distance(a + (b - a) * t)
-        })
-        .fold(f64::INFINITY, f64::min)
 }
 
 proptest! {
@@ -306,34 +286,6 @@ proptest! {
             .sum();
         prop_assert!((sum - 1.0).abs() < 1e-9, "the six faces sum to {sum}");
     }
-}
-
-/// The six faces of the box [0, size], each facing inwards.
-fn box_faces(size: DVec3) -> Vec<Vec<DVec3>> {
-    let mut faces = Vec::new();
-    for axis in 0..3 {
-        for side in [0.0, 1.0] {
-            let corner = |s: f64, t: f64| {
-                let mut p = [0.0; 3];
-                p[axis] = side;
-                p[(axis + 1) % 3] = s;
-                p[(axis + 2) % 3] = t;
-                DVec3::from_array(p) * size
-            };
-            let mut quad = vec![
-                corner(0.0, 0.0),
-                corner(1.0, 0.0),
-                corner(1.0, 1.0),
-                corner(0.0, 1.0),
-            ];
-            let inwards = size * 0.5 - quad[0];
-            if isorad::newell_normal(&quad).dot(inwards) < 0.0 {
-                quad.reverse();
-            }
-            faces.push(quad);
-        }
-    }
-    faces
 }
 
 // ---- The solver on closed boxes ------------------------------------------------
