@@ -210,12 +210,14 @@ pub fn newell_normal(vertices: &[DVec3]) -> DVec3 {
     normal
 }
 
-/// True when every corner of a counter-clockwise polygon turns left (or
-/// goes straight): a fan from any vertex then stays inside it.
+/// True when every corner of a counter-clockwise polygon turns strictly
+/// left: a fan from any vertex then stays inside it and has no zero-area
+/// triangle (a straight corner, a vertex on an edge, would give one; ear
+/// clipping skips it).
 fn is_convex(points: &[DVec2]) -> bool {
     let n = points.len();
     (0..n).all(|k| {
         let (a, b, c) = (points[k], points[(k + 1) % n], points[(k + 2) % n]);
-        (b - a).perp_dot(c - b) >= 0.0
+        (b - a).perp_dot(c - b) > 0.0
     })
 }
