@@ -116,7 +116,7 @@ pub use export::{ExportFormat, export_glb, export_ply, export_solution};
 pub use mesh::{
     Cell, ContourLayout, ContourSettings, Element, ErrorGrid, InterpolationError, Mesh, MeshVertex,
     Patch, PlaneTriangulation, ScalarField, SquareMeshSettings, contour_layout,
-    interpolation_error, mesh_square,
+    estimate_square_elements, interpolation_error, mesh_square, mesh_surfaces,
 };
 pub use radiometry::{
     DiscModel, ReceiverPlane, SmallDisc, TiltFrame, disc_form_factor, polygon_form_factor,
@@ -130,8 +130,9 @@ pub use render::{
 pub use scene::{
     Camera, CameraFrame, LoadSettings, LoadedScene, Material, MergeReport, PlaneFrame,
     PolygonPlane, ProbePoint, Rgb, Scene, SceneOptions, Surface, Visibility, Warning,
-    best_fit_plane, builtin_names, load_obj, load_probe_points, load_scene, load_scene_file,
-    load_scene_with, merge_coplanar_faces, newell_normal, parse_probe_points, triangulate_polygon,
+    best_fit_plane, builtin_names, distance_to_boundary, load_obj, load_probe_points, load_scene,
+    load_scene_file, load_scene_with, merge_coplanar_faces, newell_normal, parse_probe_points,
+    polygon_contains, triangulate_polygon,
 };
 pub use solver::{
     DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Length, Luminaire,

@@ -11,10 +11,10 @@ use std::time::{Duration, Instant};
 
 use isorad::{
     CompareSettings, DominanceSettings, ExportFormat, Length, LoadSettings, Luminaire, MeshKind,
-    ProbeMode, Progress, ReceiverAnalysis, RenderSettings, Scene, SceneOptions, Settings, Solver,
-    StopReason, ToneMap, Until, Visibility, analyse_receivers, auto_exposure, compare_receiver,
-    export_solution, load_probe_points, load_scene, load_scene_with, luminaires, panels_for_figure,
-    write_exr, write_json, write_loglog_plot, write_mesh_panels, write_png,
+    MeshSettings, ProbeMode, Progress, ReceiverAnalysis, RenderSettings, Scene, SceneOptions,
+    Settings, Solver, StopReason, ToneMap, Until, Visibility, analyse_receivers, auto_exposure,
+    compare_receiver, export_solution, load_probe_points, load_scene, load_scene_with, luminaires,
+    panels_for_figure, write_exr, write_json, write_loglog_plot, write_mesh_panels, write_png,
 };
 
 /// Global illumination by progressive radiosity.
@@ -67,6 +67,10 @@ struct SolveArgs {
     /// N × N elements on every quad instead of --max-edge.
     #[arg(long)]
     elements_per_side: Option<usize>,
+    /// Refuse to mesh when the mesh would have more elements than this
+    /// (counted before meshing, so absurd settings fail at once).
+    #[arg(long, default_value_t = MeshSettings::DEFAULT_MAX_ELEMENTS)]
+    max_elements: usize,
     /// No progress bar.
     #[arg(long, short)]
     quiet: bool,
@@ -211,6 +215,7 @@ fn settings_from(args: &SolveArgs, options: &SceneOptions) -> anyhow::Result<Set
     mesh.elements_per_side = args.elements_per_side.or(options.elements_per_side);
     mesh.contour.directions = args.directions.unwrap_or(mesh.contour.directions);
     mesh.contour.levels = args.levels.unwrap_or(mesh.contour.levels);
+    mesh.max_elements = args.max_elements;
     if let Some(tolerance) = args.tolerance.or(options.tolerance) {
         settings.solver.tolerance = tolerance;
     }
@@ -242,6 +247,12 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     // Outputs are checked first, so that a typo costs no solve.
     for path in [&args.output, &args.png].into_iter().chain(&args.export) {
         ensure_directory_exists(path)?;
+    }
+    if let Some(exposure) = args.exposure {
+        anyhow::ensure!(
+            exposure.is_finite(),
+            "--exposure {exposure} is not a number of stops"
+        );
     }
     for path in &args.export {
         ExportFormat::from_path(path)?;
@@ -587,7 +598,21 @@ fn solve_with_progress(
         preview_seconds += preview_start.elapsed().as_secs_f64();
     };
     bar.finish_and_clear();
+    warn_if_nothing_is_lit(solver);
     Ok((stop, start.elapsed().as_secs_f64() - preview_seconds))
+}
+
+/// Warns when the emitters' light reaches no surface (they face away from
+/// the scene, or nothing else is there): the image is black but for them.
+fn warn_if_nothing_is_lit(solver: &Solver) {
+    let lit = |h: &isorad::Rgb| h.element_sum() > 0.0;
+    if solver.shots() > 0 && !solver.irradiance().iter().any(lit) {
+        eprintln!(
+            "warning: no surface receives light from the emitters: all of it leaves the scene. \
+             Faces emit from their front only (vertices counter-clockwise seen from the front); \
+             check that the emitting faces face the scene"
+        );
+    }
 }
 
 #[derive(Args)]

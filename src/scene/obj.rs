@@ -116,7 +116,7 @@ fn parse_with_tobj(
         triangulate: false,
         ..Default::default()
     };
-    let source = without_polylines(text, scan);
+    let source = for_tobj(text, scan);
     let result = tobj::load_obj_buf(&mut source.as_bytes(), &options, loader);
     // A failed MTL is the first thing to report.
     if let Some(e) = failure.into_inner() {
@@ -136,18 +136,27 @@ fn parse_with_tobj(
     })
 }
 
-/// The OBJ text with polyline statements commented out (tobj would read an
-/// `l` of three or more points as a face); line numbers are kept.
-fn without_polylines<'a>(text: &'a str, scan: &ObjScan) -> std::borrow::Cow<'a, str> {
-    if scan.polyline_lines.is_empty() {
+/// The OBJ text as tobj should read it, line numbers kept: polyline
+/// statements commented out (tobj would read an `l` of three or more points
+/// as a face) and vertex colours dropped (tobj fails on a file where only
+/// some vertices have one; isorad does not use them).
+fn for_tobj<'a>(text: &'a str, scan: &ObjScan) -> std::borrow::Cow<'a, str> {
+    if scan.polyline_lines.is_empty() && !scan.vertex_colours {
         return text.into();
     }
     text.lines()
-        .map(|line| match line.split_whitespace().next() {
-            Some("l") => "# polyline ignored",
-            _ => line,
+        .map(|line| {
+            let mut words = line.split_whitespace();
+            match words.next() {
+                Some("l") => "# polyline ignored".into(),
+                Some("v") if line.split_whitespace().count() == 7 => {
+                    let xyz: Vec<&str> = words.take(3).collect();
+                    format!("v {}", xyz.join(" ")).into()
+                }
+                _ => std::borrow::Cow::Borrowed(line),
+            }
         })
-        .collect::<Vec<_>>()
+        .collect::<Vec<std::borrow::Cow<str>>>()
         .join("\n")
         .into()
 }

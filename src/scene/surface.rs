@@ -155,21 +155,26 @@ impl Surface {
     }
 
     /// A triangulation of the polygon, as index triples into
-    /// [`Surface::vertices`], counter-clockwise like the polygon: a fan from
-    /// the first vertex when the polygon is convex, ear clipping otherwise
-    /// (a fan would cover the outside of a reflex corner).
+    /// [`Surface::vertices`], counter-clockwise like the polygon: a fan for
+    /// a convex polygon, ear clipping for a concave one (a fan from a
+    /// vertex that does not see the whole polygon would cover area outside
+    /// it).
     #[must_use]
     pub fn triangles(&self) -> Vec<[usize; 3]> {
+        let fan = || {
+            (1..self.vertices.len() - 1)
+                .map(|i| [0, i, i + 1])
+                .collect()
+        };
         let points = self.plane_vertices();
-        let n = points.len();
-        let convex = (0..n).all(|k| {
-            let (a, b, c) = (points[k], points[(k + 1) % n], points[(k + 2) % n]);
-            (b - a).perp_dot(c - b) >= 0.0
-        });
-        if convex {
-            (1..n - 1).map(|i| [0, i, i + 1]).collect()
+        if is_convex(&points) {
+            return fan();
+        }
+        let triangles = triangulate_polygon(&points);
+        if triangles.is_empty() {
+            fan()
         } else {
-            triangulate_polygon(&points)
+            triangles
         }
     }
 
@@ -203,4 +208,16 @@ pub fn newell_normal(vertices: &[DVec3]) -> DVec3 {
         normal += a.cross(b);
     }
     normal
+}
+
+/// True when every corner of a counter-clockwise polygon turns strictly
+/// left: a fan from any vertex then stays inside it and has no zero-area
+/// triangle (a straight corner, a vertex on an edge, would give one; ear
+/// clipping skips it).
+fn is_convex(points: &[DVec2]) -> bool {
+    let n = points.len();
+    (0..n).all(|k| {
+        let (a, b, c) = (points[k], points[(k + 1) % n], points[(k + 2) % n]);
+        (b - a).perp_dot(c - b) > 0.0
+    })
 }

@@ -5,6 +5,7 @@
 mod direct_field;
 mod dominance;
 mod emitters;
+mod mesh_budget;
 mod progressive;
 mod run;
 mod sampling;

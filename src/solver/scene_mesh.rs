@@ -89,6 +89,10 @@ pub struct MeshSettings {
     pub contour: ContourSettings,
     /// What makes a receiver qualify for the contour mesher.
     pub dominance: DominanceSettings,
+    /// The most elements [`MeshSettings::check_budget`] allows (estimated
+    /// before meshing): a guard against settings that would exhaust memory.
+    /// Raise it to mesh a scene that truly needs more.
+    pub max_elements: usize,
 }
 
 impl Default for MeshSettings {
@@ -102,6 +106,7 @@ impl Default for MeshSettings {
             patch_max_edge: Length::OfDiagonal(1.0 / 8.0),
             contour: ContourSettings::default(),
             dominance: DominanceSettings::default(),
+            max_elements: MeshSettings::DEFAULT_MAX_ELEMENTS,
         }
     }
 }
