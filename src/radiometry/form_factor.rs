@@ -84,6 +84,10 @@ pub(super) fn with_clipped<R>(
     polygon: &[DVec3],
     body: impl FnOnce(&[DVec3]) -> R,
 ) -> R {
+    // Wholly in front (the usual case): nothing to clip.
+    if polygon.iter().all(|&p| normal.dot(p - point) >= 0.0) {
+        return body(polygon);
+    }
     // Clipping adds at most one vertex per edge: a stack buffer serves the
     // cells the solver integrates, a heap one any larger polygon.
     let mut small = [DVec3::ZERO; 16];

@@ -116,6 +116,9 @@ impl Shooter {
         };
         let strata = &self.strata[side];
         let mut random = SampleStream::new(receiver.key, shot);
+        if kernel == FormFactorKernel::Mixed {
+            return self.gather_mixed(receiver, strata, &mut random, visibility);
+        }
         let mut gathered = Gathered::default();
         // Each stratum: an unoccluded factor (or, for `Exact`, a weight), and
         // a shadow ray to a jittered point of it.
@@ -142,6 +145,93 @@ impl Shooter {
         } else {
             gathered.form_factor = visible_weight;
         }
+        gathered
+    }
+
+    /// The `Mixed` kernel: Wallace's disc term on far strata, Lambert's exact
+    /// factor on near ones, each times its own shadow ray.
+    ///
+    /// Lambert's factor is additive over the strata, which tile the patch:
+    /// Σ_near F_k = F_patch − Σ_far F_k. So the near strata's visible share is
+    /// summed either directly over the visible ones or, when fewer factors
+    /// are needed that way, as F_patch less the far and the hidden near
+    /// strata's factors. A fully visible patch seen from nearby then costs
+    /// one polygon factor instead of one per stratum; the result is the same
+    /// sum, up to rounding.
+    fn gather_mixed(
+        &self,
+        receiver: &Receiver,
+        strata: &[Cell],
+        random: &mut SampleStream,
+        visibility: &Visibility,
+    ) -> Gathered {
+        let (x, n) = (receiver.position, receiver.normal);
+        let mut gathered = Gathered::default();
+        let mut far_visible = 0.0;
+        // What each stratum was: skipped, near and visible, near and hidden, far.
+        let mut small = [Stratum::Skipped; 256];
+        let mut large = Vec::new();
+        let kinds: &mut [Stratum] = if strata.len() <= small.len() {
+            &mut small[..strata.len()]
+        } else {
+            large.resize(strata.len(), Stratum::Skipped);
+            &mut large
+        };
+        let (mut near_visible, mut near_hidden, mut far) = (0, 0, 0);
+        for (stratum, kind) in strata.iter().zip(kinds.iter_mut()) {
+            // The random numbers are drawn for every stratum, in order.
+            let y = stratum.point(random.next_f64(), random.next_f64());
+            let d = y - x;
+            let r2 = d.length_squared();
+            if r2 < NEAR_FIELD * stratum.area {
+                // Aim at a part of the stratum above the receiver's plane.
+                let Some(target) = near_target(x, n, stratum, y) else {
+                    continue;
+                };
+                gathered.rays += 1;
+                if self.is_visible(receiver, target, visibility) {
+                    *kind = Stratum::NearVisible;
+                    near_visible += 1;
+                } else {
+                    *kind = Stratum::NearHidden;
+                    near_hidden += 1;
+                }
+            } else {
+                *kind = Stratum::Far;
+                far += 1;
+                let r = r2.sqrt();
+                let factor =
+                    disc_form_factor(stratum.area, n.dot(d) / r, -self.normal.dot(d) / r, r2);
+                if factor > 0.0 {
+                    gathered.rays += 1;
+                    if self.is_visible(receiver, y, visibility) {
+                        far_visible += factor;
+                    }
+                }
+            }
+        }
+        let lambert = |wanted: Stratum| -> f64 {
+            strata
+                .iter()
+                .zip(kinds.iter())
+                .filter(|(_, kind)| **kind == wanted)
+                .map(|(stratum, _)| polygon_form_factor(x, n, stratum.polygon()))
+                .sum()
+        };
+        let near_visible_factor = if near_visible == 0 {
+            0.0
+        } else if near_visible <= 1 + far + near_hidden {
+            lambert(Stratum::NearVisible)
+        } else {
+            let far_factor = if far > 0 { lambert(Stratum::Far) } else { 0.0 };
+            let hidden_factor = if near_hidden > 0 {
+                lambert(Stratum::NearHidden)
+            } else {
+                0.0
+            };
+            (polygon_form_factor(x, n, self.cell.polygon()) - far_factor - hidden_factor).max(0.0)
+        };
+        gathered.form_factor = near_visible_factor + far_visible;
         gathered
     }
 
@@ -176,11 +266,7 @@ impl Shooter {
         };
         if near {
             let factor = polygon_form_factor(x, n, stratum.polygon());
-            // Aim the shadow ray at a part of the stratum above the receiver's plane.
-            let target = [y, stratum.centre()]
-                .into_iter()
-                .chain(stratum.polygon().iter().copied())
-                .find(|p| n.dot(*p - x) > 0.0)?;
+            let target = near_target(x, n, stratum, y)?;
             (factor > 0.0).then_some((factor, target))
         } else {
             let r = r2.sqrt();
@@ -188,4 +274,27 @@ impl Shooter {
             (factor > 0.0).then_some((factor, y))
         }
     }
+}
+
+/// What a stratum of a `Mixed` gather was.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stratum {
+    /// Entirely behind the receiver's plane: no ray.
+    Skipped,
+    /// Near, its shadow ray unblocked.
+    NearVisible,
+    /// Near, its shadow ray blocked.
+    NearHidden,
+    /// Far: its disc term is already counted.
+    Far,
+}
+
+/// The point of a near stratum a shadow ray aims at: its jittered sample `y`
+/// if above the receiver's plane, else its centre or a corner that is; none
+/// when the whole stratum is behind the plane (its factor is then zero).
+fn near_target(x: DVec3, n: DVec3, stratum: &Cell, y: DVec3) -> Option<DVec3> {
+    [y, stratum.centre()]
+        .into_iter()
+        .chain(stratum.polygon().iter().copied())
+        .find(|p| n.dot(*p - x) > 0.0)
 }
