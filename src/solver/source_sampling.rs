@@ -1,5 +1,7 @@
 //! Vertex-to-patch form factors by stratified, ray-traced source sampling.
 
+use std::sync::OnceLock;
+
 use glam::DVec3;
 
 use super::sampling::SampleStream;
@@ -23,8 +25,9 @@ pub struct Shooter {
     pub normal: DVec3,
     /// Index of its surface.
     pub surface: u32,
-    /// Stratified subdivisions: `strata[m]` holds the m² cells for m samples per side.
-    strata: Vec<Vec<Cell>>,
+    /// Stratified subdivisions: `strata[m]` holds the m² cells for m samples
+    /// per side, made when a receiver first needs them.
+    strata: Vec<OnceLock<Vec<Cell>>>,
     /// Fewest samples per side, from the shot's power.
     min_side: usize,
 }
@@ -63,10 +66,7 @@ impl Shooter {
     ) -> Shooter {
         let max_side = max_side.max(1);
         let min_side = min_side.clamp(1, max_side);
-        let mut strata = vec![Vec::new(); max_side + 1];
-        for (m, cells) in strata.iter_mut().enumerate().skip(min_side) {
-            cell.subdivide(m, cells);
-        }
+        let strata = (0..=max_side).map(|_| OnceLock::new()).collect();
         Shooter {
             cell,
             normal,
@@ -114,7 +114,11 @@ impl Shooter {
         } else {
             self.strata.len() - 1
         };
-        let strata = &self.strata[side];
+        let strata = self.strata[side].get_or_init(|| {
+            let mut cells = Vec::with_capacity(side * side);
+            self.cell.subdivide(side, &mut cells);
+            cells
+        });
         let mut random = SampleStream::new(receiver.key, shot);
         if kernel == FormFactorKernel::Mixed {
             return self.gather_mixed(receiver, strata, &mut random, visibility);
@@ -168,17 +172,10 @@ impl Shooter {
         let (x, n) = (receiver.position, receiver.normal);
         let mut gathered = Gathered::default();
         let mut far_visible = 0.0;
-        // What each stratum was: skipped, near and visible, near and hidden, far.
-        let mut small = [Stratum::Skipped; 256];
-        let mut large = Vec::new();
-        let kinds: &mut [Stratum] = if strata.len() <= small.len() {
-            &mut small[..strata.len()]
-        } else {
-            large.resize(strata.len(), Stratum::Skipped);
-            &mut large
-        };
+        // Which strata were near and visible, near and hidden, far.
+        let mut kinds = [(); 3].map(|()| StrataSet::new(strata.len()));
         let (mut near_visible, mut near_hidden, mut far) = (0, 0, 0);
-        for (stratum, kind) in strata.iter().zip(kinds.iter_mut()) {
+        for (k, stratum) in strata.iter().enumerate() {
             // The random numbers are drawn for every stratum, in order.
             let y = stratum.point(random.next_f64(), random.next_f64());
             let d = y - x;
@@ -190,14 +187,14 @@ impl Shooter {
                 };
                 gathered.rays += 1;
                 if self.is_visible(receiver, target, visibility) {
-                    *kind = Stratum::NearVisible;
+                    kinds[NEAR_VISIBLE].insert(k);
                     near_visible += 1;
                 } else {
-                    *kind = Stratum::NearHidden;
+                    kinds[NEAR_HIDDEN].insert(k);
                     near_hidden += 1;
                 }
             } else {
-                *kind = Stratum::Far;
+                kinds[FAR].insert(k);
                 far += 1;
                 let r = r2.sqrt();
                 let factor =
@@ -210,22 +207,22 @@ impl Shooter {
                 }
             }
         }
-        let lambert = |wanted: Stratum| -> f64 {
+        let lambert = |set: usize| -> f64 {
             strata
                 .iter()
-                .zip(kinds.iter())
-                .filter(|(_, kind)| **kind == wanted)
-                .map(|(stratum, _)| polygon_form_factor(x, n, stratum.polygon()))
+                .enumerate()
+                .filter(|(k, _)| kinds[set].contains(*k))
+                .map(|(_, stratum)| polygon_form_factor(x, n, stratum.polygon()))
                 .sum()
         };
         let near_visible_factor = if near_visible == 0 {
             0.0
         } else if near_visible <= 1 + far + near_hidden {
-            lambert(Stratum::NearVisible)
+            lambert(NEAR_VISIBLE)
         } else {
-            let far_factor = if far > 0 { lambert(Stratum::Far) } else { 0.0 };
+            let far_factor = if far > 0 { lambert(FAR) } else { 0.0 };
             let hidden_factor = if near_hidden > 0 {
-                lambert(Stratum::NearHidden)
+                lambert(NEAR_HIDDEN)
             } else {
                 0.0
             };
@@ -276,25 +273,60 @@ impl Shooter {
     }
 }
 
-/// What a stratum of a `Mixed` gather was.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Stratum {
-    /// Entirely behind the receiver's plane: no ray.
-    Skipped,
-    /// Near, its shadow ray unblocked.
-    NearVisible,
-    /// Near, its shadow ray blocked.
-    NearHidden,
-    /// Far: its disc term is already counted.
-    Far,
+/// The sets of strata a `Mixed` gather sorts into (strata wholly behind the
+/// receiver's plane are in none): near with an unblocked shadow ray, near
+/// with a blocked one, and far (disc term, already counted).
+const NEAR_VISIBLE: usize = 0;
+const NEAR_HIDDEN: usize = 1;
+const FAR: usize = 2;
+
+/// A set of stratum indices, one bit each, on the stack up to 256 strata.
+struct StrataSet {
+    small: [u64; 4],
+    large: Vec<u64>,
+}
+
+impl StrataSet {
+    fn new(len: usize) -> StrataSet {
+        let large = if len > 256 {
+            vec![0; len.div_ceil(64)]
+        } else {
+            Vec::new()
+        };
+        StrataSet {
+            small: [0; 4],
+            large,
+        }
+    }
+
+    fn insert(&mut self, k: usize) {
+        let words = if self.large.is_empty() {
+            &mut self.small[..]
+        } else {
+            &mut self.large[..]
+        };
+        words[k / 64] |= 1 << (k % 64);
+    }
+
+    fn contains(&self, k: usize) -> bool {
+        let words = if self.large.is_empty() {
+            &self.small[..]
+        } else {
+            &self.large[..]
+        };
+        words[k / 64] & (1 << (k % 64)) != 0
+    }
 }
 
 /// The point of a near stratum a shadow ray aims at: its jittered sample `y`
 /// if above the receiver's plane, else its centre or a corner that is; none
 /// when the whole stratum is behind the plane (its factor is then zero).
 fn near_target(x: DVec3, n: DVec3, stratum: &Cell, y: DVec3) -> Option<DVec3> {
-    [y, stratum.centre()]
-        .into_iter()
+    let above = |p: &DVec3| n.dot(*p - x) > 0.0;
+    if above(&y) {
+        return Some(y);
+    }
+    std::iter::once(stratum.centre())
         .chain(stratum.polygon().iter().copied())
-        .find(|p| n.dot(*p - x) > 0.0)
+        .find(above)
 }
