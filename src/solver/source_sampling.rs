@@ -15,6 +15,13 @@ use crate::scene::Visibility;
 /// relative bias is about A/(π r²) for a stratum seen off-axis, so beyond the
 /// bound it stays under 1/(100π) ≈ 0.3 %; nearer, as in the corner where two
 /// walls meet, the disc model fails and the exact factor is needed.
+///
+/// The same bound applies to the distances from each end to the other's
+/// plane: a stratum less than ten of its sizes above the receiver's plane
+/// (a lamp hung 2 cm from a wall) or a receiver as close to the source's
+/// plane sees a cosine that varies across the stratum by more than a tenth,
+/// and the disc term at one jittered point would leave blotches
+/// (`tests/source_refinement.rs`).
 const NEAR_FIELD: f64 = 100.0;
 
 /// A shooting patch, prepared once per shot.
@@ -175,12 +182,17 @@ impl Shooter {
         // Which strata were near and visible, near and hidden, far.
         let mut kinds = [(); 3].map(|()| StrataSet::new(strata.len()));
         let (mut near_visible, mut near_hidden, mut far) = (0, 0, 0);
+        // The receiver's height above the source's plane, the same for every stratum.
+        let receiver_height = self.normal.dot(x - self.cell.corners[0]);
         for (k, stratum) in strata.iter().enumerate() {
             // The random numbers are drawn for every stratum, in order.
             let y = stratum.point(random.next_f64(), random.next_f64());
             let d = y - x;
             let r2 = d.length_squared();
-            if r2 < NEAR_FIELD * stratum.area {
+            let nearest = r2
+                .min(n.dot(d).powi(2))
+                .min(receiver_height * receiver_height);
+            if nearest < NEAR_FIELD * stratum.area {
                 // Aim at a part of the stratum above the receiver's plane.
                 let Some(target) = near_target(x, n, stratum, y) else {
                     continue;
@@ -255,21 +267,13 @@ impl Shooter {
         kernel: FormFactorKernel,
     ) -> Option<(f64, DVec3)> {
         let d = y - x;
-        let r2 = d.length_squared();
-        let near = match kernel {
-            FormFactorKernel::Mixed => r2 < NEAR_FIELD * stratum.area,
-            FormFactorKernel::Wallace => false,
-            FormFactorKernel::Exact => return (n.dot(d) > 0.0).then_some((stratum.area, y)),
-        };
-        if near {
-            let factor = polygon_form_factor(x, n, stratum.polygon());
-            let target = near_target(x, n, stratum, y)?;
-            (factor > 0.0).then_some((factor, target))
-        } else {
-            let r = r2.sqrt();
-            let factor = disc_form_factor(stratum.area, n.dot(d) / r, -self.normal.dot(d) / r, r2);
-            (factor > 0.0).then_some((factor, y))
+        if kernel == FormFactorKernel::Exact {
+            return (n.dot(d) > 0.0).then_some((stratum.area, y));
         }
+        let r2 = d.length_squared();
+        let r = r2.sqrt();
+        let factor = disc_form_factor(stratum.area, n.dot(d) / r, -self.normal.dot(d) / r, r2);
+        (factor > 0.0).then_some((factor, y))
     }
 }
 
