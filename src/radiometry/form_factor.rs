@@ -103,7 +103,7 @@ fn angle_from_sine_cosine(y: f64, x: f64) -> f64 {
     let ax = x.abs();
     // atan of the smaller over the larger, in [0, π/4].
     let (small, large) = if y <= ax { (y, ax) } else { (ax, y) };
-    if !(large > 0.0) {
+    if large == 0.0 {
         return 0.0;
     }
     let t = small / large;
