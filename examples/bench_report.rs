@@ -328,7 +328,10 @@ fn scaling_section(md: &mut String, out_dir: &Path, max_vertices: usize) -> Repo
         mesh_settings.max_edge = base.max_edge * scale;
         let (mesh_seconds, mesh) = median_seconds(1, || mesh_square(&scene, &mesh_settings));
         if mesh.vertices.len() > max_vertices {
-            eprintln!("  {} vertices: above --max-vertices, not solved", mesh.vertices.len());
+            eprintln!(
+                "  {} vertices: above --max-vertices, not solved",
+                mesh.vertices.len()
+            );
             continue;
         }
         let runs = if mesh.vertices.len() < 20_000 { 3 } else { 1 };
@@ -426,7 +429,10 @@ fn scaling_section(md: &mut String, out_dir: &Path, max_vertices: usize) -> Repo
 
 /// (c): isorad against Mitsuba 3 from `bench/pathtracer_comparison.py`'s JSON.
 fn pathtracer_section(md: &mut String, out_dir: &Path, json: &Path) -> Report {
-    writeln!(md, "## (c) Against a path tracer: time to equal error, and a walkthrough\n")?;
+    writeln!(
+        md,
+        "## (c) Against a path tracer: time to equal error, and a walkthrough\n"
+    )?;
     let Ok(text) = std::fs::read_to_string(json) else {
         writeln!(
             md,
@@ -498,7 +504,10 @@ fn pathtracer_section(md: &mut String, out_dir: &Path, json: &Path) -> Report {
             show(f(mitsuba, "seconds_at_isorad_rel_rms"), 1),
             show(f(mitsuba, "seconds_at_isorad_rel_rms") / seconds, 1),
             show(f(mitsuba, "spp_at_isorad_rel_rms_no_edges"), 0),
-            show(f(mitsuba, "seconds_at_isorad_rel_rms_no_edges") / seconds, 1),
+            show(
+                f(mitsuba, "seconds_at_isorad_rel_rms_no_edges") / seconds,
+                1
+            ),
         )?;
     }
     if !skipped.is_empty() {
@@ -551,10 +560,19 @@ fn pathtracer_section(md: &mut String, out_dir: &Path, json: &Path) -> Report {
         let stem = Path::new(name)
             .file_stem()
             .map_or("scene".into(), |s| s.to_string_lossy().to_string());
-        let sweep = scene["mitsuba"]["sweep"].as_array().cloned().unwrap_or_default();
-        let curve = scene["isorad"]["curve"].as_array().cloned().unwrap_or_default();
+        let sweep = scene["mitsuba"]["sweep"]
+            .as_array()
+            .cloned()
+            .unwrap_or_default();
+        let curve = scene["isorad"]["curve"]
+            .as_array()
+            .cloned()
+            .unwrap_or_default();
         writeln!(md, "\nError against time on `{name}`:\n")?;
-        writeln!(md, "| renderer | setting | seconds | error | error, no edges |")?;
+        writeln!(
+            md,
+            "| renderer | setting | seconds | error | error, no edges |"
+        )?;
         writeln!(md, "|---|---|---|---|---|")?;
         for point in &curve {
             writeln!(
