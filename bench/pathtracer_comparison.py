@@ -74,6 +74,18 @@ def drjit_threads() -> int:
         return 1
 
 
+def git_commit() -> str:
+    """The isorad commit measured (with a mark if the tree has changes)."""
+    try:
+        head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
+                              text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, check=True).stdout.strip()
+        return head + (" (modified)" if dirty else "")
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
 def log(msg: str) -> None:
     print(f"pathtracer_comparison: {msg}", file=sys.stderr, flush=True)
 
@@ -207,7 +219,8 @@ def compare_scene(args, mi, variant: str, scene: str) -> dict:
         return {"scene": scene, "skipped": "no [camera] table"}
     cam.height = max(1, round(args.width * cam.height / cam.width))
     cam.width = args.width
-    result: dict = {"scene": scene, "width": cam.width, "height": cam.height}
+    result: dict = {"scene": scene, "width": cam.width, "height": cam.height,
+                    "commit": git_commit()}
 
     with tempfile.TemporaryDirectory(prefix="isorad_mi_") as tmp:
         mitsuba = Mitsuba(mi, scene, cam, tmp)
