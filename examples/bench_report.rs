@@ -136,7 +136,20 @@ fn machine_section(md: &mut String, sections: &str) -> Report {
         .unwrap_or_else(|| "unknown".into());
     let date = command_output("date", &["-u", "+%Y-%m-%d %H:%M UTC"]);
     let mut commit = command_output("git", &["rev-parse", "--short", "HEAD"]);
-    if !command_output("git", &["status", "--porcelain", "--untracked-files=no"]).is_empty() {
+    // The report's own outputs do not count as changes to what was measured.
+    let changes = command_output(
+        "git",
+        &[
+            "status",
+            "--porcelain",
+            "--untracked-files=no",
+            "--",
+            ".",
+            ":!BENCHMARKS.md",
+            ":!docs/bench",
+        ],
+    );
+    if !changes.is_empty() {
         commit.push_str(" (with uncommitted changes)");
     }
     writeln!(md, "## Machine\n")?;
