@@ -121,8 +121,204 @@ def room():
           'up = [0.0, 1.0, 0.0]\nvfov_deg = 65.0\nwidth = 640\nheight = 480\n\n[mesh]\nkind = "contour"\n')
 
 
+def newell(points):
+    """Newell's normal of a polygon (not normalised)."""
+    n = [0.0, 0.0, 0.0]
+    for k, p in enumerate(points):
+        q = points[(k + 1) % len(points)]
+        n[0] += (p[1] - q[1]) * (p[2] + q[2])
+        n[1] += (p[2] - q[2]) * (p[0] + q[0])
+        n[2] += (p[0] - q[0]) * (p[1] + q[1])
+    return n
+
+
+def facing(points, direction):
+    """The polygon, reversed if needed so that its front faces `direction`."""
+    n = newell(points)
+    return points if sum(a * b for a, b in zip(n, direction)) > 0 else points[::-1]
+
+
+class CadObj(Obj):
+    """An OBJ written the way CAD exporters write one: shared vertices,
+    large flat faces as grids of small triangles, round legs as prisms."""
+
+    def vertex(self, p):
+        self.vertices.append(p)
+        self.lines.append("v {:.6f} {:.6f} {:.6f}".format(*p))
+        return len(self.vertices)
+
+    def quad(self, name, material, points, direction):
+        self.face(name, material, facing(points, direction))
+
+    def triangle_grid(self, name, material, origin, du, dv, nu, nv, direction):
+        """A parallelogram origin + s du + t dv (s in [0, nu], t in [0, nv])
+        as 2 nu nv triangles with shared vertices, diagonals alternating."""
+        self.lines.append(f"o {name}\nusemtl {material}")
+        ids = [[self.vertex(tuple(origin[k] + i * du[k] + j * dv[k] for k in range(3)))
+                for j in range(nv + 1)] for i in range(nu + 1)]
+        for i in range(nu):
+            for j in range(nv):
+                a, b, c, d = ids[i][j], ids[i + 1][j], ids[i + 1][j + 1], ids[i][j + 1]
+                tris = [(a, b, c), (a, c, d)] if (i + j) % 2 == 0 else [(a, b, d), (b, c, d)]
+                for t in tris:
+                    pts = [self.vertices[v - 1] for v in t]
+                    if sum(x * y for x, y in zip(newell(pts), direction)) < 0:
+                        t = t[::-1]
+                    self.lines.append("f {} {} {}".format(*t))
+
+    def open_box(self, name, material, lo, hi, skip=()):
+        """An axis-aligned box with outward faces, leaving out the faces named
+        in `skip` ("-x", "+x", "-y", "+y", "-z", "+z"): those that rest on or
+        against something."""
+        (x0, y0, z0), (x1, y1, z1) = lo, hi
+        faces = {
+            "+y": ([(x0, y1, z0), (x0, y1, z1), (x1, y1, z1), (x1, y1, z0)], (0, 1, 0)),
+            "-y": ([(x0, y0, z0), (x1, y0, z0), (x1, y0, z1), (x0, y0, z1)], (0, -1, 0)),
+            "-z": ([(x0, y0, z0), (x0, y1, z0), (x1, y1, z0), (x1, y0, z0)], (0, 0, -1)),
+            "+z": ([(x1, y0, z1), (x1, y1, z1), (x0, y1, z1), (x0, y0, z1)], (0, 0, 1)),
+            "-x": ([(x0, y0, z1), (x0, y1, z1), (x0, y1, z0), (x0, y0, z0)], (-1, 0, 0)),
+            "+x": ([(x1, y0, z0), (x1, y1, z0), (x1, y1, z1), (x1, y0, z1)], (1, 0, 0)),
+        }
+        for key, (points, direction) in faces.items():
+            if key not in skip:
+                self.quad(name, material, points, direction)
+
+    def prism(self, name, material, centre, radius, y0, y1, sides, top=False):
+        """A vertical prism of `sides` sides standing on y0 (no bottom face)."""
+        cx, cz = centre
+        ring = [(cx + radius * math.cos(2 * math.pi * k / sides), cz + radius * math.sin(2 * math.pi * k / sides))
+                for k in range(sides)]
+        for k in range(sides):
+            (ax, az), (bx, bz) = ring[k], ring[(k + 1) % sides]
+            out = ((ax + bx) / 2 - cx, 0.0, (az + bz) / 2 - cz)
+            self.quad(name, material, [(ax, y0, az), (bx, y0, bz), (bx, y1, bz), (ax, y1, az)], out)
+        if top:
+            self.quad(name, material, [(x, y1, z) for x, z in ring], (0, 1, 0))
+
+
+def office():
+    """An open-plan office, 12 x 8 x 3 m, in metres: carpet, walls and ceiling
+    written as CAD exporters write them (grids of coplanar triangles), four
+    bench-desk clusters with screens, chairs and pedestals, five bookcases of
+    books, three windows (dark glass) and eight small ceiling luminaires."""
+    import random
+    rng = random.Random(5)
+    folder = os.path.join(ROOT, "office")
+    os.makedirs(folder, exist_ok=True)
+    obj = CadObj()
+    X, Y, Z = 12.0, 3.0, 8.0
+    # Shell: carpet tiles of 0.25 m, ceiling tiles of 0.5 m, walls of 1 m, all triangulated.
+    obj.triangle_grid("floor", "carpet", (0, 0, 0), (0.25, 0, 0), (0, 0, 0.25), 48, 32, (0, 1, 0))
+    obj.triangle_grid("ceiling", "ceiling", (0, Y, 0), (0.5, 0, 0), (0, 0, 0.5), 24, 16, (0, -1, 0))
+    obj.triangle_grid("wall_south", "wall", (0, 0, 0), (1, 0, 0), (0, 1, 0), 12, 3, (0, 0, 1))
+    obj.triangle_grid("wall_north", "wall", (0, 0, Z), (1, 0, 0), (0, 1, 0), 12, 3, (0, 0, -1))
+    obj.triangle_grid("wall_west", "accent", (0, 0, 0), (0, 0, 1), (0, 1, 0), 8, 3, (1, 0, 0))
+    obj.triangle_grid("wall_east", "wall", (X, 0, 0), (0, 0, 1), (0, 1, 0), 8, 3, (-1, 0, 0))
+    # Windows on the east wall: dark glass panes in 4 cm frames against the wall.
+    for zc in (1.6, 4.0, 6.4):
+        obj.open_box("window", "glass", (X - 0.04, 0.9, zc - 0.9), (X, 2.4, zc + 0.9), skip=("+x",))
+    # Luminaires: 0.4 m square panels, 5 cm deep, on the ceiling; the bottom emits.
+    for xc in (2.2, 3.8, 7.4, 9.0):
+        for zc in (1.9, 5.4):
+            lo, hi = (xc - 0.2, Y - 0.05, zc - 0.2), (xc + 0.2, Y, zc + 0.2)
+            obj.open_box("luminaire_frame", "frame", lo, hi, skip=("+y", "-y"))
+            obj.quad("luminaire", "lamp", [(lo[0], lo[1], lo[2]), (hi[0], lo[1], lo[2]),
+                                           (hi[0], lo[1], hi[2]), (lo[0], lo[1], hi[2])], (0, -1, 0))
+    # Bench-desk clusters: two 3.2 x 0.8 m benches face to face across a screen.
+    for x0 in (1.4, 6.6):
+        for z0 in (1.1, 4.6):
+            cluster(obj, x0, z0)
+    # Bookcases along the north wall, with books.
+    for k in range(5):
+        bookcase(obj, rng, 1.2 + 1.04 * k, Z)
+    obj.write(os.path.join(folder, "office.obj"),
+              "# An open-plan office, 12 x 8 x 3 m, written as a CAD exporter would (floor,\n"
+              "# ceiling and walls as grids of coplanar triangles, round legs as prisms):\n"
+              "# four bench-desk clusters, five bookcases, eight ceiling luminaires. Metres.\n"
+              "# Generated by scripts/generate_scenes.py.",
+              "office.mtl")
+    books = "".join(f"newmtl book{k}\nKd {r} {g} {b}\n\n" for k, (r, g, b) in enumerate(BOOK_COLOURS))
+    write(os.path.join(folder, "office.mtl"),
+          "# Reflectances of a typical office: ceiling 0.8, walls 0.7, carpet 0.3.\n"
+          "newmtl carpet\nKd 0.3 0.3 0.32\n\nnewmtl ceiling\nKd 0.8 0.8 0.8\n\n"
+          "newmtl wall\nKd 0.7 0.69 0.66\n\nnewmtl accent\nKd 0.35 0.45 0.6\n\n"
+          "newmtl glass\nKd 0.04 0.05 0.06\n\nnewmtl frame\nKd 0.75 0.75 0.75\n\n"
+          "newmtl desk\nKd 0.6 0.5 0.38\n\nnewmtl metal\nKd 0.4 0.4 0.42\n\n"
+          "newmtl screen\nKd 0.3 0.5 0.35\n\nnewmtl chair\nKd 0.12 0.12 0.14\n\n"
+          "newmtl cabinet\nKd 0.55 0.55 0.55\n\nnewmtl shelf\nKd 0.65 0.6 0.5\n\n"
+          + books +
+          "# Luminaires: emitted radiance L_e in W/(m2 sr) (each panel emits pi L_e A, 38 W).\n"
+          "newmtl lamp\nKd 0 0 0\nKe 75 72 66\n")
+    write(os.path.join(folder, "office.toml"),
+          "# An open-plan office (isorad scene file); see scripts/generate_scenes.py.\n"
+          'obj = "office.obj"\nmerge_coplanar = true\n\n[camera]\nposition = [0.4, 1.65, 0.4]\n'
+          "look_at = [7.5, 0.6, 6.0]\nup = [0.0, 1.0, 0.0]\nvfov_deg = 62.0\nwidth = 800\nheight = 500\n")
+
+
+BOOK_COLOURS = [(0.55, 0.12, 0.1), (0.12, 0.22, 0.5), (0.15, 0.4, 0.2), (0.7, 0.62, 0.45),
+                (0.2, 0.2, 0.22), (0.65, 0.45, 0.1)]
+
+
+def cluster(obj, x0, z0):
+    """Two benches (3.2 x 0.8 m, top at 0.745 m) face to face, 2 cm apart,
+    with a 4 cm screen resting on both, two chairs and two pedestals each."""
+    top, thick = 0.745, 0.025
+    for side, (za, zb) in enumerate(((z0, z0 + 0.8), (z0 + 0.82, z0 + 1.62))):
+        obj.open_box("desk", "desk", (x0, top - thick, za), (x0 + 3.2, top, zb))
+        for lx in (x0 + 0.06, x0 + 1.6, x0 + 3.14):
+            for lz in (za + 0.06, zb - 0.06):
+                obj.prism("desk_leg", "metal", (lx, lz), 0.03, 0.0, top - thick, 8)
+        outer = za if side == 0 else zb  # the seated side
+        for k in range(2):
+            xc = x0 + 0.8 + 1.6 * k
+            # Pedestal under the desk, on the floor.
+            pz = (za + 0.1, za + 0.7) if side == 0 else (zb - 0.7, zb - 0.1)
+            obj.open_box("pedestal", "cabinet", (xc + 0.25, 0.0, pz[0]), (xc + 0.65, 0.6, pz[1]), skip=("-y",))
+            chair(obj, xc - 0.1, outer - 0.4 if side == 0 else outer + 0.4, -1 if side == 0 else 1)
+    zs = z0 + 0.81
+    obj.open_box("desk_screen", "screen", (x0, top, zs - 0.02), (x0 + 3.2, top + 0.4, zs + 0.02), skip=("-y",))
+
+
+def chair(obj, xc, zc, back_side):
+    """An office chair: a square base plate, a column, a seat and a backrest.
+    (A 16-sided base plate under the octagonal column makes the contact
+    mesher's constrained triangulation panic inside spade 2.15.)"""
+    obj.open_box("chair_base", "chair", (xc - 0.25, 0.0, zc - 0.25), (xc + 0.25, 0.05, zc + 0.25), skip=("-y",))
+    obj.prism("chair_column", "metal", (xc, zc), 0.03, 0.05, 0.42, 8)
+    obj.open_box("chair_seat", "chair", (xc - 0.23, 0.42, zc - 0.23), (xc + 0.23, 0.48, zc + 0.23))
+    zb = zc + back_side * 0.23
+    obj.open_box("chair_back", "chair", (xc - 0.23, 0.48, min(zb, zb - back_side * 0.05)),
+                 (xc + 0.23, 0.98, max(zb, zb - back_side * 0.05)), skip=("-y",))
+
+
+def bookcase(obj, rng, x0, wall_z):
+    """A 1 x 2 x 0.35 m bookcase against the wall at z = wall_z, with four
+    shelves of books (boxes standing on the boards, 3 mm apart)."""
+    w, h, d = 1.0, 2.0, 0.35
+    z0 = wall_z - d
+    for sx in (x0, x0 + w - 0.02):
+        obj.open_box("bookcase", "shelf", (sx, 0.0, z0), (sx + 0.02, h, wall_z), skip=("-y", "+z"))
+    levels = [0.08, 0.5, 0.92, 1.34, 1.76, h - 0.02]
+    for y in levels:
+        obj.open_box("bookcase", "shelf", (x0 + 0.02, y, z0), (x0 + w - 0.02, y + 0.02, wall_z),
+                     skip=("-x", "+x", "+z"))
+    obj.open_box("bookcase", "shelf", (x0 + 0.02, 0.0, z0), (x0 + w - 0.02, 0.08, z0 + 0.02), skip=("-y", "+y"))
+    for y in levels[:4]:
+        x = x0 + 0.025
+        while True:
+            t = rng.uniform(0.018, 0.045)
+            if x + t > x0 + w - 0.025:
+                break
+            bh, bd = rng.uniform(0.2, 0.3), rng.uniform(0.17, 0.26)
+            colour = rng.randrange(len(BOOK_COLOURS))
+            obj.open_box("book", f"book{colour}", (x, y + 0.02, z0 + 0.03), (x + t, y + 0.02 + bh, z0 + 0.03 + bd),
+                         skip=("-y",))
+            x += t + 0.003
+
+
 if __name__ == "__main__":
     seed(0)
     seed(30)
     seed_material()
     room()
+    office()

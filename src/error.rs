@@ -136,6 +136,24 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// A mesh would have more elements than [`crate::MeshSettings::max_elements`]
+    /// allows: refused before any memory is spent on it.
+    #[error(
+        "the mesh would have about {estimate:.0} elements, more than --max-elements {limit} \
+         (elements of edge {max_edge:.3e} on a scene {diagonal:.3e} across); use a larger \
+         --max-edge (`[mesh] max_edge`) or fewer --elements-per-side, or raise --max-elements \
+         (`MeshSettings::max_elements`) if this machine can hold and solve that many"
+    )]
+    MeshTooLarge {
+        /// Elements the settings would make.
+        estimate: f64,
+        /// The limit in force.
+        limit: usize,
+        /// The requested element edge, scene units.
+        max_edge: f64,
+        /// The scene's bounding diagonal, scene units.
+        diagonal: f64,
+    },
     /// An output image or file could not be encoded.
     #[error("{path}: cannot write: {message}")]
     Output {

@@ -43,11 +43,44 @@
 //! # Ok::<(), isorad::Error>(())
 //! ```
 //!
-//! To load files instead, use [`load_scene`] with a scene TOML, an OBJ path or
-//! the built-in name `"cornell"`; to look at the result, [`mesh_triangles`],
-//! [`rasterize`], [`write_exr`] and [`write_png`]; to compare meshers,
-//! [`write_loglog_plot`] (error against vertex count) and
-//! [`write_mesh_panels`] (meshes side by side with their wireframes).
+//! # The API in five steps
+//!
+//! 1. **A scene.** Build it in code with [`Scene::new`],
+//!    [`Scene::add_material`] ([`Material::diffuse`], [`Material::emitter`]),
+//!    [`Scene::add_polygon`] and [`Scene::set_camera`], or load a scene TOML,
+//!    an OBJ + MTL or the built-in `"cornell"` with [`load_scene`]
+//!    ([`load_scene_with`] and [`LoadSettings`] to keep the adjacent coplanar
+//!    faces of a triangulated OBJ apart instead of merging them). Both paths
+//!    check the same things and fail with the same [`Error`] variants; what
+//!    was repaired or skipped (a non-planar face split, a degenerate one
+//!    dropped) is listed in [`Scene::warnings`]. The library prints nothing.
+//! 2. **Settings.** [`Settings`] holds [`MeshSettings`] and
+//!    [`SolverSettings`]: plain data with defaults and the presets
+//!    [`Settings::preview`] and [`Settings::final_quality`]; lengths may be
+//!    fractions of the scene's size ([`Length::OfDiagonal`]).
+//! 3. **Solve.** [`Solver::new`] takes the scene and settings, meshes the
+//!    scene and builds its BVH ([`Solver::with_mesh`] takes a mesh of your
+//!    own). [`Solver::step`] makes one shot; [`Solver::run_until`] shoots
+//!    until an [`Until`] criterion is met — tolerance, shot count, time budget
+//!    or an `AtomicBool` set from another thread — calling back with
+//!    [`Progress`] after each shot, and says why it stopped ([`StopReason`]).
+//!    It stops only between shots, so the solution is always consistent.
+//! 4. **Query.** [`Solver::solution`] (with or without the ambient term for
+//!    the light not yet shot) gives a [`Solution`]: values at any point of a
+//!    surface ([`Solution::probe`], by final gather or mesh interpolation),
+//!    per-surface totals ([`Solution::surface_totals`]), and the shaded
+//!    triangles for a viewer of your own ([`Solution::triangles`]).
+//! 5. **Look.** [`Solution::render`] rasterizes into an [`Image`] of linear
+//!    radiance that you own; [`write_exr`] and [`write_png`] write it (to a
+//!    temporary file, then renamed). Beside them, [`export_glb`] and
+//!    [`export_ply`] (or [`export_solution`], by the path's extension) write
+//!    the solved mesh with its light baked into the vertices, for a viewer or
+//!    another tool, with the PNG's exposure ([`ToneMap`]).
+//!
+//! `examples/embed.rs` and `examples/progress.rs` show all of it. To compare
+//! meshers: [`compare_receiver`], [`write_loglog_plot`] (error against vertex
+//! count) and [`write_mesh_panels`] (meshes side by side with their
+//! wireframes).
 //!
 //! # References
 //! - M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive
@@ -63,8 +96,11 @@
 //! - Y. Ylitie, T. Karras, S. Laine, "Efficient Incoherent Ray Traversal on
 //!   GPUs Through Compressed Wide BVHs", HPG 2017 (obvhs's CWBVH).
 
+#![warn(missing_docs)]
+
 mod compare;
 mod error;
+mod export;
 mod mesh;
 mod radiometry;
 mod render;
@@ -76,10 +112,12 @@ pub use compare::{
     panels_for_figure, write_json,
 };
 pub use error::{Error, Result};
+pub use export::{ExportFormat, export_glb, export_ply, export_solution};
 pub use mesh::{
     Cell, ContourLayout, ContourSettings, Element, ElementHierarchy, ElementKey, ElementNode,
     ErrorGrid, InterpolationError, Mesh, MeshVertex, Patch, PlaneTriangulation, ScalarField,
-    SquareMeshSettings, contour_layout, interpolation_error, mesh_square,
+    SquareMeshSettings, contour_layout, estimate_square_elements, interpolation_error, mesh_square,
+    mesh_surfaces,
 };
 pub use radiometry::{
     DiscModel, ReceiverPlane, SmallDisc, TiltFrame, disc_form_factor, polygon_form_factor,
@@ -91,14 +129,16 @@ pub use render::{
     write_mesh_panels, write_png,
 };
 pub use scene::{
-    Camera, CameraFrame, LoadedScene, Material, PlaneFrame, PolygonPlane, ProbePoint, Rgb, Scene,
-    SceneOptions, Surface, Visibility, Warning, best_fit_plane, builtin_names, load_obj,
-    load_probe_points, load_scene, load_scene_file, newell_normal, parse_probe_points,
-    triangulate_polygon,
+    Camera, CameraFrame, LoadSettings, LoadedScene, Material, MergeReport, PlaneFrame,
+    PolygonPlane, ProbePoint, Rgb, Scene, SceneOptions, Surface, Visibility, Warning,
+    best_fit_plane, builtin_names, distance_to_boundary, load_obj, load_probe_points, load_scene,
+    load_scene_file, load_scene_with, merge_coplanar_faces, newell_normal, parse_probe_points,
+    polygon_contains, triangulate_polygon,
 };
 pub use solver::{
     DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Length, Luminaire,
     MeshAnalysis, MeshKind, MeshSettings, Probe, ProbeMode, Progress, ReceiverAnalysis,
-    RefinementSettings, SceneMesh, Settings, Solution, Solver, SolverSettings, StopReason, Until,
-    analyse_receivers, elements_to_split, luminaires, mesh_scene, receiver_layout,
+    RefinementSettings, SceneMesh, Settings, Solution, Solver, SolverSettings, StopReason,
+    SurfaceTotals, Until, analyse_receivers, elements_to_split, luminaires, mesh_scene,
+    receiver_layout,
 };

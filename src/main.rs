@@ -10,11 +10,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use isorad::{
-    CompareSettings, DominanceSettings, Length, Luminaire, MeshKind, ProbeMode, Progress,
-    ReceiverAnalysis, RenderSettings, Scene, SceneOptions, Settings, Solver, StopReason, ToneMap,
-    Until, Visibility, analyse_receivers, auto_exposure, compare_receiver, load_probe_points,
-    load_scene, luminaires, panels_for_figure, write_exr, write_json, write_loglog_plot,
-    write_mesh_panels, write_png,
+    CompareSettings, DominanceSettings, ExportFormat, Length, LoadSettings, Luminaire, MeshKind,
+    MeshSettings, ProbeMode, Progress, ReceiverAnalysis, RenderSettings, Scene, SceneOptions,
+    Settings, Solver, StopReason, ToneMap, Until, Visibility, analyse_receivers, auto_exposure,
+    compare_receiver, export_solution, load_probe_points, load_scene, load_scene_with, luminaires,
+    panels_for_figure, write_exr, write_json, write_loglog_plot, write_mesh_panels, write_png,
 };
 
 /// Global illumination by progressive radiosity.
@@ -76,9 +76,17 @@ struct SolveArgs {
     /// N × N elements on every quad instead of --max-edge.
     #[arg(long)]
     elements_per_side: Option<usize>,
+    /// Refuse to mesh when the mesh would have more elements than this
+    /// (counted before meshing, so absurd settings fail at once).
+    #[arg(long, default_value_t = MeshSettings::DEFAULT_MAX_ELEMENTS)]
+    max_elements: usize,
     /// No progress bar.
     #[arg(long, short)]
     quiet: bool,
+    /// Keep adjacent coplanar faces apart (by default they are merged into
+    /// polygons when loading).
+    #[arg(long)]
+    no_merge: bool,
 }
 
 #[derive(Args)]
@@ -104,8 +112,11 @@ struct RenderArgs {
     #[arg(long, default_value_t = 3)]
     supersampling: u32,
     /// Write the images (ambient term added) every N shots while solving.
-    #[arg(long, value_name = "N")]
-    preview_every: Option<usize>,
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    preview_every: Option<u64>,
+    /// Also export the solved mesh with baked light: .ply or .glb (repeatable).
+    #[arg(long, value_name = "FILE")]
+    export: Vec<PathBuf>,
 }
 
 #[derive(Args)]
@@ -172,7 +183,9 @@ struct Prepared {
 
 /// Loads and meshes a scene: the scene file's settings, then the flags.
 fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
-    let loaded = load_scene(&args.scene)?;
+    let mut load_settings = LoadSettings::default();
+    load_settings.merge_coplanar = !args.no_merge;
+    let loaded = load_scene_with(&args.scene, &load_settings)?;
     for warning in &loaded.scene.warnings {
         eprintln!("warning: {}", warning.message);
     }
@@ -217,6 +230,7 @@ fn settings_from(args: &SolveArgs, options: &SceneOptions) -> anyhow::Result<Set
     if let Some(levels) = args.refine_levels {
         mesh.refinement.max_levels = levels;
     }
+    mesh.max_elements = args.max_elements;
     if let Some(tolerance) = args.tolerance.or(options.tolerance) {
         settings.solver.tolerance = tolerance;
     }
@@ -246,8 +260,17 @@ impl std::error::Error for Interrupted {}
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     // Outputs are checked first, so that a typo costs no solve.
-    for path in [&args.output, &args.png] {
+    for path in [&args.output, &args.png].into_iter().chain(&args.export) {
         ensure_directory_exists(path)?;
+    }
+    if let Some(exposure) = args.exposure {
+        anyhow::ensure!(
+            exposure.is_finite(),
+            "--exposure {exposure} is not a number of stops"
+        );
+    }
+    for path in &args.export {
+        ExportFormat::from_path(path)?;
     }
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed))
         .context("cannot install the Ctrl-C handler")?;
@@ -278,8 +301,19 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         |solver| write_images(solver).map(|_| ()),
     )?;
     let exposure = write_images(&solver)?;
+    // Exports (final only, not at previews) take the PNG's exposure.
+    let solution = solver.solution(true);
+    for path in &args.export {
+        export_solution(&solution, &ToneMap { exposure }, path)?;
+    }
     print_summary(&source, &solver, solve_seconds);
-    let outputs = format!("{} and {}", args.output.display(), args.png.display());
+    let mut written: Vec<String> = [&args.output, &args.png]
+        .into_iter()
+        .chain(&args.export)
+        .map(|path| path.display().to_string())
+        .collect();
+    let last = written.pop().unwrap_or_default();
+    let outputs = format!("{} and {last}", written.join(", "));
     if stop == StopReason::Cancelled {
         return Err(Interrupted(format!(
             "interrupted: wrote the solution after {} shots (unshot {:.3} %, ambient term added) to {outputs}",
@@ -533,7 +567,7 @@ fn solve_with_progress(
     solver: &mut Solver,
     until: &Until,
     quiet: bool,
-    preview_every: Option<usize>,
+    preview_every: Option<u64>,
     mut preview: impl FnMut(&Solver) -> anyhow::Result<()>,
 ) -> anyhow::Result<(StopReason, f64)> {
     let start = Instant::now();
@@ -564,7 +598,10 @@ fn solve_with_progress(
     let stop = loop {
         // Solve to the next preview, if any, then draw it.
         let next = match preview_every {
-            Some(every) => max_shots.min(solver.shots().saturating_add(every.max(1))),
+            Some(every) => {
+                let every = usize::try_from(every).unwrap_or(usize::MAX);
+                max_shots.min(solver.shots().saturating_add(every))
+            }
             None => max_shots,
         };
         let stop = solver.run_until(&until.total_shots(next), show);
@@ -576,7 +613,21 @@ fn solve_with_progress(
         preview_seconds += preview_start.elapsed().as_secs_f64();
     };
     bar.finish_and_clear();
+    warn_if_nothing_is_lit(solver);
     Ok((stop, start.elapsed().as_secs_f64() - preview_seconds))
+}
+
+/// Warns when the emitters' light reaches no surface (they face away from
+/// the scene, or nothing else is there): the image is black but for them.
+fn warn_if_nothing_is_lit(solver: &Solver) {
+    let lit = |h: &isorad::Rgb| h.element_sum() > 0.0;
+    if solver.shots() > 0 && !solver.irradiance().iter().any(lit) {
+        eprintln!(
+            "warning: no surface receives light from the emitters: all of it leaves the scene. \
+             Faces emit from their front only (vertices counter-clockwise seen from the front); \
+             check that the emitting faces face the scene"
+        );
+    }
 }
 
 #[derive(Args)]

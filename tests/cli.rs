@@ -295,3 +295,92 @@ fn render_with_the_contour_mesher() {
     let out = isorad(dir.path(), &["render", "--mesh", "hexagonal", "-q"]);
     assert!(!out.status.success() && stderr(&out).contains("hexagonal"));
 }
+
+/// Waits for a child for at most `seconds`, killing it after.
+fn wait_at_most(child: &mut std::process::Child, seconds: u64) -> std::process::ExitStatus {
+    let start = std::time::Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status;
+        }
+        if start.elapsed().as_secs() > seconds {
+            child.kill().unwrap();
+            panic!("isorad did not stop within {seconds} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn ctrl_c_writes_the_solution_so_far_says_so_and_fails() {
+    use std::io::Read;
+    let dir = tempfile::tempdir().unwrap();
+    // A solve that would take minutes, with a preview after every shot.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_isorad"))
+        .current_dir(dir.path())
+        .args(["render", "--tolerance", "1e-9", "--max-edge", "10"])
+        .args([
+            "--width",
+            "40",
+            "--height",
+            "40",
+            "--preview-every",
+            "1",
+            "--export",
+            "lit.ply",
+            "-q",
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The first preview (written by rename, so complete) says shooting began.
+    let exr = dir.path().join("isorad.exr");
+    let start = std::time::Instant::now();
+    while !exr.is_file() {
+        assert!(start.elapsed().as_secs() < 120, "no preview written");
+        assert!(child.try_wait().unwrap().is_none(), "isorad ended early");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let preview = isorad::read_exr(&exr).unwrap();
+    assert!(preview.mean().x > 0.0, "the preview is lit");
+    // Previews write the images only; the export comes at the end.
+    let ply = dir.path().join("lit.ply");
+    assert!(!ply.exists(), "no export at a preview");
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = wait_at_most(&mut child, 60);
+    let mut message = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut message)
+        .unwrap();
+    assert_eq!(status.code(), Some(130), "{message}");
+    assert!(
+        message.contains("interrupted")
+            && message.contains("ambient term added")
+            && message.contains("lit.ply"),
+        "{message}"
+    );
+    // The export of the solution so far is written too.
+    assert!(std::fs::read(&ply).unwrap().starts_with(b"ply\n"));
+    // Both outputs are whole images of the solution so far.
+    let image = isorad::read_exr(&exr).unwrap();
+    assert_eq!((image.width(), image.height()), (40, 40));
+    let mean = image.mean();
+    assert!(mean.x > mean.z && mean.z > 0.0, "a warm, lit box: {mean}");
+    let png = image::open(dir.path().join("isorad.png")).unwrap();
+    assert_eq!((png.width(), png.height()), (40, 40));
+}
+
+#[test]
+fn preview_every_zero_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = isorad(dir.path(), &["render", "--preview-every", "0", "-q"]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("preview-every"), "{}", stderr(&out));
+}

@@ -155,6 +155,18 @@ impl ReceiverComparison {
 /// Writes every record of every comparison as a JSON array (atomically).
 pub fn write_json(comparisons: &[ReceiverComparison], path: &Path) -> Result<()> {
     let records: Vec<&MeshRecord> = comparisons.iter().flat_map(|c| &c.records).collect();
+    // JSON has no NaN: serde_json would write `null` where a number belongs.
+    if let Some(bad) = records.iter().find(|r| {
+        !(r.rms_rel_error.is_finite() && r.max_rel_error.is_finite() && r.seconds.is_finite())
+    }) {
+        return Err(Error::Output {
+            path: path.to_path_buf(),
+            message: format!(
+                "the record of {} {} on `{}` holds a non-finite error; nothing was written",
+                bad.mesher, bad.params, bad.receiver
+            ),
+        });
+    }
     let text = serde_json::to_string_pretty(&records).map_err(|e| Error::Output {
         path: path.to_path_buf(),
         message: e.to_string(),

@@ -1,5 +1,7 @@
 //! Constrained Delaunay triangulation of a planar region (spade).
 
+use std::collections::HashMap;
+
 use glam::DVec2;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
@@ -33,14 +35,38 @@ pub fn triangulate_constrained(
 ) -> PlaneTriangulation {
     let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
         ConstrainedDelaunayTriangulation::new();
+    // Points a rounding error apart (a layout point and a patch corner
+    // computed two ways) become one: two vertices there would leave a crack.
+    let mut snap = Snapper::new(
+        outline
+            .iter()
+            .chain(points)
+            .chain(constraints.iter().flatten()),
+    );
+    let outline: Vec<DVec2> = outline.iter().map(|&p| snap.point(p)).collect();
+    let points: Vec<DVec2> = points.iter().map(|&p| snap.point(p)).collect();
+    let constraints: Vec<[DVec2; 2]> = constraints
+        .iter()
+        .map(|s| s.map(|p| snap.point(p)))
+        .collect();
+    let outline_edges: Vec<[DVec2; 2]> = (0..outline.len())
+        .map(|k| [outline[k], outline[(k + 1) % outline.len()]])
+        .collect();
+    // Where segments cross, a vertex of our own: spade's splitting of
+    // crossing constraints is not robust to nearly coincident crossings.
+    let crossings: Vec<DVec2> = segment_crossings(&outline_edges, &constraints)
+        .into_iter()
+        .map(|p| snap.point(p))
+        .collect();
     // Every point, then every constraint as a chain through the points lying
     // on it: a point a rounding error off a constraint's line must not be
     // left on one side of it in a sliver.
     let mut vertices: Vec<(DVec2, _)> = Vec::new();
     for &p in outline
         .iter()
-        .chain(points)
+        .chain(&points)
         .chain(constraints.iter().flatten())
+        .chain(&crossings)
     {
         if let Ok(handle) = cdt.insert(Point2::new(p.x, p.y)) {
             vertices.push((p, handle));
@@ -50,8 +76,7 @@ pub fn triangulate_constrained(
         .iter()
         .map(|(p, _)| p.abs().max_element())
         .fold(0.0, f64::max);
-    let outline_edges = (0..outline.len()).map(|k| [outline[k], outline[(k + 1) % outline.len()]]);
-    for [a, b] in outline_edges.chain(constraints.iter().copied()) {
+    for &[a, b] in outline_edges.iter().chain(&constraints) {
         let length_squared = (b - a).length_squared();
         if length_squared.is_nan() || length_squared <= 0.0 {
             continue;
@@ -67,26 +92,117 @@ pub fn triangulate_constrained(
             .collect();
         chain.sort_by(|x, y| x.0.total_cmp(&y.0));
         chain.dedup_by_key(|(_, handle)| *handle);
+        // Crossings are vertices already; a piece that would still cross
+        // an earlier constraint (by a rounding error) is left out.
         for pair in chain.windows(2) {
-            cdt.add_constraint_and_split(pair[0].1, pair[1].1, |p| p);
+            if cdt.can_add_constraint(pair[0].1, pair[1].1) {
+                cdt.add_constraint(pair[0].1, pair[1].1);
+            }
         }
     }
-    // Keep the faces whose centroid lies inside the outline.
-    let points: Vec<DVec2> = cdt
+    // A vertex spade made where constraints cross, a rounding error from a
+    // vertex already there, is that vertex (else the mesh has a crack).
+    let mut points: Vec<DVec2> = Vec::new();
+    let mut by_position: HashMap<[u64; 2], usize> = HashMap::new();
+    let remap: Vec<usize> = cdt
         .vertices()
-        .map(|v| DVec2::new(v.position().x, v.position().y))
+        .map(|v| {
+            let p = snap.point(DVec2::new(v.position().x, v.position().y));
+            *by_position
+                .entry([p.x.to_bits(), p.y.to_bits()])
+                .or_insert_with(|| {
+                    points.push(p);
+                    points.len() - 1
+                })
+        })
         .collect();
+    // Keep the faces whose centroid lies inside the outline.
     let triangles = cdt
         .inner_faces()
-        .map(|face| face.vertices().map(|v| v.fix().index()))
+        .map(|face| face.vertices().map(|v| remap[v.fix().index()]))
+        .filter(|&[a, b, c]| a != b && b != c && c != a)
         .filter(|&[a, b, c]| {
             let (pa, pb, pc) = (points[a], points[b], points[c]);
             let twice_area = (pb - pa).perp_dot(pc - pa);
             let scale = (pb - pa).length_squared().max((pc - pa).length_squared());
-            twice_area > 1e-12 * scale && polygon_contains(outline, (pa + pb + pc) / 3.0)
+            twice_area > 1e-12 * scale && polygon_contains(&outline, (pa + pb + pc) / 3.0)
         })
         .collect();
     PlaneTriangulation { points, triangles }
+}
+
+/// The points where two segments cross properly (each passing strictly
+/// through the other), over every pair of `outline` edges and
+/// `constraints` (outline edges against each other excepted: the outline is
+/// simple). O(n²), pairs with disjoint bounding boxes skipped.
+fn segment_crossings(outline: &[[DVec2; 2]], constraints: &[[DVec2; 2]]) -> Vec<DVec2> {
+    let segments: Vec<[DVec2; 2]> = outline.iter().chain(constraints).copied().collect();
+    let mut crossings = Vec::new();
+    for (i, &[a, b]) in segments.iter().enumerate() {
+        let (low, high) = (a.min(b), a.max(b));
+        for &[c, d] in &segments[(i + 1).max(outline.len())..] {
+            if c.max(d).cmplt(low).any() || c.min(d).cmpgt(high).any() {
+                continue;
+            }
+            let denominator = (b - a).perp_dot(d - c);
+            if denominator == 0.0 || !denominator.is_finite() {
+                continue;
+            }
+            let t = (c - a).perp_dot(d - c) / denominator;
+            let u = (c - a).perp_dot(b - a) / denominator;
+            if t > 0.0 && t < 1.0 && u > 0.0 && u < 1.0 {
+                crossings.push(a + (b - a) * t);
+            }
+        }
+    }
+    crossings
+}
+
+/// Merges points closer than [`SNAP_DISTANCE`] × their largest coordinate:
+/// each point maps to the first point met within that distance.
+struct Snapper {
+    cell: f64,
+    cells: HashMap<(i64, i64), Vec<DVec2>>,
+}
+
+/// Distance, relative to the largest coordinate, under which points merge:
+/// a million rounding errors of coordinates a thousand polygon sizes from
+/// the origin, far below any mesh feature.
+const SNAP_DISTANCE: f64 = 1e-10;
+
+impl Snapper {
+    fn new<'a>(points: impl Iterator<Item = &'a DVec2>) -> Snapper {
+        let scale = points
+            .filter(|p| p.is_finite())
+            .map(|p| p.abs().max_element())
+            .fold(0.0, f64::max);
+        Snapper {
+            cell: SNAP_DISTANCE * scale,
+            cells: HashMap::new(),
+        }
+    }
+
+    /// The representative of `p`: an earlier point within the snapping
+    /// distance, or `p` itself.
+    fn point(&mut self, p: DVec2) -> DVec2 {
+        if !(p.is_finite() && self.cell > 0.0) {
+            return p;
+        }
+        let key = (
+            (p.x / self.cell).floor() as i64,
+            (p.y / self.cell).floor() as i64,
+        );
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                let near = self.cells.get(&(key.0 + dx, key.1 + dy));
+                if let Some(&q) = near.and_then(|c| c.iter().find(|q| q.distance(p) <= self.cell)) {
+                    return q;
+                }
+            }
+        }
+        self.cells.entry(key).or_default().push(p);
+        p
+    }
 }
 
 #[cfg(test)]

@@ -88,7 +88,7 @@ const RAY_SAMPLES: usize = 96;
 /// (which may lie outside the polygon).
 ///
 /// The levels are chosen for even interpolation error (see
-/// [`choose_levels`]); each vertex X_{k,d} solves B(c + t u_d) = B_k by
+/// `choose_levels`); each vertex X_{k,d} solves B(c + t u_d) = B_k by
 /// safeguarded Newton; vertices outside the polygon are dropped, and where a
 /// level meets the polygon's boundary the crossing becomes a vertex, so
 /// levels not reached in some directions and non-convex polygons are

@@ -2,6 +2,7 @@
 //!
 //! The mesh knows nothing of light.
 
+mod budget;
 mod constrained;
 mod contacts;
 mod contour;
@@ -11,6 +12,7 @@ mod patch;
 mod square;
 mod topology;
 
+pub use budget::estimate_square_elements;
 pub use constrained::PlaneTriangulation;
 pub use contour::{ContourLayout, ContourSettings, ScalarField, contour_layout};
 pub use hierarchy::{ElementHierarchy, ElementKey, ElementNode};

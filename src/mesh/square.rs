@@ -75,7 +75,7 @@ pub fn receiver_inset(scene: &Scene) -> f64 {
 /// Meshes every surface of the scene uniformly. Where another surface
 /// stands on one (a block on a floor), the grid is re-triangulated with
 /// element edges along the contact lines, and the elements hidden under the
-/// object are dropped (see [`super::contacts`]).
+/// object are dropped (see `mesh/contacts.rs`).
 #[must_use]
 pub fn mesh_square(scene: &Scene, settings: &SquareMeshSettings) -> Mesh {
     mesh_surfaces(scene, settings, &|_| None)
@@ -136,7 +136,7 @@ fn square_grid(surface: &Surface, index: u32, settings: &SquareMeshSettings) -> 
 const CONTACT_TOLERANCE: f64 = 1e-3;
 
 /// The corners of a surface that is a strictly convex quadrilateral.
-fn convex_quad(surface: &Surface) -> Option<[DVec3; 4]> {
+pub(super) fn convex_quad(surface: &Surface) -> Option<[DVec3; 4]> {
     let points = surface.plane_vertices();
     if points.len() != 4 {
         return None;
@@ -151,13 +151,90 @@ fn convex_quad(surface: &Surface) -> Option<[DVec3; 4]> {
 
 /// Number of divisions of a length under a maximum step (at least 1, at most
 /// 4096 so that absurd settings cannot exhaust memory).
-fn divisions(length: f64, max_step: f64) -> usize {
+pub(super) fn divisions(length: f64, max_step: f64) -> usize {
     let n = (length / max_step).ceil();
     if n.is_finite() {
         n.clamp(1.0, 4096.0) as usize
     } else {
         1
     }
+}
+
+/// The longest edge lengths of a quad along its u (a→b, d→c) and v
+/// (a→d, b→c) directions.
+fn quad_lengths([a, b, c, d]: [DVec3; 4]) -> (f64, f64) {
+    (
+        (b - a).length().max((c - d).length()),
+        (d - a).length().max((c - b).length()),
+    )
+}
+
+/// Columns and rows of a convex quad's grid.
+pub(super) fn quad_grid_size(corners: [DVec3; 4], settings: &SquareMeshSettings) -> (usize, usize) {
+    let (length_u, length_v) = quad_lengths(corners);
+    match settings.elements_per_side {
+        Some(n) => (n.clamp(1, 4096), n.clamp(1, 4096)),
+        None => (
+            divisions(length_u, settings.max_edge),
+            divisions(length_v, settings.max_edge),
+        ),
+    }
+}
+
+/// A surface's triangles with the divisions n of its lattice and of a
+/// patch block (see [`lattice_divisions`]).
+pub(super) fn lattice_size(
+    surface: &Surface,
+    settings: &SquareMeshSettings,
+) -> (Vec<[usize; 3]>, usize, usize) {
+    let points = surface.vertices();
+    let triangles = surface.triangles();
+    let longest = triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| (points[t[k]] - points[t[(k + 1) % 3]]).length()))
+        .fold(0.0, f64::max);
+    let (n, block) = lattice_divisions(surface, triangles.len(), longest, settings);
+    (triangles, n, block)
+}
+
+/// Most elements a lattice may spend per element of the ideal count
+/// (the surface's area over that of an equilateral triangle of edge
+/// `max_edge`): a polygon of many thin triangles (a 10 000-gon's fan)
+/// gets a coarser lattice rather than thousands of slivers per triangle.
+const LATTICE_SLACK: f64 = 16.0;
+
+/// Divisions n of every triangle edge of a surface's lattice, and divisions
+/// per patch block, for `triangles` triangles whose longest edge is
+/// `longest`. One n for the whole surface keeps the lattice conforming.
+fn lattice_divisions(
+    surface: &Surface,
+    triangles: usize,
+    longest: f64,
+    settings: &SquareMeshSettings,
+) -> (usize, usize) {
+    let cap = match settings.elements_per_side {
+        Some(_) => usize::MAX,
+        None => {
+            let ideal = surface.area() / (settings.max_edge.powi(2) * 3f64.sqrt() / 4.0);
+            let t = triangles.max(1) as f64;
+            let n = ((LATTICE_SLACK * ideal + t) / t).sqrt().floor();
+            if n.is_finite() {
+                n.max(1.0) as usize
+            } else {
+                usize::MAX
+            }
+        }
+    };
+    let patch_divisions = divisions(longest, settings.patch_max_edge).min(cap);
+    let element_divisions = settings
+        .elements_per_side
+        .map_or_else(
+            || divisions(longest, settings.max_edge),
+            |n| n.clamp(1, 4096),
+        )
+        .min(cap);
+    let block = element_divisions.div_ceil(patch_divisions);
+    (block * patch_divisions, block)
 }
 
 /// Where a lattice vertex sits, so that points shared by two triangles of one
@@ -195,15 +272,8 @@ impl<'a> SurfaceBuilder<'a> {
     /// A G × H bilinear grid of quads over a convex quad, in patch blocks.
     fn quad_grid(&mut self, corners: [DVec3; 4], settings: &SquareMeshSettings) {
         let [a, b, c, d] = corners;
-        let length_u = (b - a).length().max((c - d).length());
-        let length_v = (d - a).length().max((c - b).length());
-        let (cols, rows) = match settings.elements_per_side {
-            Some(n) => (n.clamp(1, 4096), n.clamp(1, 4096)),
-            None => (
-                divisions(length_u, settings.max_edge),
-                divisions(length_v, settings.max_edge),
-            ),
-        };
+        let (length_u, length_v) = quad_lengths(corners);
+        let (cols, rows) = quad_grid_size(corners, settings);
         let quad = Cell::quad(a, b, c, d);
         let at = |i: usize, j: usize| quad.point(i as f64 / cols as f64, j as f64 / rows as f64);
         // Grid vertices, row by row.
@@ -237,18 +307,7 @@ impl<'a> SurfaceBuilder<'a> {
     /// Triangulates the surface and cuts every triangle into an n × n lattice.
     fn triangle_lattices(&mut self, surface: &Surface, settings: &SquareMeshSettings) {
         let points = surface.vertices();
-        let triangles = surface.triangles();
-        let longest = triangles
-            .iter()
-            .flat_map(|t| (0..3).map(move |k| (points[t[k]] - points[t[(k + 1) % 3]]).length()))
-            .fold(0.0, f64::max);
-        let patch_divisions = divisions(longest, settings.patch_max_edge);
-        let element_divisions = settings.elements_per_side.map_or_else(
-            || divisions(longest, settings.max_edge),
-            |n| n.clamp(1, 4096),
-        );
-        let block = element_divisions.div_ceil(patch_divisions);
-        let n = block * patch_divisions;
+        let (triangles, n, block) = lattice_size(surface, settings);
         let mut ids: HashMap<LatticeKey, u32> = HashMap::new();
         for (t, &corners) in triangles.iter().enumerate() {
             self.lattice(points, corners, t, n, block, &mut ids);

@@ -16,22 +16,31 @@ use crate::scene::Rgb;
 pub fn mesh_triangles(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<ShadedTriangle> {
     let radiance = |v: u32| radiosity[v as usize] / std::f64::consts::PI;
     let position = |v: u32| mesh.vertices[v as usize].position;
-    let triangle = |a: u32, b: u32, c: u32| ShadedTriangle {
-        positions: [position(a), position(b), position(c)],
-        radiance: [radiance(a), radiance(b), radiance(c)],
-    };
-    let mut triangles = Vec::with_capacity(2 * mesh.elements.len());
+    triangle_indices(mesh, radiosity)
+        .into_iter()
+        .map(|[a, b, c]| ShadedTriangle {
+            positions: [position(a), position(b), position(c)],
+            radiance: [radiance(a), radiance(b), radiance(c)],
+        })
+        .collect()
+}
+
+/// The mesh's triangles as triples of vertex indices, counter-clockwise seen
+/// from the front, in element order: each element split as
+/// [`mesh_triangles`] splits it (a quad along the diagonal of closer
+/// radiosities). The one triangulation the renderer draws and the exporters
+/// write.
+pub(crate) fn triangle_indices(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<[u32; 3]> {
     let gap = |p: u32, q: u32| {
         (radiosity[p as usize] - radiosity[q as usize])
             .abs()
             .element_sum()
     };
+    let mut triangles = Vec::with_capacity(2 * mesh.elements.len());
     let mut split = Vec::new();
     for element in &mesh.elements {
         mesh.element_triangles(element, gap, &mut split);
-        for &[a, b, c] in &split {
-            triangles.push(triangle(a, b, c));
-        }
+        triangles.extend_from_slice(&split);
     }
     triangles
 }

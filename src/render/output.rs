@@ -22,10 +22,11 @@ use crate::error::{Error, Result};
 /// # Errors
 ///
 /// [`Error::Io`] when the file cannot be created or renamed (missing
-/// directory, permission), [`Error::Output`] when the image is empty or
-/// cannot be encoded; in every case the target is left untouched.
+/// directory, permission), [`Error::Output`] when the image is empty, holds
+/// NaN or an infinity, or cannot be encoded; in every case the target is left untouched.
 pub fn write_exr(image: &Image, path: &Path) -> Result<()> {
     ensure_not_empty(image, path)?;
+    ensure_finite(image, path)?;
     let width = image.width() as usize;
     let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
         let [r, g, b] = image.pixels()[y * width + x];
@@ -80,9 +81,20 @@ pub fn read_exr(path: &Path) -> Result<Image> {
 /// # Errors
 ///
 /// [`Error::Io`] when the file cannot be created or renamed, [`Error::Output`]
-/// when the image is empty or cannot be encoded; the target is then untouched.
+/// when the image is empty, holds NaN or an infinity, the exposure is not
+/// finite, or encoding fails; the target is then untouched.
 pub fn write_png(image: &Image, tone_map: &ToneMap, path: &Path) -> Result<()> {
     ensure_not_empty(image, path)?;
+    ensure_finite(image, path)?;
+    if !tone_map.exposure.is_finite() {
+        return Err(output_error(
+            path,
+            format!(
+                "the exposure {} is not a finite number of stops",
+                tone_map.exposure
+            ),
+        ));
+    }
     let bytes: Vec<u8> = image
         .pixels()
         .iter()
@@ -152,6 +164,28 @@ fn ensure_not_empty(image: &Image, path: &Path) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// Refuses images holding NaN or an infinity: a bug upstream, which must
+/// not reach a file as if it were a picture.
+fn ensure_finite(image: &Image, path: &Path) -> Result<()> {
+    let width = image.width() as usize;
+    match image
+        .pixels()
+        .iter()
+        .position(|p| p.iter().any(|c| !c.is_finite()))
+    {
+        None => Ok(()),
+        Some(index) => Err(output_error(
+            path,
+            format!(
+                "pixel ({}, {}) is {:?}: the image holds a non-finite value, nothing was written",
+                index % width,
+                index / width,
+                image.pixels()[index]
+            ),
+        )),
+    }
 }
 
 /// [`Error::Io`] naming `path`.

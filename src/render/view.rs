@@ -2,7 +2,7 @@
 //! and its image in memory.
 
 use super::image::Image;
-use super::mesh_triangles::mesh_triangles;
+use super::mesh_triangles::{mesh_triangles, triangle_indices};
 use super::rasterizer::{RenderSettings, ShadedTriangle, rasterize};
 use crate::scene::Camera;
 use crate::solver::Solution;
@@ -14,6 +14,12 @@ impl Solution<'_> {
     #[must_use]
     pub fn triangles(&self) -> Vec<ShadedTriangle> {
         mesh_triangles(self.mesh, &self.radiosity)
+    }
+
+    /// The same triangles as vertex-index triples into the mesh's vertices,
+    /// for writers that keep the vertices shared (the exporters).
+    pub(crate) fn triangle_indices(&self) -> Vec<[u32; 3]> {
+        triangle_indices(self.mesh, &self.radiosity)
     }
 
     /// Renders the solution through `camera` into an image of linear

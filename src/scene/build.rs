@@ -31,14 +31,7 @@ impl Scene {
     /// the reflectance is not in [0, 1) or the emitted radiance is negative
     /// (or either is not finite).
     pub fn add_material(&mut self, material: Material) -> Result<usize> {
-        if let Some(message) = material.problem() {
-            return Err(Error::InvalidMaterial {
-                path: PathBuf::from(BUILT_IN_CODE),
-                line: None,
-                material: material.name,
-                message,
-            });
-        }
+        check_material(&material)?;
         self.materials.push(material);
         Ok(self.materials.len() - 1)
     }
@@ -88,19 +81,25 @@ impl Scene {
     /// surface and one emitting surface.
     pub fn validate(&self) -> Result<()> {
         for material in &self.materials {
-            if let Some(message) = material.problem() {
-                return Err(Error::InvalidMaterial {
-                    path: PathBuf::from(BUILT_IN_CODE),
-                    line: None,
-                    material: material.name.clone(),
-                    message,
-                });
-            }
+            check_material(material)?;
         }
         for surface in &self.surfaces {
             check_material_index(self, &surface.name, surface.material)?;
         }
         check_not_empty(Path::new(BUILT_IN_CODE), self)
+    }
+}
+
+/// A material's reflectance and emission must be in range.
+fn check_material(material: &Material) -> Result<()> {
+    match material.problem() {
+        Some(message) => Err(Error::InvalidMaterial {
+            path: PathBuf::from(BUILT_IN_CODE),
+            line: None,
+            material: material.name.clone(),
+            message,
+        }),
+        None => Ok(()),
     }
 }
 

@@ -6,8 +6,9 @@ use std::path::Path;
 use crate::error::{Error, Result};
 
 use super::builtin::{builtin_names, load_builtin};
-use super::obj::load_obj;
-use super::scene_file::load_scene_file;
+use super::obj::load_obj_from;
+use super::scene_file::load_scene_file_with;
+use super::source::Disk;
 use super::{Scene, SceneOptions};
 
 /// A loaded scene with the settings its file carries.
@@ -35,15 +36,41 @@ pub struct LoadedScene {
 /// # Ok::<(), isorad::Error>(())
 /// ```
 pub fn load_scene(spec: &str) -> Result<LoadedScene> {
+    load_scene_with(spec, &LoadSettings::default())
+}
+
+/// How [`load_scene_with`] treats the geometry it reads.
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct LoadSettings {
+    /// Merge adjacent coplanar faces of one object and material into
+    /// polygons (see [`crate::merge_coplanar_faces`]); default true. A scene
+    /// file's `merge_coplanar = false` turns it off as well. Built-in scenes
+    /// have no such faces.
+    pub merge_coplanar: bool,
+}
+
+impl Default for LoadSettings {
+    fn default() -> Self {
+        LoadSettings {
+            merge_coplanar: true,
+        }
+    }
+}
+
+/// [`load_scene`] with settings.
+pub fn load_scene_with(spec: &str, settings: &LoadSettings) -> Result<LoadedScene> {
     let path = Path::new(spec);
     if path.is_file() {
         let extension = path
             .extension()
             .map(|e| e.to_string_lossy().to_ascii_lowercase());
         return match extension.as_deref() {
-            Some("toml") => load_scene_file(path),
+            Some("toml") => {
+                load_scene_file_with(path, &Disk, spec.to_owned(), settings.merge_coplanar)
+            }
             Some("obj") => Ok(LoadedScene {
-                scene: load_obj(path)?,
+                scene: load_obj_from(path, &Disk, settings.merge_coplanar)?,
                 options: SceneOptions::default(),
                 source: spec.to_owned(),
             }),

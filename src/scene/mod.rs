@@ -3,6 +3,7 @@
 mod build;
 mod builtin;
 mod camera;
+mod coplanar_merge;
 mod load;
 mod material;
 mod mtl;
@@ -19,7 +20,8 @@ mod visibility;
 
 pub use builtin::builtin_names;
 pub use camera::{Camera, CameraFrame};
-pub use load::{LoadedScene, load_scene};
+pub use coplanar_merge::{MergeReport, merge_coplanar_faces};
+pub use load::{LoadSettings, LoadedScene, load_scene, load_scene_with};
 pub use material::{Material, Rgb};
 pub use obj::load_obj;
 pub use plane_polygon::{distance_to_boundary, polygon_contains};

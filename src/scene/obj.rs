@@ -26,6 +26,7 @@ use crate::error::{Error, Result};
 use super::Scene;
 use super::Warning;
 use super::build::check_not_empty;
+use super::coplanar_merge::merge_scene_faces;
 use super::material::Material;
 use super::mtl::{parse_mtl, to_material};
 use super::obj_scan::{ObjScan, scan_obj};
@@ -36,13 +37,20 @@ use super::source::{Disk, SourceFiles};
 const WARNINGS_PER_OBJECT: usize = 10;
 
 /// Loads an OBJ file and the MTL libraries it names (relative to the OBJ's
-/// directory). The scene has no camera; see [`Scene::camera_or_default`].
+/// directory), merging adjacent coplanar faces (see
+/// [`super::merge_coplanar_faces`]). The scene has no camera; see
+/// [`Scene::camera_or_default`].
 pub fn load_obj(path: &Path) -> Result<Scene> {
-    load_obj_from(path, &Disk)
+    load_obj_from(path, &Disk, true)
 }
 
-/// [`load_obj`] reading the OBJ and its MTL files from `files`.
-pub(crate) fn load_obj_from(path: &Path, files: &dyn SourceFiles) -> Result<Scene> {
+/// [`load_obj`] reading the OBJ and its MTL files from `files`; adjacent
+/// coplanar faces are merged when `merge_coplanar` holds.
+pub(crate) fn load_obj_from(
+    path: &Path,
+    files: &dyn SourceFiles,
+    merge_coplanar: bool,
+) -> Result<Scene> {
     // Read and check the text, with line numbers.
     let text = files.read_to_string(path)?;
     let scan = scan_obj(path, &text)?;
@@ -65,6 +73,9 @@ pub(crate) fn load_obj_from(path: &Path, files: &dyn SourceFiles) -> Result<Scen
     }
     // One face, one or more surfaces.
     add_surfaces(path, &scan, &parsed.models, &mut scene)?;
+    if merge_coplanar {
+        merge_scene_faces(path, &mut scene);
+    }
     check_not_empty(path, &scene)?;
     Ok(scene)
 }
@@ -105,7 +116,7 @@ fn parse_with_tobj(
         triangulate: false,
         ..Default::default()
     };
-    let source = without_polylines(text, scan);
+    let source = for_tobj(text, scan);
     let result = tobj::load_obj_buf(&mut source.as_bytes(), &options, loader);
     // A failed MTL is the first thing to report.
     if let Some(e) = failure.into_inner() {
@@ -125,18 +136,27 @@ fn parse_with_tobj(
     })
 }
 
-/// The OBJ text with polyline statements commented out (tobj would read an
-/// `l` of three or more points as a face); line numbers are kept.
-fn without_polylines<'a>(text: &'a str, scan: &ObjScan) -> std::borrow::Cow<'a, str> {
-    if scan.polyline_lines.is_empty() {
+/// The OBJ text as tobj should read it, line numbers kept: polyline
+/// statements commented out (tobj would read an `l` of three or more points
+/// as a face) and vertex colours dropped (tobj fails on a file where only
+/// some vertices have one; isorad does not use them).
+fn for_tobj<'a>(text: &'a str, scan: &ObjScan) -> std::borrow::Cow<'a, str> {
+    if scan.polyline_lines.is_empty() && !scan.vertex_colours {
         return text.into();
     }
     text.lines()
-        .map(|line| match line.split_whitespace().next() {
-            Some("l") => "# polyline ignored",
-            _ => line,
+        .map(|line| {
+            let mut words = line.split_whitespace();
+            match words.next() {
+                Some("l") => "# polyline ignored".into(),
+                Some("v") if line.split_whitespace().count() == 7 => {
+                    let xyz: Vec<&str> = words.take(3).collect();
+                    format!("v {}", xyz.join(" ")).into()
+                }
+                _ => std::borrow::Cow::Borrowed(line),
+            }
         })
-        .collect::<Vec<_>>()
+        .collect::<Vec<std::borrow::Cow<str>>>()
         .join("\n")
         .into()
 }

@@ -19,6 +19,9 @@ pub(crate) struct ObjScan {
     pub usemtl: Vec<(usize, String)>,
     /// Lines holding polylines (`l`), which isorad ignores.
     pub polyline_lines: Vec<usize>,
+    /// Whether a `v` statement carries a colour (x y z r g b), which
+    /// isorad ignores (tobj fails when only some vertices have one).
+    pub vertex_colours: bool,
 }
 
 impl ObjScan {
@@ -52,6 +55,7 @@ pub(crate) fn scan_obj(path: &Path, text: &str) -> Result<ObjScan> {
         };
         match words.next() {
             Some("v") => {
+                scan.vertex_colours |= line.split_whitespace().count() == 7;
                 let p = check_position(words).map_err(bad)?;
                 if p.iter().any(|c| !c.is_finite()) {
                     return Err(Error::NonFiniteCoordinate {

@@ -4,8 +4,9 @@
 //! A face read from a file is a list of 3D points. Radiosity needs planar
 //! polygons, so each face is
 //! - cleaned of consecutive repeated vertices;
-//! - **skipped** when fewer than three distinct vertices remain or its area
-//!   is below [`DEGENERATE_AREA_RATIO`] × diameter²;
+//! - **skipped** when fewer than three distinct vertices remain, its area
+//!   is below [`DEGENERATE_AREA_RATIO`] × diameter², or two of its edges
+//!   cross (a bow-tie: no side is its front);
 //! - **projected** onto its best-fit plane when nearly planar (every vertex
 //!   within [`PLANARITY_TOLERANCE`] × diameter of the plane: measured scenes
 //!   such as the Cornell box have walls a millimetre off plane);
@@ -157,6 +158,17 @@ pub fn clean_polygon(object: &str, material: usize, vertices: &[DVec3]) -> Clean
         Some(p) if p.area >= DEGENERATE_AREA_RATIO * p.diameter * p.diameter => p,
         _ => return skipped("its area is zero".into()),
     };
+    // Self-intersecting (a bow-tie): no side is its front, no area its own.
+    let plane_points: Vec<DVec2> = distinct.iter().map(|&p| plane.frame.to_plane(p)).collect();
+    if let Some((a, b)) = first_crossing(&plane_points) {
+        return skipped(format!(
+            "its edges cross each other (edge {} and edge {} of {}): \
+             a face must be a simple polygon, its vertices in order around it",
+            a + 1,
+            b + 1,
+            plane_points.len()
+        ));
+    }
     // Nearly planar: project onto the best-fit plane.
     if plane.max_deviation <= PLANARITY_TOLERANCE * plane.diameter {
         let projected = project_onto_plane(&distinct, &plane.frame);
@@ -181,6 +193,52 @@ pub fn clean_polygon(object: &str, material: usize, vertices: &[DVec3]) -> Clean
         surfaces,
         warning: Some(warning),
     }
+}
+
+/// The first pair of non-adjacent edges (edge k runs from vertex k to
+/// k + 1) that properly cross, each passing strictly through the other's
+/// line. Edges that only touch or overlap (a keyhole's bridge) do not count.
+/// O(n²) with a bounding-box test first.
+#[must_use]
+pub fn first_crossing(points: &[DVec2]) -> Option<(usize, usize)> {
+    let n = points.len();
+    if n < 4 {
+        return None;
+    }
+    let scale = points
+        .iter()
+        .map(|p| p.abs().max_element())
+        .fold(0.0, f64::max);
+    let eps = 1e-12 * scale * scale;
+    let edge = |k: usize| (points[k], points[(k + 1) % n]);
+    let side = |a: DVec2, b: DVec2, p: DVec2| {
+        let cross = (b - a).perp_dot(p - a);
+        if cross > eps {
+            1
+        } else if cross < -eps {
+            -1
+        } else {
+            0
+        }
+    };
+    for i in 0..n {
+        let (a, b) = edge(i);
+        let (low, high) = (a.min(b), a.max(b));
+        // Edges i + 1 and i − 1 share a vertex with edge i.
+        for j in i + 2..n {
+            if i == 0 && j == n - 1 {
+                continue;
+            }
+            let (c, d) = edge(j);
+            if c.max(d).cmplt(low).any() || c.min(d).cmpgt(high).any() {
+                continue;
+            }
+            if side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0 {
+                return Some((i, j));
+            }
+        }
+    }
+    None
 }
 
 /// Triangulates a non-planar polygon in the plane `frame` (where it is

@@ -75,11 +75,7 @@ pub fn parse_probe_points(text: &str, path: &Path) -> Result<Vec<ProbePoint>> {
 
 /// Reads and parses a probe-points file.
 pub fn load_probe_points(path: &Path) -> Result<Vec<ProbePoint>> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    parse_probe_points(&text, path)
+    parse_probe_points(&super::source::read_text(path)?, path)
 }
 
 #[cfg(test)]

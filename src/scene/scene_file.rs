@@ -2,6 +2,7 @@
 //!
 //! ```toml
 //! obj = "cornell/cornell.obj"          # required, relative to this file
+//! merge_coplanar = true                # default: merge adjacent coplanar faces
 //! [camera]                             # optional: default frames the scene
 //! position = [278.0, 273.0, -800.0]    # required in [camera]
 //! look_at  = [278.0, 273.0, 0.0]       # required in [camera]
@@ -39,6 +40,7 @@ pub const MESH_KINDS: [&str; 3] = ["square", "adaptive", "contour"];
 #[serde(deny_unknown_fields)]
 struct SceneFileToml {
     obj: PathBuf,
+    merge_coplanar: Option<bool>,
     camera: Option<CameraToml>,
     solver: Option<SolverToml>,
     mesh: Option<MeshToml>,
@@ -83,6 +85,17 @@ pub(crate) fn load_scene_file_from(
     files: &dyn SourceFiles,
     source: String,
 ) -> Result<LoadedScene> {
+    load_scene_file_with(path, files, source, true)
+}
+
+/// [`load_scene_file_from`], merging coplanar faces only when both
+/// `merge_coplanar` and the file's `merge_coplanar` (default true) allow it.
+pub(crate) fn load_scene_file_with(
+    path: &Path,
+    files: &dyn SourceFiles,
+    source: String,
+    merge_coplanar: bool,
+) -> Result<LoadedScene> {
     // Parse the TOML; errors carry the line.
     let text = files.read_to_string(path)?;
     let file: SceneFileToml = toml::from_str(&text).map_err(|e| Error::SceneFile {
@@ -102,7 +115,8 @@ pub(crate) fn load_scene_file_from(
         .map_err(file_error)?;
     // The OBJ, relative to this file; an unreadable OBJ is this file's error.
     let obj_path = path.parent().unwrap_or(Path::new("")).join(&file.obj);
-    let mut scene = load_obj_from(&obj_path, files).map_err(|e| match e {
+    let merge = merge_coplanar && file.merge_coplanar.unwrap_or(true);
+    let mut scene = load_obj_from(&obj_path, files, merge).map_err(|e| match e {
         Error::Io { path: p, source } if p == obj_path => {
             file_error(format!("obj = {:?}: {}: {source}", file.obj, p.display()))
         }

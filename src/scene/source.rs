@@ -16,11 +16,42 @@ pub(crate) struct Disk;
 
 impl SourceFiles for Disk {
     fn read_to_string(&self, path: &Path) -> Result<String> {
-        std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })
+        read_text(path)
     }
+}
+
+/// Reads a text file as exporters write them: a UTF-8 byte-order mark is
+/// dropped, and bytes that are not UTF-8 (a Latin-1 comment or object name)
+/// become U+FFFD instead of failing the load. A file holding NUL bytes is
+/// binary, not text, and is an error saying so; so is anything but a
+/// regular file (a directory, a device, a pipe).
+pub(crate) fn read_text(path: &Path) -> Result<String> {
+    let io = |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    // Only regular files: a scene naming /dev/zero or a FIFO must not hang.
+    let kind = std::fs::metadata(path).map_err(io)?.file_type();
+    if !kind.is_file() {
+        let what = if kind.is_dir() {
+            "a directory"
+        } else {
+            "not a regular file"
+        };
+        return Err(io(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("{what}: expected a text file"),
+        )));
+    }
+    let bytes = std::fs::read(path).map_err(io)?;
+    if bytes.contains(&0) {
+        return Err(io(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            "not a text file (it holds NUL bytes): expected a text OBJ, MTL, TOML or CSV file",
+        )));
+    }
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&bytes);
+    Ok(String::from_utf8_lossy(bytes).into_owned())
 }
 
 /// Files compiled into the binary, as (path, text) pairs.

@@ -2,6 +2,8 @@
 
 use glam::{DVec2, DVec3};
 
+use super::triangulate::triangulate_polygon;
+
 /// An orthonormal frame on a surface's plane: `origin` on the plane, `u` and
 /// `v` spanning it, `normal = u × v` the front side's normal.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -153,12 +155,27 @@ impl Surface {
     }
 
     /// A triangulation of the polygon, as index triples into
-    /// [`Surface::vertices`], counter-clockwise like the polygon.
+    /// [`Surface::vertices`], counter-clockwise like the polygon: a fan for
+    /// a convex polygon, ear clipping for a concave one (a fan from a
+    /// vertex that does not see the whole polygon would cover area outside
+    /// it).
     #[must_use]
     pub fn triangles(&self) -> Vec<[usize; 3]> {
-        (1..self.vertices.len() - 1)
-            .map(|i| [0, i, i + 1])
-            .collect()
+        let fan = || {
+            (1..self.vertices.len() - 1)
+                .map(|i| [0, i, i + 1])
+                .collect()
+        };
+        let points = self.plane_vertices();
+        if is_convex(&points) {
+            return fan();
+        }
+        let triangles = triangulate_polygon(&points);
+        if triangles.is_empty() {
+            fan()
+        } else {
+            triangles
+        }
     }
 
     /// The polygon's vertices in plane coordinates (counter-clockwise).
@@ -191,4 +208,16 @@ pub fn newell_normal(vertices: &[DVec3]) -> DVec3 {
         normal += a.cross(b);
     }
     normal
+}
+
+/// True when every corner of a counter-clockwise polygon turns strictly
+/// left: a fan from any vertex then stays inside it and has no zero-area
+/// triangle (a straight corner, a vertex on an edge, would give one; ear
+/// clipping skips it).
+fn is_convex(points: &[DVec2]) -> bool {
+    let n = points.len();
+    (0..n).all(|k| {
+        let (a, b, c) = (points[k], points[(k + 1) % n], points[(k + 2) % n]);
+        (b - a).perp_dot(c - b) > 0.0
+    })
 }

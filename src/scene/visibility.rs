@@ -17,8 +17,9 @@ use super::Scene;
 ///
 /// Every surface is triangulated into an 8-wide compressed BVH (Ylitie et al.
 /// 2017, built by obvhs's PLOC builder). Surfaces block light from both sides.
-/// Coordinates are stored in f32 relative to the scene's centre, so scenes far
-/// from the origin keep their precision. The structure is plain data and is
+/// Coordinates are stored in f32 relative to the scene's centre and in units
+/// of its half-diagonal, so scenes far from the origin keep their precision
+/// and scenes measured in 10⁻³⁰ or 10³⁰ neither underflow nor overflow f32. The structure is plain data and is
 /// shared by all rayon workers.
 ///
 /// The BVH holds each face as its file gave it ([`Surface::occluder_vertices`]),
@@ -35,6 +36,8 @@ pub struct Visibility {
     /// The surface of each triangle, in the same order.
     triangle_surfaces: Vec<u32>,
     centre: DVec3,
+    /// World length of one BVH unit: the scene's half-diagonal.
+    scale: f64,
     surface_offset: f64,
 }
 
@@ -44,8 +47,9 @@ impl Visibility {
     pub fn new(scene: &Scene) -> Visibility {
         let (min, max) = scene.bounds();
         let centre = 0.5 * (min + max);
+        let scale = unit_scale(min, max);
         let to_local = |p: DVec3| {
-            let q = p - centre;
+            let q = (p - centre) / scale;
             Vec3A::new(q.x as f32, q.y as f32, q.z as f32)
         };
         let mut triangles = Vec::new();
@@ -77,6 +81,7 @@ impl Visibility {
             triangles,
             triangle_surfaces,
             centre,
+            scale,
             surface_offset: 1e-5 * (max - min).length().max(f64::MIN_POSITIVE),
         }
     }
@@ -93,8 +98,8 @@ impl Visibility {
     /// `from` to `to`, end points excluded.
     #[must_use]
     pub fn is_unblocked(&self, from: DVec3, to: DVec3, end_surfaces: [u32; 2]) -> bool {
-        let origin = from - self.centre;
-        let direction = to - from;
+        let origin = (from - self.centre) / self.scale;
+        let direction = (to - from) / self.scale;
         let ray = Ray::new(
             Vec3A::new(origin.x as f32, origin.y as f32, origin.z as f32),
             Vec3A::new(direction.x as f32, direction.y as f32, direction.z as f32),
@@ -120,12 +125,12 @@ impl Visibility {
         reach: f64,
         ignore: u32,
     ) -> Option<u32> {
-        let origin = origin - self.centre;
+        let origin = (origin - self.centre) / self.scale;
         let ray = Ray::new(
             Vec3A::new(origin.x as f32, origin.y as f32, origin.z as f32),
             Vec3A::new(direction.x as f32, direction.y as f32, direction.z as f32),
             0.0,
-            reach as f32,
+            (reach / self.scale) as f32,
         );
         let mut hit = RayHit::none();
         let found = self.bvh.ray_traverse(ray, &mut hit, |ray, id| {
@@ -142,5 +147,16 @@ impl Visibility {
     #[must_use]
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
+    }
+}
+
+/// The world length of one BVH unit for a scene spanning `min`..`max`: half
+/// its diagonal, or 1 for a scene without extent.
+fn unit_scale(min: DVec3, max: DVec3) -> f64 {
+    let half_diagonal = 0.5 * (max - min).length();
+    if half_diagonal.is_normal() {
+        half_diagonal
+    } else {
+        1.0
     }
 }

@@ -5,6 +5,7 @@
 mod direct_field;
 mod dominance;
 mod emitters;
+mod mesh_budget;
 mod progressive;
 mod refinement;
 mod run;
@@ -25,4 +26,4 @@ pub use scene_mesh::{
     Length, MeshAnalysis, MeshKind, MeshSettings, SceneMesh, mesh_scene, receiver_layout,
 };
 pub use settings::{FormFactorKernel, Settings, SolverSettings};
-pub use solution::{Probe, ProbeMode, Solution};
+pub use solution::{Probe, ProbeMode, Solution, SurfaceTotals};

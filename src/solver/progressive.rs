@@ -78,10 +78,13 @@ impl Solver {
     ///
     /// Fails with the loaders' errors for a scene without surfaces or
     /// emitters or with a material out of range, and with
-    /// [`crate::Error::InvalidSetting`] for settings out of range.
+    /// [`crate::Error::InvalidSetting`] for settings out of range, and with
+    /// [`crate::Error::MeshTooLarge`] when the mesh would have more than
+    /// [`crate::MeshSettings::max_elements`] elements (counted before meshing).
     pub fn new(scene: Scene, settings: Settings) -> crate::Result<Self> {
         settings.validate()?;
         scene.validate()?;
+        settings.mesh.check_budget(&scene)?;
         let visibility = Visibility::new(&scene);
         let SceneMesh { mesh, analysis } = mesh_scene(&scene, &visibility, &settings.mesh);
         let refiner = (settings.mesh.kind == MeshKind::Adaptive)

@@ -96,6 +96,10 @@ pub struct MeshSettings {
     pub dominance: DominanceSettings,
     /// How adaptive meshing starts and how far it splits.
     pub refinement: RefinementSettings,
+    /// The most elements [`MeshSettings::check_budget`] allows (estimated
+    /// before meshing): a guard against settings that would exhaust memory.
+    /// Raise it to mesh a scene that truly needs more.
+    pub max_elements: usize,
 }
 
 impl Default for MeshSettings {
@@ -110,6 +114,7 @@ impl Default for MeshSettings {
             contour: ContourSettings::default(),
             dominance: DominanceSettings::default(),
             refinement: RefinementSettings::default(),
+            max_elements: MeshSettings::DEFAULT_MAX_ELEMENTS,
         }
     }
 }

@@ -34,6 +34,22 @@ pub struct Probe {
     pub gradient: [DVec3; 3],
 }
 
+/// Totals over one surface's mesh elements: area-weighted means of the
+/// elements' vertex values, and the power they carry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct SurfaceTotals {
+    /// Meshed area (a part hidden under an object standing on the surface
+    /// is not meshed), square scene units.
+    pub area: f64,
+    /// Mean radiosity B, W/m².
+    pub mean_radiosity: Rgb,
+    /// Mean irradiance H, W/m².
+    pub mean_irradiance: Rgb,
+    /// Power received, ∫ H dA, W (with lengths in metres).
+    pub received_power: Rgb,
+}
+
 /// A solution: radiosity and irradiance at every mesh vertex, with the scene,
 /// mesh and visibility needed to read it anywhere.
 pub struct Solution<'a> {
@@ -50,6 +66,38 @@ pub struct Solution<'a> {
 }
 
 impl Solution<'_> {
+    /// Totals per surface, indexed as [`Scene::surfaces`]; each element
+    /// contributes its area times the mean of its corners' values.
+    #[must_use]
+    pub fn surface_totals(&self) -> Vec<SurfaceTotals> {
+        let mut totals = vec![
+            SurfaceTotals {
+                area: 0.0,
+                mean_radiosity: Rgb::ZERO,
+                mean_irradiance: Rgb::ZERO,
+                received_power: Rgb::ZERO,
+            };
+            self.scene.surfaces.len()
+        ];
+        for element in &self.mesh.elements {
+            let corners = element.corners();
+            let mean = |values: &[Rgb]| {
+                corners.iter().map(|&v| values[v as usize]).sum::<Rgb>() / corners.len() as f64
+            };
+            let total = &mut totals[element.surface as usize];
+            total.area += element.area;
+            total.mean_radiosity += mean(&self.radiosity) * element.area;
+            total.received_power += mean(&self.irradiance) * element.area;
+        }
+        for total in &mut totals {
+            if total.area > 0.0 {
+                total.mean_radiosity /= total.area;
+                total.mean_irradiance = total.received_power / total.area;
+            }
+        }
+        totals
+    }
+
     /// Reads the solution at a point on a surface.
     ///
     /// Fails with [`Error::ProbePoint`] (naming the point's line) when the

@@ -1,5 +1,7 @@
 //! Vertex-to-patch form factors by stratified, ray-traced source sampling.
 
+use std::sync::OnceLock;
+
 use glam::DVec3;
 
 use super::sampling::SampleStream;
@@ -13,6 +15,13 @@ use crate::scene::Visibility;
 /// relative bias is about A/(π r²) for a stratum seen off-axis, so beyond the
 /// bound it stays under 1/(100π) ≈ 0.3 %; nearer, as in the corner where two
 /// walls meet, the disc model fails and the exact factor is needed.
+///
+/// The same bound applies to the distances from each end to the other's
+/// plane: a stratum less than ten of its sizes above the receiver's plane
+/// (a lamp hung 2 cm from a wall) or a receiver as close to the source's
+/// plane sees a cosine that varies across the stratum by more than a tenth,
+/// and the disc term at one jittered point would leave blotches
+/// (`tests/source_refinement.rs`).
 const NEAR_FIELD: f64 = 100.0;
 
 /// A shooting patch, prepared once per shot.
@@ -23,8 +32,9 @@ pub struct Shooter {
     pub normal: DVec3,
     /// Index of its surface.
     pub surface: u32,
-    /// Stratified subdivisions: `strata[m]` holds the m² cells for m samples per side.
-    strata: Vec<Vec<Cell>>,
+    /// Stratified subdivisions: `strata[m]` holds the m² cells for m samples
+    /// per side, made when a receiver first needs them.
+    strata: Vec<OnceLock<Vec<Cell>>>,
     /// Fewest samples per side, from the shot's power.
     min_side: usize,
 }
@@ -63,10 +73,7 @@ impl Shooter {
     ) -> Shooter {
         let max_side = max_side.max(1);
         let min_side = min_side.clamp(1, max_side);
-        let mut strata = vec![Vec::new(); max_side + 1];
-        for (m, cells) in strata.iter_mut().enumerate().skip(min_side) {
-            cell.subdivide(m, cells);
-        }
+        let strata = (0..=max_side).map(|_| OnceLock::new()).collect();
         Shooter {
             cell,
             normal,
@@ -114,8 +121,15 @@ impl Shooter {
         } else {
             self.strata.len() - 1
         };
-        let strata = &self.strata[side];
+        let strata = self.strata[side].get_or_init(|| {
+            let mut cells = Vec::with_capacity(side * side);
+            self.cell.subdivide(side, &mut cells);
+            cells
+        });
         let mut random = SampleStream::new(receiver.key, shot);
+        if kernel == FormFactorKernel::Mixed {
+            return self.gather_mixed(receiver, strata, &mut random, visibility);
+        }
         let mut gathered = Gathered::default();
         // Each stratum: an unoccluded factor (or, for `Exact`, a weight), and
         // a shadow ray to a jittered point of it.
@@ -145,6 +159,91 @@ impl Shooter {
         gathered
     }
 
+    /// The `Mixed` kernel: Wallace's disc term on far strata, Lambert's exact
+    /// factor on near ones, each times its own shadow ray.
+    ///
+    /// Lambert's factor is additive over the strata, which tile the patch:
+    /// Σ_near F_k = F_patch − Σ_far F_k. So the near strata's visible share is
+    /// summed either directly over the visible ones or, when fewer factors
+    /// are needed that way, as F_patch less the far and the hidden near
+    /// strata's factors. A fully visible patch seen from nearby then costs
+    /// one polygon factor instead of one per stratum; the result is the same
+    /// sum, up to rounding.
+    fn gather_mixed(
+        &self,
+        receiver: &Receiver,
+        strata: &[Cell],
+        random: &mut SampleStream,
+        visibility: &Visibility,
+    ) -> Gathered {
+        let (x, n) = (receiver.position, receiver.normal);
+        let mut gathered = Gathered::default();
+        let mut far_visible = 0.0;
+        // Which strata were near and visible, near and hidden, far.
+        let mut kinds = [(); 3].map(|()| StrataSet::new(strata.len()));
+        let (mut near_visible, mut near_hidden, mut far) = (0, 0, 0);
+        // The receiver's height above the source's plane, the same for every stratum.
+        let receiver_height = self.normal.dot(x - self.cell.corners[0]);
+        for (k, stratum) in strata.iter().enumerate() {
+            // The random numbers are drawn for every stratum, in order.
+            let y = stratum.point(random.next_f64(), random.next_f64());
+            let d = y - x;
+            let r2 = d.length_squared();
+            let nearest = r2
+                .min(n.dot(d).powi(2))
+                .min(receiver_height * receiver_height);
+            if nearest < NEAR_FIELD * stratum.area {
+                // Aim at a part of the stratum above the receiver's plane.
+                let Some(target) = near_target(x, n, stratum, y) else {
+                    continue;
+                };
+                gathered.rays += 1;
+                if self.is_visible(receiver, target, visibility) {
+                    kinds[NEAR_VISIBLE].insert(k);
+                    near_visible += 1;
+                } else {
+                    kinds[NEAR_HIDDEN].insert(k);
+                    near_hidden += 1;
+                }
+            } else {
+                kinds[FAR].insert(k);
+                far += 1;
+                let r = r2.sqrt();
+                let factor =
+                    disc_form_factor(stratum.area, n.dot(d) / r, -self.normal.dot(d) / r, r2);
+                if factor > 0.0 {
+                    gathered.rays += 1;
+                    if self.is_visible(receiver, y, visibility) {
+                        far_visible += factor;
+                    }
+                }
+            }
+        }
+        let lambert = |set: usize| -> f64 {
+            strata
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| kinds[set].contains(*k))
+                .map(|(_, stratum)| polygon_form_factor(x, n, stratum.polygon()))
+                .sum()
+        };
+        let near_visible_factor = if near_visible == 0 {
+            0.0
+        } else if near_visible <= 1 + far + near_hidden {
+            lambert(NEAR_VISIBLE)
+        } else {
+            let far_factor = if far > 0 { lambert(FAR) } else { 0.0 };
+            let hidden_factor = if near_hidden > 0 {
+                lambert(NEAR_HIDDEN)
+            } else {
+                0.0
+            };
+            (polygon_form_factor(x, n, self.cell.polygon()) - far_factor - hidden_factor).max(0.0)
+        };
+        gathered.form_factor = near_visible_factor + far_visible;
+        gathered
+    }
+
     /// Whether a shadow ray from the receiver reaches `target` on this patch,
     /// both ends lifted off their surfaces.
     fn is_visible(&self, receiver: &Receiver, target: DVec3, visibility: &Visibility) -> bool {
@@ -168,24 +267,70 @@ impl Shooter {
         kernel: FormFactorKernel,
     ) -> Option<(f64, DVec3)> {
         let d = y - x;
+        if kernel == FormFactorKernel::Exact {
+            return (n.dot(d) > 0.0).then_some((stratum.area, y));
+        }
         let r2 = d.length_squared();
-        let near = match kernel {
-            FormFactorKernel::Mixed => r2 < NEAR_FIELD * stratum.area,
-            FormFactorKernel::Wallace => false,
-            FormFactorKernel::Exact => return (n.dot(d) > 0.0).then_some((stratum.area, y)),
-        };
-        if near {
-            let factor = polygon_form_factor(x, n, stratum.polygon());
-            // Aim the shadow ray at a part of the stratum above the receiver's plane.
-            let target = [y, stratum.centre()]
-                .into_iter()
-                .chain(stratum.polygon().iter().copied())
-                .find(|p| n.dot(*p - x) > 0.0)?;
-            (factor > 0.0).then_some((factor, target))
+        let r = r2.sqrt();
+        let factor = disc_form_factor(stratum.area, n.dot(d) / r, -self.normal.dot(d) / r, r2);
+        (factor > 0.0).then_some((factor, y))
+    }
+}
+
+/// The sets of strata a `Mixed` gather sorts into (strata wholly behind the
+/// receiver's plane are in none): near with an unblocked shadow ray, near
+/// with a blocked one, and far (disc term, already counted).
+const NEAR_VISIBLE: usize = 0;
+const NEAR_HIDDEN: usize = 1;
+const FAR: usize = 2;
+
+/// A set of stratum indices, one bit each, on the stack up to 256 strata.
+struct StrataSet {
+    small: [u64; 4],
+    large: Vec<u64>,
+}
+
+impl StrataSet {
+    fn new(len: usize) -> StrataSet {
+        let large = if len > 256 {
+            vec![0; len.div_ceil(64)]
         } else {
-            let r = r2.sqrt();
-            let factor = disc_form_factor(stratum.area, n.dot(d) / r, -self.normal.dot(d) / r, r2);
-            (factor > 0.0).then_some((factor, y))
+            Vec::new()
+        };
+        StrataSet {
+            small: [0; 4],
+            large,
         }
     }
+
+    fn insert(&mut self, k: usize) {
+        let words = if self.large.is_empty() {
+            &mut self.small[..]
+        } else {
+            &mut self.large[..]
+        };
+        words[k / 64] |= 1 << (k % 64);
+    }
+
+    fn contains(&self, k: usize) -> bool {
+        let words = if self.large.is_empty() {
+            &self.small[..]
+        } else {
+            &self.large[..]
+        };
+        words[k / 64] & (1 << (k % 64)) != 0
+    }
+}
+
+/// The point of a near stratum a shadow ray aims at: its jittered sample `y`
+/// if above the receiver's plane, else its centre or a corner that is; none
+/// when the whole stratum is behind the plane (its factor is then zero).
+fn near_target(x: DVec3, n: DVec3, stratum: &Cell, y: DVec3) -> Option<DVec3> {
+    let above = |p: &DVec3| n.dot(*p - x) > 0.0;
+    if above(&y) {
+        return Some(y);
+    }
+    std::iter::once(stratum.centre())
+        .chain(stratum.polygon().iter().copied())
+        .find(above)
 }

@@ -42,11 +42,9 @@ impl SceneBuilder {
     }
 }
 
-/// Unit cube [0, 1]³, every face facing inwards with the same material.
-pub fn closed_cube(reflectance: f64, emitted_radiance: f64) -> Scene {
-    let mut b = SceneBuilder::default();
-    let m = b.material("wall", reflectance, emitted_radiance);
-    let centre = DVec3::splat(0.5);
+/// The six faces of the box [0, size], each facing inwards.
+pub fn box_faces(size: DVec3) -> Vec<Vec<DVec3>> {
+    let mut faces = Vec::new();
     for axis in 0..3 {
         for side in [0.0, 1.0] {
             let corner = |s: f64, t: f64| {
@@ -54,16 +52,29 @@ pub fn closed_cube(reflectance: f64, emitted_radiance: f64) -> Scene {
                 p[axis] = side;
                 p[(axis + 1) % 3] = s;
                 p[(axis + 2) % 3] = t;
-                DVec3::from_array(p)
+                DVec3::from_array(p) * size
             };
-            let quad = vec![
+            let mut quad = vec![
                 corner(0.0, 0.0),
                 corner(1.0, 0.0),
                 corner(1.0, 1.0),
                 corner(0.0, 1.0),
             ];
-            b.polygon_facing("face", m, quad, centre);
+            if isorad::newell_normal(&quad).dot(size * 0.5 - quad[0]) < 0.0 {
+                quad.reverse();
+            }
+            faces.push(quad);
         }
+    }
+    faces
+}
+
+/// Unit cube [0, 1]³, every face facing inwards with the same material.
+pub fn closed_cube(reflectance: f64, emitted_radiance: f64) -> Scene {
+    let mut b = SceneBuilder::default();
+    let m = b.material("wall", reflectance, emitted_radiance);
+    for quad in box_faces(DVec3::ONE) {
+        b.polygon("face", m, quad);
     }
     b.scene
 }
