@@ -18,8 +18,9 @@ use super::Scene;
 /// Every surface is triangulated into an 8-wide compressed BVH (Ylitie et al.
 /// 2017, built by obvhs's PLOC builder). Surfaces block light from both sides.
 /// Coordinates are stored in f32 relative to the scene's centre and in units
-/// of its half-diagonal, so scenes far from the origin keep their precision
-/// and scenes measured in 10⁻³⁰ or 10³⁰ neither underflow nor overflow f32. The structure is plain data and is
+/// of about its half-diagonal (a power of two), so scenes far from the origin
+/// keep their precision and scenes measured in 10⁻³⁰ or 10³⁰ neither
+/// underflow nor overflow f32. The structure is plain data and is
 /// shared by all rayon workers.
 ///
 /// The BVH holds each face as its file gave it ([`Surface::occluder_vertices`]),
@@ -36,7 +37,8 @@ pub struct Visibility {
     /// The surface of each triangle, in the same order.
     triangle_surfaces: Vec<u32>,
     centre: DVec3,
-    /// World length of one BVH unit: the scene's half-diagonal.
+    /// World length of one BVH unit: the power of two nearest the scene's
+    /// half-diagonal.
     scale: f64,
     surface_offset: f64,
 }
@@ -150,12 +152,15 @@ impl Visibility {
     }
 }
 
-/// The world length of one BVH unit for a scene spanning `min`..`max`: half
-/// its diagonal, or 1 for a scene without extent.
+/// The world length of one BVH unit for a scene spanning `min`..`max`: the
+/// power of two nearest half its diagonal, or 1 for a scene without extent.
+/// A power of two makes the change of units exact, so that f32 rounding (and
+/// which grazing rays hit) is the same as without it for any scene whose
+/// coordinates fit f32 anyway.
 fn unit_scale(min: DVec3, max: DVec3) -> f64 {
     let half_diagonal = 0.5 * (max - min).length();
     if half_diagonal.is_normal() {
-        half_diagonal
+        2f64.powi(half_diagonal.log2().round() as i32)
     } else {
         1.0
     }
