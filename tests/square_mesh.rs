@@ -110,3 +110,27 @@ fn a_quad_gets_n_by_n_elements() {
             .all(|e| !e.is_triangle && (e.area - 6.0 / 49.0).abs() < 1e-12)
     );
 }
+
+/// Found by the meshers fuzz target: a face whose outline runs out to a
+/// spike and straight back (`a b a c d`) encloses 25 m², but its
+/// triangulation covered 37.5 m². The spike is removed when the face is
+/// cleaned, and the mesh covers the face exactly.
+#[test]
+fn a_face_with_a_spike_is_meshed_to_its_own_area() {
+    let mut scene = Scene::new();
+    let m = scene
+        .add_material(isorad::Material::diffuse("m", isorad::Rgb::splat(0.5)))
+        .unwrap();
+    let outline = xy(&[(0.0, 0.0), (5.0, 0.0), (0.0, 0.0), (10.0, 5.0), (0.0, 5.0)]);
+    let surfaces = scene.add_polygon("spiky", m, &outline).unwrap();
+    assert_eq!(surfaces.len(), 1);
+    let area = scene.surfaces[0].area();
+    assert!((area - 25.0).abs() < 1e-9, "surface area {area}");
+    assert_eq!(scene.surfaces[0].vertices().len(), 3);
+    let mut settings = SquareMeshSettings::for_scene(&scene);
+    settings.max_edge = 1.0;
+    let mesh = mesh_square(&scene, &settings);
+    let covered: f64 = mesh.elements.iter().map(|e| e.area).sum();
+    assert!((covered - 25.0).abs() < 1e-9, "elements cover {covered}");
+    mesh.validate(&[area]).unwrap();
+}

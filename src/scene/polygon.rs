@@ -116,6 +116,30 @@ pub fn remove_repeated_vertices(vertices: &[DVec3], tolerance: f64) -> Vec<DVec3
     kept
 }
 
+/// Removes spikes: a vertex where the outline turns straight back on itself
+/// (the edges before and after it antiparallel), such as `b` in `a b a c d`.
+/// A spike encloses no area, but it makes the outline touch itself, and the
+/// triangulation of such an outline may cover more than the polygon. Repeats
+/// left behind (`a a`) are merged, until no spike is left.
+fn remove_spikes(mut kept: Vec<DVec3>, tolerance: f64) -> Vec<DVec3> {
+    loop {
+        let n = kept.len();
+        if n < 3 {
+            return kept;
+        }
+        let spike = (0..n).find(|&i| {
+            let (prev, v, next) = (kept[(i + n - 1) % n], kept[i], kept[(i + 1) % n]);
+            let (a, b) = (v - prev, next - v);
+            a.cross(b).length() <= 1e-9 * a.length() * b.length() && a.dot(b) < 0.0
+        });
+        let Some(i) = spike else {
+            return kept;
+        };
+        kept.remove(i);
+        kept = remove_repeated_vertices(&kept, tolerance);
+    }
+}
+
 /// What [`clean_polygon`] made of a raw face.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CleanedPolygon {
@@ -146,7 +170,10 @@ pub fn clean_polygon(object: &str, material: usize, vertices: &[DVec3]) -> Clean
     }
     // Drop repeated vertices, relative to the face's size.
     let raw_diameter = polygon_diameter(vertices);
-    let distinct = remove_repeated_vertices(vertices, DUPLICATE_RATIO * raw_diameter);
+    let distinct = remove_spikes(
+        remove_repeated_vertices(vertices, DUPLICATE_RATIO * raw_diameter),
+        DUPLICATE_RATIO * raw_diameter,
+    );
     if distinct.len() < 3 {
         return skipped(format!(
             "it has {} distinct vertices, fewer than 3",
