@@ -120,12 +120,15 @@ pub fn remove_repeated_vertices(vertices: &[DVec3], tolerance: f64) -> Vec<DVec3
 /// (the edges before and after it antiparallel), such as `b` in `a b a c d`.
 /// A spike encloses no area, but it makes the outline touch itself, and the
 /// triangulation of such an outline may cover more than the polygon. Repeats
-/// left behind (`a a`) are merged, until no spike is left.
-fn remove_spikes(mut kept: Vec<DVec3>, tolerance: f64) -> Vec<DVec3> {
+/// left behind (`a a`) are merged, until no spike is left. An outline that
+/// would be left with fewer than three vertices (it is all spike: a line) is
+/// returned as it came, for the area check to refuse.
+fn remove_spikes(vertices: Vec<DVec3>, tolerance: f64) -> Vec<DVec3> {
+    let mut kept = vertices.clone();
     loop {
         let n = kept.len();
         if n < 3 {
-            return kept;
+            return vertices;
         }
         let spike = (0..n).find(|&i| {
             let (prev, v, next) = (kept[(i + n - 1) % n], kept[i], kept[(i + 1) % n]);
