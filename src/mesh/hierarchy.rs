@@ -18,6 +18,7 @@
 use glam::DVec3;
 use slotmap::{SlotMap, new_key_type};
 
+use super::patch::Cell;
 use super::topology::{Element, Mesh};
 
 new_key_type! {
@@ -270,19 +271,18 @@ fn receiver_offset(mesh: &Mesh, v: u32) -> DVec3 {
 /// A child element of `parent` with the given corners (a triangle repeats
 /// its third).
 fn element_with(mesh: &Mesh, parent: &Element, corners: &[u32; 4]) -> Element {
-    let is_triangle = parent.is_triangle;
     let p = |k: usize| mesh.vertices[corners[k] as usize].position;
-    let area = if is_triangle {
-        0.5 * (p(1) - p(0)).cross(p(2) - p(0)).length()
+    let cell = if parent.is_triangle {
+        Cell::triangle(p(0), p(1), p(2))
     } else {
-        0.5 * (p(2) - p(0)).cross(p(3) - p(1)).length()
+        Cell::quad(p(0), p(1), p(2), p(3))
     };
     Element {
         vertices: *corners,
-        is_triangle,
+        is_triangle: parent.is_triangle,
         surface: parent.surface,
         patch: parent.patch,
-        area,
+        area: cell.area,
     }
 }
 
