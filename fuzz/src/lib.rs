@@ -10,8 +10,8 @@ use std::sync::OnceLock;
 
 use glam::{DVec2, DVec3};
 use isorad::{
-    ContourSettings, Mesh, Scene, SquareMeshSettings, contour_layout, estimate_square_elements,
-    mesh_square, mesh_surfaces,
+    ContourSettings, ElementHierarchy, Mesh, Scene, SquareMeshSettings, contour_layout,
+    estimate_square_elements, mesh_square, mesh_surfaces,
 };
 
 /// A folder of this process's own, for the files a target writes (in
@@ -151,7 +151,11 @@ pub const MAX_FUZZ_ELEMENTS: f64 = 20_000.0;
 pub type Mesher = fn(&Scene) -> Mesh;
 
 /// Every mesher the `meshers` target runs on each decoded scene.
-pub const MESHERS: &[(&str, Mesher)] = &[("square", square), ("contour", contour)];
+pub const MESHERS: &[(&str, Mesher)] = &[
+    ("square", square),
+    ("adaptive", adaptive),
+    ("contour", contour),
+];
 
 /// Square settings with elements of a tenth of the scene's diagonal.
 fn coarse(scene: &Scene) -> SquareMeshSettings {
@@ -164,6 +168,25 @@ fn coarse(scene: &Scene) -> SquareMeshSettings {
 /// The square mesher.
 fn square(scene: &Scene) -> Mesh {
     mesh_square(scene, &coarse(scene))
+}
+
+/// The adaptive mesher's element quadtrees: the square mesh, every element
+/// split once, then every third leaf split again (hanging vertices on the
+/// neighbours), with the hierarchy validated after each round.
+fn adaptive(scene: &Scene) -> Mesh {
+    let mut mesh = square(scene);
+    let mut hierarchy = ElementHierarchy::new(&mesh);
+    let areas: Vec<f64> = scene.surfaces.iter().map(|s| s.area()).collect();
+    for round in 0..2 {
+        let chosen: Vec<usize> = (0..mesh.elements.len())
+            .filter(|e| round == 0 || e % 3 == 0)
+            .collect();
+        hierarchy.split(&mut mesh, &chosen);
+        if let Err(e) = hierarchy.validate(&mesh, &areas) {
+            panic!("adaptive: round {round}: {e}");
+        }
+    }
+    mesh
 }
 
 /// The contour mesher on every non-emitting surface, for a unimodal field
@@ -217,18 +240,37 @@ pub fn check_mesh(name: &str, scene: &Scene, mesh: &Mesh) {
         assert!(vertex.position.is_finite(), "{name}: {vertex:?}");
         assert!(vertex.receiver_position.is_finite(), "{name}: {vertex:?}");
         let surface = &scene.surfaces[vertex.surface as usize];
-        let size = surface.vertices().iter().map(|v| v.distance(surface.frame().origin)).fold(0.0, f64::max);
+        let size = surface
+            .vertices()
+            .iter()
+            .map(|v| v.distance(surface.frame().origin))
+            .fold(0.0, f64::max);
         let height = surface.frame().height(vertex.position).abs();
-        assert!(height <= 1e-6 * size, "{name}: vertex {height} off its plane (size {size})");
+        assert!(
+            height <= 1e-6 * size,
+            "{name}: vertex {height} off its plane (size {size})"
+        );
     }
     let mut covered = vec![0.0; scene.surfaces.len()];
+    let mut rendered = vec![0.0; scene.surfaces.len()];
+    let mut triangles = Vec::new();
     for element in &mesh.elements {
         covered[element.surface as usize] += element.area;
+        mesh.element_triangles(element, |_, _| 0.0, &mut triangles);
+        for &[a, b, c] in &triangles {
+            let [a, b, c] = [a, b, c].map(|v| mesh.vertices[v as usize].position);
+            rendered[element.surface as usize] += 0.5 * (b - a).cross(c - a).length();
+        }
     }
-    for (surface, (&sum, &area)) in covered.iter().zip(&areas).enumerate() {
+    for (surface, &area) in areas.iter().enumerate() {
+        let (sum, drawn) = (covered[surface], rendered[surface]);
         assert!(
             (sum - area).abs() <= 1e-6 * area,
             "{name}: surface {surface}: elements cover {sum} of {area}"
+        );
+        assert!(
+            (drawn - area).abs() <= 1e-6 * area,
+            "{name}: surface {surface}: rendered triangles cover {drawn} of {area}"
         );
     }
 }

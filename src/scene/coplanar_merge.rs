@@ -87,20 +87,24 @@ impl MergeReport {
         if self.faces_merged == 0 && self.regions_kept == 0 {
             return None;
         }
-        let mut text = format!(
-            "merged {} coplanar faces into {} polygon{}",
-            thousands(self.faces_merged),
-            thousands(self.polygons),
-            if self.polygons == 1 { "" } else { "s" }
-        );
+        let mut parts = Vec::new();
+        if self.faces_merged > 0 {
+            parts.push(format!(
+                "merged {} coplanar faces into {} polygon{}",
+                thousands(self.faces_merged),
+                thousands(self.polygons),
+                if self.polygons == 1 { "" } else { "s" }
+            ));
+        }
         if self.regions_kept > 0 {
-            text.push_str(&format!(
-                "; {} coplanar region{} with a hole or a pinched outline kept as {} faces",
+            parts.push(format!(
+                "{} coplanar region{} with a hole or a pinched outline kept as {} faces",
                 thousands(self.regions_kept),
                 if self.regions_kept == 1 { "" } else { "s" },
                 thousands(self.faces_kept)
             ));
         }
+        let text = parts.join("; ");
         Some(text)
     }
 }

@@ -6,7 +6,10 @@
 //! - cleaned of consecutive repeated vertices;
 //! - **skipped** when fewer than three distinct vertices remain, its area
 //!   is below [`DEGENERATE_AREA_RATIO`] × diameter², or two of its edges
-//!   cross (a bow-tie: no side is its front);
+//!   cross (a bow-tie: no side is its front), or its outline touches itself
+//!   and goes twice round some of its area;
+//! - **split into triangles** when its outline touches itself but covers
+//!   its area once (a keyhole, or loops meeting at a vertex);
 //! - **projected** onto its best-fit plane when nearly planar (every vertex
 //!   within [`PLANARITY_TOLERANCE`] × diameter of the plane: measured scenes
 //!   such as the Cornell box have walls a millimetre off plane);
@@ -17,7 +20,7 @@
 use glam::{DVec2, DVec3};
 
 use super::surface::{PlaneFrame, Surface, newell_normal};
-use super::triangulate::triangulate_polygon;
+use super::triangulate::{signed_area_2d, triangulate_polygon};
 
 /// Largest distance of a vertex from the best-fit plane, as a fraction of the
 /// polygon's diameter, for the polygon to count as planar (1 %).
@@ -199,8 +202,40 @@ pub fn clean_polygon(object: &str, material: usize, vertices: &[DVec3]) -> Clean
             plane_points.len()
         ));
     }
+    let planar = plane.max_deviation <= PLANARITY_TOLERANCE * plane.diameter;
+    // Touching itself (a keyhole's bridge, or loops meeting at a vertex):
+    // split into triangles when it covers its area once, else skip.
+    if let Some((vertex, edge)) = first_touch(&plane_points) {
+        let touch = format!(
+            "its outline touches itself (vertex {} lies on edge {} of {})",
+            vertex + 1,
+            edge + 1,
+            plane_points.len()
+        );
+        let triangles = triangulate_polygon(&plane_points);
+        if !covers_once(&plane_points, &triangles) {
+            return skipped(format!(
+                "{touch} and covers some of its area twice: a face must be a simple \
+                 polygon, its vertices in order around it"
+            ));
+        }
+        let corners = if planar {
+            project_onto_plane(&distinct, &plane.frame)
+        } else {
+            distinct.clone()
+        };
+        let surfaces = surfaces_of_triangles(object, material, &corners, &triangles);
+        let warning = format!(
+            "object `{object}`: {touch}; split into {} triangles",
+            surfaces.len()
+        );
+        return CleanedPolygon {
+            surfaces,
+            warning: Some(warning),
+        };
+    }
     // Nearly planar: project onto the best-fit plane.
-    if plane.max_deviation <= PLANARITY_TOLERANCE * plane.diameter {
+    if planar {
         let projected = project_onto_plane(&distinct, &plane.frame);
         return match Surface::new(object, material, projected) {
             Some(s) => CleanedPolygon {
@@ -280,16 +315,103 @@ fn split_into_triangles(
     frame: &PlaneFrame,
 ) -> Vec<Surface> {
     let plane_points: Vec<DVec2> = vertices.iter().map(|&p| frame.to_plane(p)).collect();
-    triangulate_polygon(&plane_points)
-        .into_iter()
-        .filter_map(|[a, b, c]| {
-            Surface::new(
-                object,
-                material,
-                vec![vertices[a], vertices[b], vertices[c]],
-            )
+    let triangles = triangulate_polygon(&plane_points);
+    surfaces_of_triangles(object, material, vertices, &triangles)
+}
+
+/// A surface of each non-degenerate triangle (index triples into `corners`).
+fn surfaces_of_triangles(
+    object: &str,
+    material: usize,
+    corners: &[DVec3],
+    triangles: &[[usize; 3]],
+) -> Vec<Surface> {
+    triangles
+        .iter()
+        .filter_map(|&[a, b, c]| {
+            Surface::new(object, material, vec![corners[a], corners[b], corners[c]])
         })
         .collect()
+}
+
+/// The first vertex of the outline lying on an edge that does not end at
+/// it (within 10⁻⁹ of the outline's size), as (vertex, edge), edge k
+/// running from vertex k to k + 1. Such an outline touches itself without
+/// crossing: a keyhole's bridge, a vertex visited twice, or a lobe folded
+/// back onto the rest. O(n²) with a bounding-box test first.
+#[must_use]
+pub fn first_touch(points: &[DVec2]) -> Option<(usize, usize)> {
+    let n = points.len();
+    if n < 4 {
+        return None;
+    }
+    let (low, high) = points.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    let tolerance = 1e-9 * (high - low).length();
+    for j in 0..n {
+        let (a, b) = (points[j], points[(j + 1) % n]);
+        let (box_low, box_high) = (a.min(b) - tolerance, a.max(b) + tolerance);
+        for (k, &p) in points.iter().enumerate() {
+            if k == j || k == (j + 1) % n || p.cmplt(box_low).any() || p.cmpgt(box_high).any() {
+                continue;
+            }
+            if distance_to_segment(p, a, b) <= tolerance {
+                return Some((k, j));
+            }
+        }
+    }
+    None
+}
+
+/// Distance from p to the segment ab.
+fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let ab = b - a;
+    let t = if ab.length_squared() > 0.0 {
+        ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.distance(a + t * ab)
+}
+
+/// Whether the triangles tile the counter-clockwise outline `points` once:
+/// each triangle counter-clockwise with winding number 1 at its centroid,
+/// and their areas summing to the outline's signed (shoelace) area, which
+/// counts area the outline goes round twice twice.
+fn covers_once(points: &[DVec2], triangles: &[[usize; 3]]) -> bool {
+    let mut sum = 0.0;
+    for &[a, b, c] in triangles {
+        let (a, b, c) = (points[a], points[b], points[c]);
+        let area = 0.5 * (b - a).perp_dot(c - a);
+        if area <= 0.0 || winding_number(points, (a + b + c) / 3.0) != 1 {
+            return false;
+        }
+        sum += area;
+    }
+    let area = signed_area_2d(points);
+    (sum - area).abs() <= 1e-9 * area.abs()
+}
+
+/// How many times the closed outline `points` winds counter-clockwise round
+/// p (Sunday's crossing rule: upward edges with p on their left count +1,
+/// downward edges with p on their right −1).
+fn winding_number(points: &[DVec2], p: DVec2) -> i32 {
+    let n = points.len();
+    (0..n)
+        .map(|k| {
+            let (a, b) = (points[k], points[(k + 1) % n]);
+            let left = (b - a).perp_dot(p - a);
+            if a.y <= p.y && b.y > p.y && left > 0.0 {
+                1
+            } else if a.y > p.y && b.y <= p.y && left < 0.0 {
+                -1
+            } else {
+                0
+            }
+        })
+        .sum()
 }
 
 #[cfg(test)]
@@ -368,5 +490,86 @@ mod tests {
         let cleaned = clean_polygon("line", 0, &line);
         assert!(cleaned.surfaces.is_empty());
         assert!(cleaned.warning.unwrap().contains("area is zero"));
+    }
+
+    fn flat(points: &[(f64, f64)]) -> Vec<DVec3> {
+        points.iter().map(|&(x, y)| v(x, y, 0.)).collect()
+    }
+
+    fn total_area(cleaned: &CleanedPolygon) -> f64 {
+        cleaned.surfaces.iter().map(Surface::area).sum()
+    }
+
+    #[test]
+    fn keyhole_is_split_into_triangles_covering_it_once() {
+        // A 10 × 10 square with a 4 × 4 hole, joined by a bridge along y = 5.
+        let keyhole = flat(&[
+            (0., 0.),
+            (10., 0.),
+            (10., 10.),
+            (0., 10.),
+            (0., 5.),
+            (3., 5.),
+            (3., 7.),
+            (7., 7.),
+            (7., 3.),
+            (3., 3.),
+            (3., 5.),
+            (0., 5.),
+        ]);
+        let cleaned = clean_polygon("slab", 0, &keyhole);
+        assert!((total_area(&cleaned) - 84.0).abs() < 1e-9, "{cleaned:?}");
+        let warning = cleaned.warning.unwrap();
+        assert!(warning.contains("`slab`") && warning.contains("touches itself"));
+        assert!(cleaned.surfaces.iter().all(|s| s.normal().z > 0.99));
+    }
+
+    #[test]
+    fn two_squares_meeting_at_a_corner_are_kept() {
+        let pinched = flat(&[
+            (0., 0.),
+            (1., 0.),
+            (1., 1.),
+            (2., 1.),
+            (2., 2.),
+            (1., 2.),
+            (1., 1.),
+            (0., 1.),
+        ]);
+        let cleaned = clean_polygon("pinched", 0, &pinched);
+        assert!((total_area(&cleaned) - 2.0).abs() < 1e-12, "{cleaned:?}");
+    }
+
+    #[test]
+    fn outline_going_twice_round_some_area_is_skipped() {
+        // A triangle lobe folded back inside a 10 × 5 rectangle, touching
+        // it at (0, 0) and (5, 0) without crossing (found by fuzzing: the
+        // meshers covered 40 of its 60 units of shoelace area).
+        let folded = flat(&[
+            (0., 0.),
+            (5., 0.),
+            (10., 4.),
+            (0., 0.),
+            (5., 0.),
+            (10., 0.),
+            (10., 5.),
+            (0., 5.),
+            (0., 0.),
+            (5.04, 0.),
+        ]);
+        let cleaned = clean_polygon("folded", 0, &folded);
+        assert!(cleaned.surfaces.is_empty(), "{cleaned:?}");
+        let warning = cleaned.warning.unwrap();
+        assert!(warning.contains("touches itself") && warning.contains("twice"));
+    }
+
+    #[test]
+    fn simple_outlines_do_not_touch() {
+        let l_shape = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)];
+        let points: Vec<DVec2> = l_shape.iter().map(|&(x, y)| DVec2::new(x, y)).collect();
+        assert_eq!(first_touch(&points), None);
+        let cleaned = clean_polygon("l", 0, &flat(&l_shape));
+        assert_eq!(cleaned.surfaces.len(), 1);
+        assert!(cleaned.warning.is_none());
     }
 }
