@@ -189,29 +189,34 @@ fn direction(u: f64, v: f64) -> DVec3 {
     DVec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
-/// A random triangle or quad of size about 1 around `centre`, planar.
+/// A random triangle or quad of size about 1 around `centre`, planar and
+/// star-shaped about it (convex or not).
 fn random_polygon(centre: DVec3, normal: DVec3, corners: &[(f64, f64)]) -> Vec<DVec3> {
     let u = normal.any_orthonormal_vector();
     let v = normal.cross(u);
-    // Corners at increasing angles: a convex, counter-clockwise polygon.
+    // Corners at increasing angles, each within 1.4 × 2π/n of the last
+    // (less than π): a counter-clockwise polygon star-shaped about the
+    // centre, which lies inside it.
     let n = corners.len();
     corners
         .iter()
         .enumerate()
         .map(|(k, &(jitter, radius))| {
-            let angle = std::f64::consts::TAU * (k as f64 + 0.8 * jitter) / n as f64;
+            let angle = std::f64::consts::TAU * (k as f64 + 0.4 * jitter) / n as f64;
             centre + (u * angle.cos() + v * angle.sin()) * (0.3 + 0.7 * radius)
         })
         .collect()
 }
 
-/// ∫_A F(x → target) dA over a convex polygon: each fan triangle split
-/// into m² equal sub-triangles, the factor taken at their centroids.
-fn area_times_form_factor(polygon: &[DVec3], target: &[DVec3], m: usize) -> f64 {
+/// ∫_A F(x → target) dA over a polygon star-shaped about `centre` (as
+/// [`random_polygon`] makes them, convex or not): each triangle of the fan
+/// about the centre split into m² equal sub-triangles, the factor taken at
+/// their centroids.
+fn area_times_form_factor(centre: DVec3, polygon: &[DVec3], target: &[DVec3], m: usize) -> f64 {
     let normal = isorad::newell_normal(polygon).normalize();
     let mut sum = 0.0;
-    for k in 1..polygon.len() - 1 {
-        let (a, b, c) = (polygon[0], polygon[k], polygon[k + 1]);
+    for k in 0..polygon.len() {
+        let (a, b, c) = (centre, polygon[k], polygon[(k + 1) % polygon.len()]);
         let area = 0.5 * (b - a).cross(c - a).length() / (m * m) as f64;
         let at = |i: f64, j: f64| a + (b - a) * (i / m as f64) + (c - a) * (j / m as f64);
         for j in 0..m {
@@ -264,8 +269,8 @@ proptest! {
         let normal_j = (-axis + lean(tilts.2, tilts.3)).normalize();
         let polygon_i = random_polygon(DVec3::ZERO, normal_i, &corners_i);
         let polygon_j = random_polygon(centre_j, normal_j, &corners_j);
-        let ij = area_times_form_factor(&polygon_i, &polygon_j, 12);
-        let ji = area_times_form_factor(&polygon_j, &polygon_i, 12);
+        let ij = area_times_form_factor(DVec3::ZERO, &polygon_i, &polygon_j, 12);
+        let ji = area_times_form_factor(centre_j, &polygon_j, &polygon_i, 12);
         prop_assert!(
             (ij - ji).abs() <= 2e-3 * ij.max(ji) + 1e-9,
             "A_i F_ij = {ij}, A_j F_ji = {ji}"
