@@ -92,12 +92,11 @@ fn the_office_meshes_with_its_contacts() {
     );
 }
 
-/// A 16-sided plate on a floor with an octagonal column standing on it: the
-/// contact mesher's constrained triangulation panics inside spade 2.15
-/// ("Failed to locate position"). The office's chairs use a square base
-/// plate until the mesher survives this.
+/// A 16-sided plate on a floor with an octagonal column standing on it:
+/// the contact mesher's constrained triangulation once panicked inside
+/// spade 2.15 ("Failed to locate position"), before crossings of contact
+/// lines became vertices of isorad's own.
 #[test]
-#[ignore = "known panic in the contact mesher (spade 2.15); see the doc comment"]
 fn contact_mesher_survives_an_octagonal_column_on_a_16_gon() {
     let dir = tempfile::tempdir().unwrap();
     let ring = |sides: usize, radius: f64, y: f64| -> Vec<[f64; 3]> {

@@ -221,6 +221,30 @@ fn contour(scene: &Scene) -> Mesh {
     mesh_surfaces(scene, &coarse(scene), &|surface| layouts[surface].clone())
 }
 
+/// The `meshers` target: `data` decodes to a floor polygon (concave, nearly
+/// degenerate, tiny or huge as the bytes make it), which goes through the
+/// OBJ loader's clean-up as a user's face would (skipped, projected or
+/// split), under a lamp; every mesher in [`MESHERS`] then meshes the scene,
+/// and every mesh must keep [`check_mesh`]'s invariants.
+pub fn mesh_random_floor(data: &[u8]) {
+    let floor = decode_polygon(&mut Bytes(data), 256);
+    if floor.len() < 3 {
+        return;
+    }
+    write_scratch("fuzz.mtl", FLOOR_AND_LAMP_MTL.as_bytes());
+    let path = write_scratch("floor.obj", floor_and_lamp_obj(&floor).as_bytes());
+    let Ok(scene) = isorad::load_obj(&path) else {
+        return;
+    };
+    check_scene(&scene);
+    if !small_enough(&scene) {
+        return;
+    }
+    for (name, mesher) in MESHERS {
+        check_mesh(name, &scene, &mesher(&scene));
+    }
+}
+
 /// Whether the fuzz meshers should run on `scene` (small enough to be fast).
 #[must_use]
 pub fn small_enough(scene: &Scene) -> bool {

@@ -61,6 +61,7 @@ pub fn triangulate_constrained(
     // Every point, then every constraint as a chain through the points lying
     // on it: a point a rounding error off a constraint's line must not be
     // left on one side of it in a sliver.
+    let unit = UnitFrame::new(outline.iter().chain(&points));
     let mut vertices: Vec<(DVec2, _)> = Vec::new();
     for &p in outline
         .iter()
@@ -68,8 +69,9 @@ pub fn triangulate_constrained(
         .chain(constraints.iter().flatten())
         .chain(&crossings)
     {
-        if let Ok(handle) = cdt.insert(Point2::new(p.x, p.y)) {
-            vertices.push((p, handle));
+        let q = unit.to_unit(p);
+        if let Ok(handle) = cdt.insert(Point2::new(q.x, q.y)) {
+            vertices.push((q, handle));
         }
     }
     let scale = vertices
@@ -77,6 +79,7 @@ pub fn triangulate_constrained(
         .map(|(p, _)| p.abs().max_element())
         .fold(0.0, f64::max);
     for &[a, b] in outline_edges.iter().chain(&constraints) {
+        let (a, b) = (unit.to_unit(a), unit.to_unit(b));
         let length_squared = (b - a).length_squared();
         if length_squared.is_nan() || length_squared <= 0.0 {
             continue;
@@ -107,7 +110,7 @@ pub fn triangulate_constrained(
     let remap: Vec<usize> = cdt
         .vertices()
         .map(|v| {
-            let p = snap.point(DVec2::new(v.position().x, v.position().y));
+            let p = snap.point(unit.from_unit(DVec2::new(v.position().x, v.position().y)));
             *by_position
                 .entry([p.x.to_bits(), p.y.to_bits()])
                 .or_insert_with(|| {
@@ -129,6 +132,52 @@ pub fn triangulate_constrained(
         })
         .collect();
     PlaneTriangulation { points, triangles }
+}
+
+/// Coordinates in which the triangulation is built: centred on the input's
+/// bounding box and scaled by a power of two to about unit size, with any
+/// coordinate under spade's smallest (1.8e-43) flushed to zero. Spade
+/// refuses such coordinates, and a polygon a few 10⁻³² across has vertices
+/// a rounding error from its frame's axes that would fall out.
+struct UnitFrame {
+    centre: DVec2,
+    unit: f64,
+}
+
+impl UnitFrame {
+    fn new<'a>(points: impl Iterator<Item = &'a DVec2>) -> UnitFrame {
+        let (low, high) = points.filter(|p| p.is_finite()).fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        let size = (high - low).max_element();
+        if !(size.is_finite() && size > 0.0) {
+            return UnitFrame {
+                centre: DVec2::ZERO,
+                unit: 1.0,
+            };
+        }
+        UnitFrame {
+            centre: 0.5 * (low + high),
+            unit: 2f64.powi(size.log2().ceil() as i32),
+        }
+    }
+
+    fn to_unit(&self, p: DVec2) -> DVec2 {
+        let q = (p - self.centre) / self.unit;
+        let flush = |x: f64| {
+            if x.abs() < spade::MIN_ALLOWED_VALUE {
+                0.0
+            } else {
+                x
+            }
+        };
+        DVec2::new(flush(q.x), flush(q.y))
+    }
+
+    fn from_unit(&self, q: DVec2) -> DVec2 {
+        q * self.unit + self.centre
+    }
 }
 
 /// The points where two segments cross properly (each passing strictly
