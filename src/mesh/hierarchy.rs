@@ -19,7 +19,7 @@ use glam::DVec3;
 use slotmap::{SlotMap, new_key_type};
 
 use super::patch::Cell;
-use super::topology::{Element, Mesh};
+use super::topology::{Element, Mesh, area_tolerance};
 
 new_key_type! {
     /// A node of the element hierarchy.
@@ -202,7 +202,14 @@ impl ElementHierarchy {
                 }
                 area += c.element.area;
             }
-            if (area - node.element.area).abs() > 1e-9 * node.element.area {
+            let corners: Vec<DVec3> = node
+                .element
+                .corners()
+                .iter()
+                .filter_map(|&v| mesh.vertices.get(v as usize).map(|v| v.position))
+                .collect();
+            let tolerance = area_tolerance(&corners, node.element.area);
+            if (area - node.element.area).abs() > tolerance * node.element.area {
                 return Err(format!(
                     "{key:?}: children cover {area}, the element {}",
                     node.element.area

@@ -232,7 +232,9 @@ impl Mesh {
     /// each patch's area the sum of its elements' and no more than its
     /// cell's, and the elements of each surface covering no more than
     /// `surface_areas` (all of it unless something stands on the surface),
-    /// to a relative 1e-9. Returns a description of the first violation.
+    /// to a relative 1e-9 (more for cells far from the origin against their
+    /// size: see [`area_tolerance`]). Returns a description of the first
+    /// violation.
     pub fn validate(&self, surface_areas: &[f64]) -> Result<(), String> {
         let mut area_sum = vec![0.0; surface_areas.len()];
         for (index, element) in self.elements.iter().enumerate() {
@@ -277,8 +279,9 @@ impl Mesh {
                 .iter()
                 .map(|&e| self.elements[e as usize].area)
                 .sum();
-            if (covered - patch.area).abs() > 1e-9 * patch.area
-                || patch.area > patch.cell.area * (1.0 + 1e-9)
+            let tolerance = area_tolerance(patch.cell.polygon(), patch.cell.area);
+            if (covered - patch.area).abs() > tolerance * patch.area
+                || patch.area > patch.cell.area * (1.0 + tolerance)
             {
                 return Err(format!(
                     "patch {index}: elements cover {covered}, patch area is {}, cell area {}",
@@ -287,5 +290,23 @@ impl Mesh {
             }
         }
         Ok(())
+    }
+}
+
+/// Relative tolerance on areas computed two ways over a cell of `area` with
+/// corners `polygon`: 10⁻⁹, plus the rounding of coordinates as far from the
+/// origin as the cell's farthest corner, r: each corner is off by up to
+/// ε·r, which moves the area of a cell of size h = √area by about 2ε·r·h,
+/// allowed a thousand times over: 10⁻⁹ + 2000 ε·r/h.
+pub(crate) fn area_tolerance(polygon: &[DVec3], area: f64) -> f64 {
+    let reach = polygon
+        .iter()
+        .map(|p| p.abs().max_element())
+        .fold(0.0, f64::max);
+    let size = area.sqrt();
+    if size > 0.0 {
+        1e-9 + 2000.0 * f64::EPSILON * reach / size
+    } else {
+        1e-9
     }
 }
