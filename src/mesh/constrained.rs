@@ -90,7 +90,8 @@ pub fn triangulate_constrained(
             .filter_map(|&(p, handle)| {
                 let t = (p - a).dot(b - a) / length_squared;
                 let off = (p - a).perp_dot(b - a).abs() / length_squared.sqrt();
-                ((-1e-12..=1.0 + 1e-12).contains(&t) && off <= 1e-9 * scale).then_some((t, handle))
+                ((-1e-12..=1.0 + 1e-12).contains(&t) && off <= CHAIN_DISTANCE * scale)
+                    .then_some((t, handle))
             })
             .collect();
         chain.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -133,6 +134,15 @@ pub fn triangulate_constrained(
         .collect();
     PlaneTriangulation { points, triangles }
 }
+
+/// Distance, relative to the largest unit coordinate (at most the input's
+/// size), within which a point counts as lying on a constraint, which then
+/// runs through it: a rounding error must not leave a point on the wrong
+/// side of a constraint in a sliver. A constraint may so bend by up to this
+/// fraction of the polygon's size, and the area on either side change by
+/// that times its length ([`Mesh::validate`](super::Mesh::validate) allows
+/// for it).
+pub(crate) const CHAIN_DISTANCE: f64 = 1e-9;
 
 /// Coordinates in which the triangulation is built: centred on the input's
 /// bounding box and scaled by a power of two to about unit size, with any

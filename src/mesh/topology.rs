@@ -4,6 +4,7 @@
 use glam::DVec3;
 use std::collections::HashMap;
 
+use super::constrained::CHAIN_DISTANCE;
 use super::patch::{Cell, Patch};
 
 /// A mesh vertex. It belongs to one surface; neighbouring surfaces do not
@@ -233,8 +234,9 @@ impl Mesh {
     /// cell's, and the elements of each surface covering no more than
     /// `surface_areas` (all of it unless something stands on the surface),
     /// to a relative 1e-9 (more for cells far from the origin against their
-    /// size: see [`area_tolerance`]). Returns a description of the first
-    /// violation.
+    /// size, see [`area_tolerance`], and for the bend a constrained
+    /// triangulation may give a cell's edges). Returns a description of the
+    /// first violation.
     pub fn validate(&self, surface_areas: &[f64]) -> Result<(), String> {
         let mut area_sum = vec![0.0; surface_areas.len()];
         for (index, element) in self.elements.iter().enumerate() {
@@ -273,13 +275,35 @@ impl Mesh {
                 ));
             }
         }
+        // Each surface's size: the diagonal of its vertices' bounding box.
+        let mut bounds = vec![(DVec3::INFINITY, DVec3::NEG_INFINITY); surface_areas.len()];
+        for vertex in &self.vertices {
+            if let Some((low, high)) = bounds.get_mut(vertex.surface as usize) {
+                (*low, *high) = (low.min(vertex.position), high.max(vertex.position));
+            }
+        }
+        let extents: Vec<f64> = bounds
+            .iter()
+            .map(|(low, high)| {
+                if low.x <= high.x {
+                    low.distance(*high)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
         for (index, patch) in self.patches.iter().enumerate() {
             let covered: f64 = patch
                 .elements
                 .iter()
                 .map(|&e| self.elements[e as usize].area)
                 .sum();
-            let tolerance = area_tolerance(patch.cell.polygon(), patch.cell.area);
+            // A constrained triangulation's cell edges may bend by
+            // CHAIN_DISTANCE of the surface's size (twice: unit coordinates).
+            let cell = patch.cell.polygon();
+            let extent = extents.get(patch.surface).copied().unwrap_or(0.0);
+            let bend = 2.0 * CHAIN_DISTANCE * extent * perimeter(cell);
+            let tolerance = area_tolerance(cell, patch.cell.area) + bend / patch.cell.area;
             if (covered - patch.area).abs() > tolerance * patch.area
                 || patch.area > patch.cell.area * (1.0 + tolerance)
             {
@@ -296,17 +320,23 @@ impl Mesh {
 /// Relative tolerance on areas computed two ways over a cell of `area` with
 /// corners `polygon`: 10⁻⁹, plus the rounding of coordinates as far from the
 /// origin as the cell's farthest corner, r: each corner is off by up to
-/// ε·r, which moves the area of a cell of size h = √area by about 2ε·r·h,
-/// allowed a thousand times over: 10⁻⁹ + 2000 ε·r/h.
+/// ε·r, which moves the area by about ε·r times the perimeter P, allowed a
+/// thousand times over: 10⁻⁹ + 1000 ε·r·P/A.
 pub(crate) fn area_tolerance(polygon: &[DVec3], area: f64) -> f64 {
     let reach = polygon
         .iter()
         .map(|p| p.abs().max_element())
         .fold(0.0, f64::max);
-    let size = area.sqrt();
-    if size > 0.0 {
-        1e-9 + 2000.0 * f64::EPSILON * reach / size
+    if area > 0.0 {
+        1e-9 + 1000.0 * f64::EPSILON * reach * perimeter(polygon) / area
     } else {
         1e-9
     }
+}
+
+/// The perimeter of a closed polygon.
+fn perimeter(polygon: &[DVec3]) -> f64 {
+    (0..polygon.len())
+        .map(|k| polygon[k].distance(polygon[(k + 1) % polygon.len()]))
+        .sum()
 }
