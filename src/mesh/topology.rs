@@ -233,10 +233,10 @@ impl Mesh {
     /// each patch's area the sum of its elements' and no more than its
     /// cell's, and the elements of each surface covering no more than
     /// `surface_areas` (all of it unless something stands on the surface),
-    /// to a relative 1e-9 (more for cells far from the origin against their
-    /// size, see [`area_tolerance`], and for the bend a constrained
-    /// triangulation may give a cell's edges). Returns a description of the
-    /// first violation.
+    /// to a relative 1e-9, plus what the rounding of coordinates far from
+    /// the origin and the bend a constrained triangulation may give a
+    /// cell's edges can add along its boundary. Returns a description of
+    /// the first violation.
     pub fn validate(&self, surface_areas: &[f64]) -> Result<(), String> {
         let mut area_sum = vec![0.0; surface_areas.len()];
         for (index, element) in self.elements.iter().enumerate() {
@@ -268,13 +268,6 @@ impl Mesh {
                 .get_mut(element.surface as usize)
                 .ok_or(format!("element {index}: surface out of range"))? += element.area;
         }
-        for (surface, (&sum, &area)) in area_sum.iter().zip(surface_areas).enumerate() {
-            if sum > area * (1.0 + 1e-9) {
-                return Err(format!(
-                    "surface {surface}: elements cover {sum}, surface area is {area}"
-                ));
-            }
-        }
         // Each surface's size: the diagonal of its vertices' bounding box.
         let mut bounds = vec![(DVec3::INFINITY, DVec3::NEG_INFINITY); surface_areas.len()];
         for vertex in &self.vertices {
@@ -292,6 +285,25 @@ impl Mesh {
                 }
             })
             .collect();
+        // Its elements may cover more than its area by the bend of its
+        // outline's constraints and the rounding of its coordinates, each
+        // times the length of its boundary (the edges one element uses).
+        let boundaries = self.boundary_lengths(surface_areas.len());
+        for (surface, (&sum, &area)) in area_sum.iter().zip(surface_areas).enumerate() {
+            let (low, high) = bounds[surface];
+            let reach = if low.x <= high.x {
+                low.abs().max(high.abs()).max_element()
+            } else {
+                0.0
+            };
+            let slack = (2.0 * CHAIN_DISTANCE * extents[surface] + 1000.0 * f64::EPSILON * reach)
+                * boundaries[surface];
+            if sum > area * (1.0 + 1e-9) + slack {
+                return Err(format!(
+                    "surface {surface}: elements cover {sum}, surface area is {area}"
+                ));
+            }
+        }
         for (index, patch) in self.patches.iter().enumerate() {
             let covered: f64 = patch
                 .elements
@@ -314,6 +326,33 @@ impl Mesh {
             }
         }
         Ok(())
+    }
+}
+
+impl Mesh {
+    /// Per surface (of `surfaces`), the total length of the element edges
+    /// used by exactly one element: its mesh's boundary.
+    fn boundary_lengths(&self, surfaces: usize) -> Vec<f64> {
+        let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
+        for element in &self.elements {
+            let c = element.corners();
+            for k in 0..c.len() {
+                let (a, b) = (c[k], c[(k + 1) % c.len()]);
+                *uses.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+        }
+        let mut lengths = vec![0.0; surfaces];
+        for (&(a, b), &count) in &uses {
+            let (Some(va), Some(vb)) =
+                (self.vertices.get(a as usize), self.vertices.get(b as usize))
+            else {
+                continue;
+            };
+            if let (1, Some(length)) = (count, lengths.get_mut(va.surface as usize)) {
+                *length += va.position.distance(vb.position);
+            }
+        }
+        lengths
     }
 }
 
