@@ -103,7 +103,7 @@ fn square_vertices_for(curve: &[(f64, f64)], error: f64) -> f64 {
 }
 
 #[test]
-fn the_hierarchy_is_valid_and_the_ledger_closed_after_an_adaptive_solve() {
+fn the_hierarchy_is_valid_balanced_and_the_ledger_closed_after_an_adaptive_solve() {
     let solver = solve(MeshKind::Adaptive, 1.0 / 40.0);
     let hierarchy = solver.hierarchy().expect("adaptive solve");
     let areas: Vec<f64> = solver.scene().surfaces.iter().map(|s| s.area()).collect();
@@ -120,6 +120,27 @@ fn the_hierarchy_is_valid_and_the_ledger_closed_after_an_adaptive_solve() {
     assert!(imbalance < 1e-9, "imbalance {imbalance}");
     for radiosity in solver.radiosity() {
         assert!(radiosity.is_finite() && radiosity.min_element() >= 0.0);
+    }
+    // Neighbours differ by at most one level: no edge of an element carries
+    // more than the one hanging vertex a neighbour a level finer puts there.
+    let mesh = solver.mesh();
+    for (index, element) in mesh.elements.iter().enumerate() {
+        let corners = element.corners();
+        let outline = mesh.element_outline(element);
+        let at = |v: u32| {
+            outline
+                .iter()
+                .position(|&w| w == v)
+                .expect("corner on outline")
+        };
+        for k in 0..corners.len() {
+            let (from, to) = (at(corners[k]), at(corners[(k + 1) % corners.len()]));
+            let between = (to + outline.len() - from) % outline.len() - 1;
+            assert!(
+                between <= 1,
+                "element {index}: {between} hanging vertices on edge {k}"
+            );
+        }
     }
 }
 

@@ -111,7 +111,7 @@ pub fn triangulate_constrained(
     let remap: Vec<usize> = cdt
         .vertices()
         .map(|v| {
-            let p = snap.point(unit.from_unit(DVec2::new(v.position().x, v.position().y)));
+            let p = snap.point(unit.to_plane(DVec2::new(v.position().x, v.position().y)));
             *by_position
                 .entry([p.x.to_bits(), p.y.to_bits()])
                 .or_insert_with(|| {
@@ -185,7 +185,7 @@ impl UnitFrame {
         DVec2::new(flush(q.x), flush(q.y))
     }
 
-    fn from_unit(&self, q: DVec2) -> DVec2 {
+    fn to_plane(&self, q: DVec2) -> DVec2 {
         q * self.unit + self.centre
     }
 }
