@@ -9,6 +9,7 @@ use glam::{DVec2, DVec3};
 
 use super::constrained::triangulate_constrained;
 use super::contour::ContourLayout;
+use super::patch::Cell;
 use super::topology::Mesh;
 use crate::scene::{
     PlaneFrame, Scene, Surface, Visibility, distance_to_boundary, polygon_contains,
@@ -216,6 +217,12 @@ pub fn remesh_surface(
                 cell_distance(&cells[a], centroid).total_cmp(&cell_distance(&cells[b], centroid))
             })
             .unwrap_or(0);
+        // A sliver whose area rounds to zero in world coordinates (a polygon
+        // far from the origin against its size) adds nothing: left out.
+        let [a, b, c] = triangle.map(|k| frame.to_world(triangulation.points[k]));
+        if !(Cell::triangle(a, b, c).area > 0.0) {
+            continue;
+        }
         let corners = triangle.map(|k| {
             if ids[k] == u32::MAX {
                 ids[k] = mesh.add_vertex(frame.to_world(triangulation.points[k]), surface_index);
