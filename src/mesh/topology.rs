@@ -327,9 +327,7 @@ impl Mesh {
         }
         Ok(())
     }
-}
 
-impl Mesh {
     /// Per surface (of `surfaces`), the total length of the element edges
     /// used by exactly one element: its mesh's boundary.
     fn boundary_lengths(&self, surfaces: usize) -> Vec<f64> {

@@ -104,8 +104,7 @@ impl MergeReport {
                 thousands(self.faces_kept)
             ));
         }
-        let text = parts.join("; ");
-        Some(text)
+        Some(parts.join("; "))
     }
 }
 
