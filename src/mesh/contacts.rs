@@ -220,7 +220,8 @@ pub fn remesh_surface(
         // A sliver whose area rounds to zero in world coordinates (a polygon
         // far from the origin against its size) adds nothing: left out.
         let [a, b, c] = triangle.map(|k| frame.to_world(triangulation.points[k]));
-        if !(Cell::triangle(a, b, c).area > 0.0) {
+        let area = Cell::triangle(a, b, c).area;
+        if area.is_nan() || area <= 0.0 {
             continue;
         }
         let corners = triangle.map(|k| {
