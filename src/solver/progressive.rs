@@ -171,7 +171,12 @@ impl Solver {
         self.shot_power += delta * self.mesh.patches[j].area;
         self.shot[j] += delta;
         self.shots += 1;
-        self.refine();
+        // Shadow edges and highlights come from direct light: elements split
+        // after the emitters' shots, and new vertices gather only those.
+        let surface = &self.scene.surfaces[self.mesh.patches[j].surface];
+        if self.scene.material_of(surface).is_emitter() {
+            self.refine();
+        }
         true
     }
 

@@ -1,11 +1,12 @@
 //! Adaptive element refinement: which elements to split while solving.
 //!
-//! An element is split when the radiosities at the vertices of its outline
-//! (its corners and the hanging vertices finer neighbours put on its edges)
-//! differ by more than a fraction of its brightness: linear interpolation
-//! across it would then miss a shadow edge or a highlight. Its children's new
-//! vertices gather everything already shot (see `Solver::refine`), so they
-//! hold values as exact as the old vertices', never interpolated guesses.
+//! After each shot from an emitter (direct light makes the shadow edges and
+//! highlights), an element is split where the radiosity gradient jumps
+//! across it (see [`elements_to_split`]): linear interpolation across it
+//! would miss a shadow edge or a highlight. Its children's new vertices
+//! gather everything already shot (see `Solver::refine`), so they hold
+//! values as exact as the old vertices', never interpolated guesses; as only
+//! emitters have shot while elements split, that gathering is cheap.
 //!
 //! # References
 //! M. F. Cohen, D. P. Greenberg, D. S. Immel, P. J. Brock, "An Efficient
