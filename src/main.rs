@@ -272,6 +272,23 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     for path in &args.export {
         ExportFormat::from_path(path)?;
     }
+    // `-o` is the OpenEXR image; a PNG name there is a mistake worth a word.
+    let extension = |path: &Path| {
+        path.extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+    };
+    anyhow::ensure!(
+        extension(&args.output).as_deref() != Some("png"),
+        "-o {} would be an OpenEXR image under a .png name: give the EXR path to -o \
+         (e.g. -o out.exr) and the PNG path to --png (e.g. --png out.png)",
+        args.output.display()
+    );
+    anyhow::ensure!(
+        extension(&args.png).as_deref() != Some("exr"),
+        "--png {} would be a PNG under an .exr name: give the PNG path to --png \
+         (e.g. --png out.png) and the EXR path to -o (e.g. -o out.exr)",
+        args.png.display()
+    );
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed))
         .context("cannot install the Ctrl-C handler")?;
     let Prepared { mut solver, source } = prepare(&args.solve)?;

@@ -59,6 +59,21 @@ fn an_unknown_scene_fails_with_its_name() {
 }
 
 #[test]
+fn swapped_image_names_fail_before_solving_and_say_which_flag_takes_which() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [["-o", "out.png"], ["--png", "out.EXR"]] {
+        let out = isorad(dir.path(), &["render", "cornell", args[0], args[1]]);
+        assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+        let message = stderr(&out);
+        assert!(
+            message.contains(args[1]) && message.contains("--png out.png"),
+            "{message}"
+        );
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
+}
+
+#[test]
 fn a_nan_vertex_fails_naming_file_and_line() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(
