@@ -12,7 +12,8 @@ use super::contour::ContourLayout;
 use super::patch::Cell;
 use super::topology::Mesh;
 use crate::scene::{
-    PlaneFrame, Scene, Surface, Visibility, distance_to_boundary, polygon_contains,
+    PlaneFrame, Scene, Surface, Visibility, distance_to_boundary, distance_to_segment,
+    polygon_contains,
 };
 
 /// A contact segment in a receiver's plane coordinates, with the side the
@@ -163,7 +164,7 @@ pub fn remesh_surface(
     let crowds = |p: DVec2| {
         segments
             .iter()
-            .any(|s| distance_to_segment(p, *s) < 0.6 * spacing)
+            .any(|&[a, b]| distance_to_segment(p, a, b) < 0.6 * spacing)
     };
     let mut points: Vec<DVec2> = match layout {
         Some(layout) => layout.points.clone(),
@@ -242,11 +243,6 @@ fn cell_distance(cell: &[DVec2], p: DVec2) -> f64 {
     } else {
         distance_to_boundary(cell, p)
     }
-}
-
-fn distance_to_segment(p: DVec2, [a, b]: [DVec2; 2]) -> f64 {
-    let t = ((p - a).dot(b - a) / (b - a).length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-    p.distance(a + (b - a) * t)
 }
 
 /// Drops the elements of the given surfaces that lie inside a closed object

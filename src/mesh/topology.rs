@@ -194,15 +194,7 @@ impl Mesh {
     /// one element) by `distance` towards the interior, into
     /// [`MeshVertex::receiver_position`].
     pub fn inset_boundary_receivers(&mut self, distance: f64) {
-        // Count the elements using each undirected edge.
-        let mut edge_uses: HashMap<(u32, u32), u32> = HashMap::new();
-        for element in &self.elements {
-            let c = element.corners();
-            for k in 0..c.len() {
-                let (a, b) = (c[k], c[(k + 1) % c.len()]);
-                *edge_uses.entry((a.min(b), a.max(b))).or_default() += 1;
-            }
-        }
+        let edge_uses = self.edge_uses();
         // Sum, per boundary vertex, the inward normals of its boundary edges:
         // elements are counter-clockwise, so the interior lies to the left of
         // each edge, along normal × edge. (Averaging directions to element
@@ -328,9 +320,9 @@ impl Mesh {
         Ok(())
     }
 
-    /// Per surface (of `surfaces`), the total length of the element edges
-    /// used by exactly one element: its mesh's boundary.
-    fn boundary_lengths(&self, surfaces: usize) -> Vec<f64> {
+    /// How many elements use each undirected edge (a, b), a < b, between
+    /// corners: 1 on the mesh's boundary, 2 inside.
+    fn edge_uses(&self) -> HashMap<(u32, u32), u32> {
         let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
         for element in &self.elements {
             let c = element.corners();
@@ -339,8 +331,14 @@ impl Mesh {
                 *uses.entry((a.min(b), a.max(b))).or_default() += 1;
             }
         }
+        uses
+    }
+
+    /// Per surface (of `surfaces`), the total length of the element edges
+    /// used by exactly one element: its mesh's boundary.
+    fn boundary_lengths(&self, surfaces: usize) -> Vec<f64> {
         let mut lengths = vec![0.0; surfaces];
-        for (&(a, b), &count) in &uses {
+        for (&(a, b), &count) in &self.edge_uses() {
             let (Some(va), Some(vb)) =
                 (self.vertices.get(a as usize), self.vertices.get(b as usize))
             else {

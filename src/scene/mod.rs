@@ -24,7 +24,7 @@ pub use coplanar_merge::{MergeReport, merge_coplanar_faces};
 pub use load::{LoadSettings, LoadedScene, load_scene, load_scene_with};
 pub use material::{Material, Rgb};
 pub use obj::load_obj;
-pub use plane_polygon::{distance_to_boundary, polygon_contains};
+pub use plane_polygon::{distance_to_boundary, distance_to_segment, polygon_contains};
 pub use polygon::{PolygonPlane, best_fit_plane};
 pub use probe_points::{ProbePoint, load_probe_points, parse_probe_points};
 pub use scene_file::load_scene_file;

@@ -19,13 +19,15 @@ pub fn polygon_contains(polygon: &[DVec2], p: DVec2) -> bool {
 #[must_use]
 pub fn distance_to_boundary(polygon: &[DVec2], p: DVec2) -> f64 {
     (0..polygon.len())
-        .map(|k| {
-            let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
-            let t = ((p - a).dot(b - a) / (b - a).length_squared().max(f64::MIN_POSITIVE))
-                .clamp(0.0, 1.0);
-            p.distance(a + (b - a) * t)
-        })
+        .map(|k| distance_to_segment(p, polygon[k], polygon[(k + 1) % polygon.len()]))
         .fold(f64::INFINITY, f64::min)
+}
+
+/// Distance from `p` to the segment ab (to a when a = b).
+#[must_use]
+pub fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let t = ((p - a).dot(b - a) / (b - a).length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+    p.distance(a + (b - a) * t)
 }
 
 #[cfg(test)]

@@ -19,6 +19,7 @@
 
 use glam::{DVec2, DVec3};
 
+use super::plane_polygon::distance_to_segment;
 use super::surface::{PlaneFrame, Surface, newell_normal};
 use super::triangulate::{signed_area_2d, triangulate_polygon};
 
@@ -363,17 +364,6 @@ pub fn first_touch(points: &[DVec2]) -> Option<(usize, usize)> {
         }
     }
     None
-}
-
-/// Distance from p to the segment ab.
-fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let ab = b - a;
-    let t = if ab.length_squared() > 0.0 {
-        ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    p.distance(a + t * ab)
 }
 
 /// Whether the triangles tile the counter-clockwise outline `points` once:
