@@ -7,7 +7,9 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::DVec3;
-use isorad::{disc_form_factor, polygon_form_factor, polygon_form_factor_with_gradient};
+use isorad::radiometry::{
+    disc_form_factor, polygon_form_factor, polygon_form_factor_with_gradient,
+};
 
 /// A regular `sides`-gon of radius 0.5 at height 1, facing down.
 fn ceiling_polygon(sides: usize) -> Vec<DVec3> {

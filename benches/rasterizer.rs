@@ -2,7 +2,7 @@
 //! one and 3 × 3 samples per pixel. The solve (tolerance 0.05) is setup.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use isorad::{RenderSettings, Settings, Solver, load_scene, rasterize};
+use isorad::{RenderSettings, Settings, Solver, load_scene, render::rasterize};
 
 fn rasterizer(c: &mut Criterion) {
     // Solve once: mesh, BVH, shooting to 5 % unshot power.

@@ -3,7 +3,11 @@
 //! setup, measured apart in `prepare`.
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
-use isorad::{Solver, SolverSettings, SquareMeshSettings, Visibility, load_scene, mesh_square};
+use isorad::{
+    Solver, SolverSettings, load_scene,
+    mesh::{SquareMeshSettings, mesh_square},
+    scene::Visibility,
+};
 
 fn solve(c: &mut Criterion) {
     let scene = load_scene("cornell").expect("built-in Cornell box").scene;

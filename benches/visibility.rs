@@ -6,7 +6,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use isorad::{Visibility, load_scene};
+use isorad::{load_scene, scene::Visibility};
 
 mod common;
 use common::{RawBvh, random_segments};

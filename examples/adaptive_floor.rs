@@ -10,7 +10,10 @@
 use std::path::PathBuf;
 
 use glam::DVec2;
-use isorad::{Length, MeshKind, MeshPanel, Settings, Solver, load_scene, write_mesh_panels};
+use isorad::{
+    Length, MeshKind, Settings, Solver, load_scene,
+    study::{MeshPanel, write_mesh_panels},
+};
 
 /// The floor of a solved Cornell box as a panel: vertices in the floor's
 /// plane, their radiosity (sum of channels), and the rendered triangles

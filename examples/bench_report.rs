@@ -17,8 +17,12 @@ use std::path::Path;
 use std::time::Instant;
 
 use isorad::{
-    CompareSettings, Mesh, Scene, Series, Solver, SolverSettings, SquareMeshSettings, Visibility,
-    analyse_receivers, compare_receiver, load_scene, luminaires, mesh_square, write_loglog_plot,
+    Scene, Solver, SolverSettings,
+    lighting::{analyse_receivers, luminaires},
+    load_scene,
+    mesh::{Mesh, SquareMeshSettings, mesh_square},
+    scene::Visibility,
+    study::{CompareSettings, Series, compare_receiver, write_loglog_plot},
 };
 use rayon::prelude::*;
 

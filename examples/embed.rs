@@ -7,7 +7,7 @@
 
 use glam::DVec3;
 use isorad::{
-    Camera, Material, ProbeMode, ProbePoint, RenderSettings, Rgb, Scene, Settings, Solver,
+    Camera, Material, ProbeMode, RenderSettings, Rgb, Scene, Settings, Solver, scene::ProbePoint,
 };
 
 fn main() -> isorad::Result<()> {
@@ -46,8 +46,9 @@ fn main() -> isorad::Result<()> {
         line: 1,
     };
     let probe = solution.probe(&centre, ProbeMode::Gather)?;
-    let exact =
-        std::f64::consts::PI * 10.0 * isorad::polygon_form_factor(DVec3::ZERO, DVec3::Y, &light);
+    let exact = std::f64::consts::PI
+        * 10.0
+        * isorad::radiometry::polygon_form_factor(DVec3::ZERO, DVec3::Y, &light);
     println!(
         "irradiance under the light: {:.3} W/m² (exact {exact:.3}), radiosity {:.3} W/m²",
         probe.irradiance.x, probe.radiosity.x

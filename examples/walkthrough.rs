@@ -18,8 +18,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use isorad::{
-    Camera, Length, RenderSettings, Settings, Solver, load_scene, mesh_triangles, rasterize,
-    write_exr,
+    Camera, Length, RenderSettings, Settings, Solver, load_scene, render::rasterize,
+    view::mesh_triangles, write_exr,
 };
 use serde_json::json;
 

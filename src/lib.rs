@@ -45,15 +45,21 @@
 //!
 //! # The API in five steps
 //!
+//! The crate root holds what these steps need; the rest lives in public
+//! modules named after the pipeline ([`scene`], [`radiometry`],
+//! [`lighting`], [`mesh`], [`solver`], [`render`], [`view`], [`export`],
+//! [`study`]).
+//!
 //! 1. **A scene.** Build it in code with [`Scene::new`],
 //!    [`Scene::add_material`] ([`Material::diffuse`], [`Material::emitter`]),
 //!    [`Scene::add_polygon`] and [`Scene::set_camera`], or load a scene TOML,
 //!    an OBJ + MTL or the built-in `"cornell"` with [`load_scene`]
-//!    ([`load_scene_with`] and [`LoadSettings`] to keep the adjacent coplanar
-//!    faces of a triangulated OBJ apart instead of merging them). Both paths
-//!    check the same things and fail with the same [`Error`] variants; what
-//!    was repaired or skipped (a non-planar face split, a degenerate one
-//!    dropped) is listed in [`Scene::warnings`]. The library prints nothing.
+//!    ([`scene::load_scene_with`] and [`scene::LoadSettings`] to keep the
+//!    adjacent coplanar faces of a triangulated OBJ apart instead of merging
+//!    them). Both paths check the same things and fail with the same
+//!    [`Error`] variants; what was repaired or skipped (a non-planar face
+//!    split, a degenerate one dropped) is listed in [`Scene::warnings`]. The
+//!    library prints nothing.
 //! 2. **Settings.** [`Settings`] holds [`MeshSettings`] and
 //!    [`SolverSettings`]: plain data with defaults and the presets
 //!    [`Settings::preview`] and [`Settings::final_quality`]; lengths may be
@@ -72,15 +78,15 @@
 //!    triangles for a viewer of your own ([`Solution::triangles`]).
 //! 5. **Look.** [`Solution::render`] rasterizes into an [`Image`] of linear
 //!    radiance that you own; [`write_exr`] and [`write_png`] write it (to a
-//!    temporary file, then renamed). Beside them, [`export_glb`] and
-//!    [`export_ply`] (or [`export_solution`], by the path's extension) write
-//!    the solved mesh with its light baked into the vertices, for a viewer or
-//!    another tool, with the PNG's exposure ([`ToneMap`]).
+//!    temporary file, then renamed). Beside them, [`export_solution`] (or
+//!    [`export::export_glb`] and [`export::export_ply`]) writes the solved
+//!    mesh with its light baked into the vertices, for a viewer or another
+//!    tool, with the PNG's exposure ([`ToneMap`]).
 //!
 //! `examples/embed.rs` and `examples/progress.rs` show all of it. To compare
-//! meshers: [`compare_receiver`], [`write_loglog_plot`] (error against vertex
-//! count) and [`write_mesh_panels`] (meshes side by side with their
-//! wireframes).
+//! meshers: [`study::compare_receiver`], [`study::write_loglog_plot`] (error
+//! against vertex count) and [`study::write_mesh_panels`] (meshes side by
+//! side with their wireframes).
 //!
 //! # References
 //! - M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive
@@ -98,47 +104,37 @@
 
 #![warn(missing_docs)]
 
-mod compare;
 mod error;
-mod export;
-mod mesh;
-mod radiometry;
-mod render;
-mod scene;
-mod solver;
+mod fs;
 
-pub use compare::{
-    CompareSettings, ComparedMesh, MeshRecord, ReceiverComparison, compare_receiver,
-    panels_for_figure, write_json,
-};
+pub mod export;
+pub mod lighting;
+pub mod mesh;
+pub mod radiometry;
+pub mod render;
+pub mod scene;
+pub mod solver;
+pub mod study;
+pub mod view;
+
+// The five steps: load, settings, solve, query, render and export.
 pub use error::{Error, Result};
-pub use export::{ExportFormat, export_glb, export_ply, export_solution};
-pub use mesh::{
-    Cell, ContourLayout, ContourSettings, Element, ElementHierarchy, ElementKey, ElementNode,
-    ErrorGrid, InterpolationError, Mesh, MeshVertex, Patch, PlaneTriangulation, ScalarField,
-    SquareMeshSettings, contour_layout, estimate_square_elements, interpolation_error, mesh_square,
-    mesh_surfaces,
-};
-pub use radiometry::{
-    DiscModel, ReceiverPlane, SmallDisc, TiltFrame, disc_form_factor, polygon_form_factor,
-    polygon_form_factor_gradient, polygon_form_factor_with_gradient, tilt_line_maximum,
-};
-pub use render::{
-    Image, MeshPanel, RenderSettings, Series, ShadedTriangle, ToneMap, auto_exposure,
-    mesh_triangles, rasterize, read_exr, srgb_encode, write_exr, write_loglog_plot,
-    write_mesh_panels, write_png,
-};
-pub use scene::{
-    Camera, CameraFrame, LoadSettings, LoadedScene, Material, MergeReport, PlaneFrame,
-    PolygonPlane, ProbePoint, Rgb, Scene, SceneOptions, Surface, Visibility, Warning,
-    best_fit_plane, builtin_names, distance_to_boundary, load_obj, load_probe_points, load_scene,
-    load_scene_file, load_scene_with, merge_coplanar_faces, newell_normal, parse_probe_points,
-    polygon_contains, triangulate_polygon,
-};
+pub use export::export_solution;
+pub use render::{Image, RenderSettings, ToneMap, write_exr, write_png};
+pub use scene::{Camera, LoadedScene, Material, Rgb, Scene, load_scene};
 pub use solver::{
-    DirectField, DominanceSettings, EnergyBalance, FormFactorKernel, Length, Luminaire,
-    MeshAnalysis, MeshKind, MeshSettings, Probe, ProbeMode, Progress, ReceiverAnalysis,
-    RefinementSettings, SceneMesh, Settings, Solution, Solver, SolverSettings, StopReason,
-    SurfaceTotals, Until, analyse_receivers, elements_to_split, luminaires, mesh_scene,
-    receiver_layout,
+    Length, MeshKind, MeshSettings, Probe, ProbeMode, Progress, Settings, Solution, Solver,
+    SolverSettings, StopReason, Until,
 };
+
+/// Helpers that exist for isorad's tests, fuzz targets and benchmarks:
+/// polygon predicates and element counts. Not part of the supported API;
+/// they may change without notice.
+#[doc(hidden)]
+pub mod internals {
+    pub use crate::mesh::budget::estimate_square_elements;
+    pub use crate::scene::plane_polygon::{distance_to_boundary, polygon_contains};
+    pub use crate::scene::polygon::best_fit_plane;
+    pub use crate::scene::surface::newell_normal;
+    pub use crate::scene::triangulate::triangulate_polygon;
+}

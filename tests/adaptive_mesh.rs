@@ -6,8 +6,9 @@ mod support;
 
 use glam::DVec3;
 use isorad::{
-    Camera, ElementHierarchy, Mesh, RenderSettings, Rgb, ShadedTriangle, SquareMeshSettings,
-    mesh_square, rasterize,
+    Camera, RenderSettings, Rgb,
+    mesh::{ElementHierarchy, Mesh, SquareMeshSettings, mesh_square},
+    render::{ShadedTriangle, rasterize},
 };
 use std::collections::HashMap;
 use support::{Rng, SceneBuilder};

@@ -3,7 +3,7 @@
 //! mesher's error with fewer vertices.
 
 use glam::DVec2;
-use isorad::{Length, MeshKind, ProbeMode, ProbePoint, Scene, Settings, Solver, load_scene};
+use isorad::{Length, MeshKind, ProbeMode, Scene, Settings, Solver, load_scene, scene::ProbePoint};
 use rayon::prelude::*;
 
 fn cornell() -> Scene {

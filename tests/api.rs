@@ -9,8 +9,8 @@ use std::time::Duration;
 
 use glam::DVec3;
 use isorad::{
-    Camera, Error, Length, Material, ProbeMode, ProbePoint, RenderSettings, Rgb, Scene, Settings,
-    Solver, StopReason, ToneMap, Until, load_scene, write_exr, write_png,
+    Camera, Error, Length, Material, ProbeMode, RenderSettings, Rgb, Scene, Settings, Solver,
+    StopReason, ToneMap, Until, load_scene, scene::ProbePoint, write_exr, write_png,
 };
 
 /// A room built in code, in coordinates and colours that f32 holds exactly

@@ -233,7 +233,7 @@ fn check(dir: &Path, case: &Case, index: usize) -> Result<f64, String> {
                 )));
             }
             if args[0] == "render" {
-                let image = isorad::read_exr(&exr).map_err(|e| say(e.to_string()))?;
+                let image = isorad::render::read_exr(&exr).map_err(|e| say(e.to_string()))?;
                 if image.pixels().iter().flatten().any(|c| !c.is_finite()) {
                     return Err(say("the image holds a non-finite value".into()));
                 }
@@ -305,11 +305,12 @@ fn every_bad_input_gets_its_promised_answer() {
 #[test]
 fn a_concave_face_is_meshed_inside_its_outline() {
     let path = catalogue_dir().join("face_concave_comb.obj");
-    let scene = isorad::load_obj(&path).unwrap();
+    let scene = isorad::scene::load_obj(&path).unwrap();
     let floor = scene.surfaces.iter().find(|s| s.name == "floor").unwrap();
     // The comb: a 2 × 0.8 base and three teeth 0.4 wide and 1.2 long.
     assert!((floor.area() - (2.0 * 0.8 + 3.0 * 0.4 * 1.2)).abs() < 1e-6);
-    let mesh = isorad::mesh_square(&scene, &isorad::SquareMeshSettings::for_scene(&scene));
+    let mesh =
+        isorad::mesh::mesh_square(&scene, &isorad::mesh::SquareMeshSettings::for_scene(&scene));
     let areas: Vec<f64> = scene.surfaces.iter().map(|s| s.area()).collect();
     mesh.validate(&areas).unwrap();
     let index = scene
@@ -328,7 +329,7 @@ fn a_concave_face_is_meshed_inside_its_outline() {
             / element.corners().len() as f64;
         let p = floor.frame().to_plane(centroid);
         assert!(
-            isorad::polygon_contains(&outline, p),
+            isorad::internals::polygon_contains(&outline, p),
             "element outside the comb at {centroid}"
         );
         covered += element.area;

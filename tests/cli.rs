@@ -32,7 +32,7 @@ fn render_with_no_scene_writes_the_cornell_box() {
         ],
     );
     assert!(out.status.success(), "{}", stderr(&out));
-    let image = isorad::read_exr(&dir.path().join("isorad.exr")).unwrap();
+    let image = isorad::render::read_exr(&dir.path().join("isorad.exr")).unwrap();
     assert_eq!((image.width(), image.height()), (48, 48));
     let mean = image.mean();
     assert!(mean.x > mean.z && mean.z > 0.0, "a warm, lit box: {mean}");
@@ -356,7 +356,7 @@ fn ctrl_c_writes_the_solution_so_far_says_so_and_fails() {
         assert!(child.try_wait().unwrap().is_none(), "isorad ended early");
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    let preview = isorad::read_exr(&exr).unwrap();
+    let preview = isorad::render::read_exr(&exr).unwrap();
     assert!(preview.mean().x > 0.0, "the preview is lit");
     // Previews write the images only; the export comes at the end.
     let ply = dir.path().join("lit.ply");
@@ -384,7 +384,7 @@ fn ctrl_c_writes_the_solution_so_far_says_so_and_fails() {
     // The export of the solution so far is written too.
     assert!(std::fs::read(&ply).unwrap().starts_with(b"ply\n"));
     // Both outputs are whole images of the solution so far.
-    let image = isorad::read_exr(&exr).unwrap();
+    let image = isorad::render::read_exr(&exr).unwrap();
     assert_eq!((image.width(), image.height()), (40, 40));
     let mean = image.mean();
     assert!(mean.x > mean.z && mean.z > 0.0, "a warm, lit box: {mean}");

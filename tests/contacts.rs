@@ -5,7 +5,9 @@ mod support;
 
 use glam::DVec3;
 use isorad::{
-    Mesh, ProbeMode, ProbePoint, Scene, Solver, SolverSettings, SquareMeshSettings, mesh_square,
+    ProbeMode, Scene, Solver, SolverSettings,
+    mesh::{Mesh, SquareMeshSettings, mesh_square},
+    scene::ProbePoint,
 };
 use support::*;
 

@@ -3,8 +3,8 @@
 
 use glam::{DVec2, DVec3};
 use isorad::{
-    ContourSettings, DiscModel, PlaneTriangulation, ReceiverPlane, SmallDisc, contour_layout,
-    interpolation_error, polygon_form_factor_with_gradient,
+    mesh::{ContourSettings, PlaneTriangulation, contour_layout, interpolation_error},
+    radiometry::{DiscModel, ReceiverPlane, SmallDisc, polygon_form_factor_with_gradient},
 };
 
 const HALF: f64 = 5.0;
@@ -112,7 +112,7 @@ fn contour_mesh(
     seed: &Seed,
     directions: usize,
     levels: usize,
-) -> (PlaneTriangulation, Vec<f64>, isorad::ContourLayout) {
+) -> (PlaneTriangulation, Vec<f64>, isorad::mesh::ContourLayout) {
     let mut settings = ContourSettings::default();
     settings.directions = directions;
     settings.levels = levels;
@@ -231,8 +231,10 @@ fn contour_meshes_beat_square_meshes_on_the_seed_case() {
 #[test]
 fn shadow_boundaries_get_vertices_on_the_shadow_line() {
     use isorad::{
-        DominanceSettings, Material, Rgb, Scene, Surface, Visibility, analyse_receivers,
-        luminaires, receiver_layout,
+        Material, Rgb, Scene,
+        lighting::{DominanceSettings, analyse_receivers, luminaires},
+        scene::{Surface, Visibility},
+        solver::receiver_layout,
     };
     // A small square lamp at height 2 over a 10 × 10 floor; a black plate at
     // height 1 covering x < 0 casts a shadow whose edge, seen from the lamp's
@@ -302,7 +304,8 @@ fn shadow_boundaries_get_vertices_on_the_shadow_line() {
 #[test]
 fn a_contour_meshed_scene_solves_with_its_energy_balanced() {
     use isorad::{
-        MeshKind, MeshSettings, Solver, SolverSettings, Visibility, load_scene, mesh_scene,
+        MeshKind, MeshSettings, Solver, SolverSettings, load_scene, scene::Visibility,
+        solver::mesh_scene,
     };
     let scene = load_scene(concat!(
         env!("CARGO_MANIFEST_DIR"),

@@ -2,7 +2,9 @@
 //! from, and only faces that really form one simple planar polygon merge.
 
 use glam::DVec3;
-use isorad::{LoadSettings, MergeReport, Surface, load_obj, load_scene_with, merge_coplanar_faces};
+use isorad::scene::{
+    LoadSettings, MergeReport, Surface, load_obj, load_scene_with, merge_coplanar_faces,
+};
 use tempfile::TempDir;
 
 fn v(x: f64, y: f64, z: f64) -> DVec3 {

@@ -7,7 +7,11 @@
 mod support;
 
 use glam::{DVec2, DVec3};
-use isorad::{DirectField, Luminaire, Scene, luminaires, tilt_line_maximum};
+use isorad::{
+    Scene,
+    lighting::{DirectField, Luminaire, luminaires},
+    radiometry::tilt_line_maximum,
+};
 use support::{Rng, SceneBuilder, coaxial_disc_form_factor, disc_facing_down, square_z};
 
 /// A square of side `side` centred at `centre`, facing along the unit `normal`.

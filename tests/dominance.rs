@@ -4,7 +4,11 @@
 mod support;
 
 use glam::DVec3;
-use isorad::{DominanceSettings, Scene, Visibility, analyse_receivers, luminaires};
+use isorad::{
+    Scene,
+    lighting::{DominanceSettings, analyse_receivers, luminaires},
+    scene::Visibility,
+};
 use support::{SceneBuilder, square_z};
 
 /// A rectangle [x0, x1] × [y0, y1] at height z, facing up or down.
@@ -78,7 +82,7 @@ fn separate_lamps_and_unlike_neighbours_stay_apart() {
 }
 
 /// Analyses a scene with the default settings.
-fn analyse(scene: &Scene) -> Vec<isorad::ReceiverAnalysis> {
+fn analyse(scene: &Scene) -> Vec<isorad::lighting::ReceiverAnalysis> {
     let visibility = Visibility::new(scene);
     analyse_receivers(
         scene,

@@ -5,7 +5,9 @@
 use std::path::Path;
 
 use isorad::{
-    Error, Length, Settings, Solver, ToneMap, export_glb, export_ply, export_solution, load_scene,
+    Error, Length, Settings, Solver, ToneMap,
+    export::{export_glb, export_ply},
+    export_solution, load_scene,
 };
 
 /// The Cornell box, coarsely meshed (elements of 3/40 of its diagonal) and

@@ -3,7 +3,10 @@
 
 use std::path::{Path, PathBuf};
 
-use isorad::{LoadSettings, SquareMeshSettings, Surface, load_scene_with, mesh_square};
+use isorad::{
+    mesh::{SquareMeshSettings, mesh_square},
+    scene::{LoadSettings, Surface, load_scene_with},
+};
 
 fn office_toml() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/office/office.toml")
@@ -141,7 +144,7 @@ fn contact_mesher_survives_an_octagonal_column_on_a_16_gon() {
     .unwrap();
     let path = dir.path().join("plate.obj");
     std::fs::write(&path, obj).unwrap();
-    let scene = isorad::load_obj(&path).unwrap();
+    let scene = isorad::scene::load_obj(&path).unwrap();
     let mut settings = SquareMeshSettings::for_scene(&scene);
     settings.max_edge = 0.367;
     let _ = mesh_square(&scene, &settings);

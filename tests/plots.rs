@@ -5,7 +5,11 @@
 use std::path::Path;
 
 use glam::DVec2;
-use isorad::{Error, MeshPanel, Series, srgb_encode, write_loglog_plot, write_mesh_panels};
+use isorad::{
+    Error,
+    render::srgb_encode,
+    study::{MeshPanel, Series, write_loglog_plot, write_mesh_panels},
+};
 
 /// Header band above each mesh panel and gap between panels, pixels (as
 /// documented on `write_mesh_panels`).

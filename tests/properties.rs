@@ -19,9 +19,11 @@ use std::collections::HashMap;
 
 use glam::{DVec2, DVec3};
 use isorad::{
-    ContourSettings, Material, Mesh, Rgb, Scene, SolverSettings, SquareMeshSettings, Surface,
-    contour_layout, distance_to_boundary, mesh_square, mesh_surfaces, polygon_contains,
-    polygon_form_factor,
+    Material, Rgb, Scene, SolverSettings,
+    internals::{distance_to_boundary, polygon_contains},
+    mesh::{ContourSettings, Mesh, SquareMeshSettings, contour_layout, mesh_square, mesh_surfaces},
+    radiometry::polygon_form_factor,
+    scene::Surface,
 };
 use proptest::prelude::*;
 use support::box_faces;
@@ -213,7 +215,7 @@ fn random_polygon(centre: DVec3, normal: DVec3, corners: &[(f64, f64)]) -> Vec<D
 /// about the centre split into m² equal sub-triangles, the factor taken at
 /// their centroids.
 fn area_times_form_factor(centre: DVec3, polygon: &[DVec3], target: &[DVec3], m: usize) -> f64 {
-    let normal = isorad::newell_normal(polygon).normalize();
+    let normal = isorad::internals::newell_normal(polygon).normalize();
     let mut sum = 0.0;
     for k in 0..polygon.len() {
         let (a, b, c) = (centre, polygon[k], polygon[(k + 1) % polygon.len()]);

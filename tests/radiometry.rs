@@ -6,7 +6,7 @@
 mod support;
 
 use glam::DVec3;
-use isorad::{
+use isorad::radiometry::{
     DiscModel, ReceiverPlane, SmallDisc, polygon_form_factor, polygon_form_factor_gradient,
     polygon_form_factor_with_gradient, tilt_line_maximum,
 };

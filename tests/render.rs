@@ -5,7 +5,8 @@ use std::path::Path;
 
 use glam::DVec3;
 use isorad::{
-    Camera, Error, Image, RenderSettings, Rgb, ShadedTriangle, ToneMap, rasterize, read_exr,
+    Camera, Error, Image, RenderSettings, Rgb, ToneMap,
+    render::{ShadedTriangle, rasterize, read_exr},
     write_exr, write_png,
 };
 

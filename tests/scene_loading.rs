@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
-use isorad::{Error, Scene, load_obj, load_scene, newell_normal};
+use isorad::{Error, Scene, internals::newell_normal, load_scene, scene::load_obj};
 use tempfile::TempDir;
 
 const MTL: &str = "newmtl white\nKd 0.5 0.5 0.5\n\nnewmtl lamp\nKd 0 0 0\nKe 1 2 3\n";
@@ -234,7 +234,7 @@ fn unknown_scene_name() {
     assert!(matches!(e, Error::UnknownScene { .. }));
     let message = e.to_string();
     assert!(message.contains("no-such-scene") && message.contains("cornell"));
-    assert!(isorad::builtin_names().contains(&"cornell"));
+    assert!(isorad::scene::builtin_names().contains(&"cornell"));
 }
 
 // ---- Geometry clean-up -----------------------------------------------------
@@ -377,7 +377,7 @@ fn cornell_red_wall_is_one_surface_with_its_area() {
         DVec3::new(556.0, 548.8, 559.2),
         DVec3::new(556.0, 548.8, 0.0),
     ];
-    let plane = isorad::best_fit_plane(&original).unwrap();
+    let plane = isorad::internals::best_fit_plane(&original).unwrap();
     assert!(plane.max_deviation > 0.5 && plane.max_deviation < 1.0);
     let area = 0.5 * newell_normal(&original).length();
     assert!((walls[0].area() - area).abs() < 1e-3 * area);

@@ -3,7 +3,11 @@
 mod support;
 
 use glam::DVec3;
-use isorad::{FormFactorKernel, Scene, SolverSettings, SquareMeshSettings, mesh_square};
+use isorad::{
+    Scene, SolverSettings,
+    mesh::{SquareMeshSettings, mesh_square},
+    solver::FormFactorKernel,
+};
 use std::f64::consts::PI;
 use support::*;
 
@@ -19,7 +23,7 @@ fn with_kernel(tolerance: f64, kernel: FormFactorKernel) -> SolverSettings {
     settings
 }
 
-fn mesh(scene: &Scene, max_edge: f64, patch_max_edge: f64) -> isorad::Mesh {
+fn mesh(scene: &Scene, max_edge: f64, patch_max_edge: f64) -> isorad::mesh::Mesh {
     let mut s = SquareMeshSettings::for_scene(scene);
     s.max_edge = max_edge;
     s.patch_max_edge = patch_max_edge;

@@ -8,7 +8,9 @@ mod support;
 
 use glam::DVec3;
 use isorad::{
-    Mesh, Scene, Solver, SolverSettings, SquareMeshSettings, mesh_square, polygon_form_factor,
+    Scene, Solver, SolverSettings,
+    mesh::{Mesh, SquareMeshSettings, mesh_square},
+    radiometry::polygon_form_factor,
 };
 use std::f64::consts::PI;
 use support::*;
@@ -95,7 +97,7 @@ fn a_lamp_two_centimetres_from_a_wall_leaves_no_blotches() {
         let (scene, lamp) = lamp_by_a_wall(perpendicular);
         let (mesh, radiosity) = solve(&scene, 0.02);
         let exitance = PI * LAMP_RADIANCE;
-        let lamp_normal = isorad::newell_normal(&lamp);
+        let lamp_normal = isorad::internals::newell_normal(&lamp);
         let lamp_centre = lamp.iter().copied().sum::<DVec3>() / lamp.len() as f64;
         let (relative, absolute, checked) = worst_errors(&mesh, &radiosity, 0, |x| {
             // The lamp emits from its front only.

@@ -3,7 +3,10 @@
 mod support;
 
 use glam::DVec3;
-use isorad::{Mesh, Scene, SquareMeshSettings, mesh_square};
+use isorad::{
+    Scene,
+    mesh::{Mesh, SquareMeshSettings, mesh_square},
+};
 use std::collections::HashMap;
 use support::SceneBuilder;
 

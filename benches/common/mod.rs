@@ -97,7 +97,7 @@ pub fn random_segments(scene: &Scene, count: usize, seed: u64) -> Vec<Segment> {
 }
 
 /// obvhs used directly: the scene's triangles in a CWBVH, built with the same
-/// preset and in the same centred f32 coordinates as `isorad::Visibility`.
+/// preset and in the same centred f32 coordinates as `isorad::scene::Visibility`.
 pub struct RawBvh {
     bvh: CwBvh,
     triangles: Vec<RtTriangle>,

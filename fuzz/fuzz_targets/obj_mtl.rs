@@ -14,9 +14,9 @@ fuzz_target!(|data: &[u8]| {
     text.extend_from_slice(obj);
     write_scratch("fuzz.mtl", mtl);
     let path = write_scratch("fuzz.obj", &text);
-    if let Ok(scene) = isorad::load_obj(&path) {
+    if let Ok(scene) = isorad::scene::load_obj(&path) {
         check_scene(&scene);
-        let _ = isorad::Visibility::new(&scene);
+        let _ = isorad::scene::Visibility::new(&scene);
         let settings = isorad::MeshSettings::default();
         assert!(settings.estimate_elements(&scene).is_finite());
     }

@@ -7,7 +7,7 @@ use libfuzzer_sys::fuzz_target;
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
     let lines = text.lines().count();
-    match isorad::parse_probe_points(&text, std::path::Path::new("points.csv")) {
+    match isorad::scene::parse_probe_points(&text, std::path::Path::new("points.csv")) {
         Ok(points) => {
             for point in points {
                 assert!(point.position.is_finite());

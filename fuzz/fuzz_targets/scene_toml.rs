@@ -16,7 +16,7 @@ fuzz_target!(|data: &[u8]| {
         write_scratch("scene.obj", floor_and_lamp_obj(&floor).as_bytes());
     });
     let path = write_scratch("fuzz.toml", data);
-    if let Ok(loaded) = isorad::load_scene_file(&path) {
+    if let Ok(loaded) = isorad::scene::load_scene_file(&path) {
         check_scene(&loaded.scene);
         if let Some(camera) = &loaded.scene.camera {
             camera.validate().expect("a loaded camera is valid");

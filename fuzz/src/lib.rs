@@ -10,8 +10,12 @@ use std::sync::OnceLock;
 
 use glam::{DVec2, DVec3};
 use isorad::{
-    ContourSettings, ElementHierarchy, Mesh, Scene, SquareMeshSettings, contour_layout,
-    estimate_square_elements, mesh_square, mesh_surfaces,
+    Scene,
+    internals::estimate_square_elements,
+    mesh::{
+        ContourSettings, ElementHierarchy, Mesh, SquareMeshSettings, contour_layout, mesh_square,
+        mesh_surfaces,
+    },
 };
 
 /// A folder of this process's own, for the files a target writes (in
@@ -233,7 +237,7 @@ pub fn mesh_random_floor(data: &[u8]) {
     }
     write_scratch("fuzz.mtl", FLOOR_AND_LAMP_MTL.as_bytes());
     let path = write_scratch("floor.obj", floor_and_lamp_obj(&floor).as_bytes());
-    let Ok(scene) = isorad::load_obj(&path) else {
+    let Ok(scene) = isorad::scene::load_obj(&path) else {
         return;
     };
     check_scene(&scene);

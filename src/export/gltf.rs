@@ -19,7 +19,8 @@ use serde_json::{Value, json};
 
 use super::{BakedMesh, export_error};
 use crate::error::Result;
-use crate::render::{ToneMap, write_atomically};
+use crate::fs::write_atomically;
+use crate::render::ToneMap;
 use crate::solver::Solution;
 
 /// "glTF", the GLB magic number.

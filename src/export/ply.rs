@@ -5,7 +5,8 @@ use std::path::Path;
 
 use super::{BakedMesh, export_error};
 use crate::error::Result;
-use crate::render::{ToneMap, write_atomically};
+use crate::fs::write_atomically;
+use crate::render::ToneMap;
 use crate::solver::Solution;
 
 /// Writes `solution` to `path` as a binary little-endian PLY file: per

@@ -2,7 +2,9 @@
 //! absurd request (an element edge of a nanometre on a room) is refused up
 //! front instead of exhausting memory.
 
+use super::contour::ContourSettings;
 use super::square::{SquareMeshSettings, convex_quad, lattice_size, quad_grid_size};
+use crate::error::{Error, Result};
 use crate::scene::Scene;
 
 /// The number of elements [`super::mesh_square`] makes of `scene` with
@@ -25,4 +27,38 @@ pub fn estimate_square_elements(scene: &Scene, settings: &SquareMeshSettings) ->
             }
         })
         .sum()
+}
+
+/// The most elements the contour mesher makes of `scene`'s receivers: two
+/// triangles per direction and level on every non-emitting surface (any of
+/// them might qualify).
+#[must_use]
+pub fn estimate_contour_elements(scene: &Scene, settings: &ContourSettings) -> f64 {
+    let receivers = scene
+        .surfaces
+        .iter()
+        .filter(|s| !scene.material_of(s).is_emitter())
+        .count();
+    2.0 * settings.directions as f64 * settings.levels as f64 * receivers as f64
+}
+
+/// Refuses a mesh of `estimate` elements when that is more than `limit`,
+/// with an error that says how long the elements would be
+/// (`square.max_edge`) against the scene's size, so the user can ask for
+/// fewer or allow more.
+pub fn check_element_budget(
+    scene: &Scene,
+    estimate: f64,
+    limit: usize,
+    square: &SquareMeshSettings,
+) -> Result<()> {
+    if estimate <= limit as f64 {
+        return Ok(());
+    }
+    Err(Error::MeshTooLarge {
+        estimate,
+        limit,
+        max_edge: square.max_edge,
+        diagonal: scene.diagonal(),
+    })
 }

@@ -2,7 +2,8 @@
 //!
 //! The mesh knows nothing of light.
 
-mod budget;
+mod assembly;
+pub(crate) mod budget;
 mod constrained;
 mod contacts;
 mod contour;
@@ -12,11 +13,14 @@ mod patch;
 mod square;
 mod topology;
 
-pub use budget::estimate_square_elements;
+pub(crate) use assembly::receiver_inset;
+pub use assembly::{mesh_square, mesh_surfaces};
+pub(crate) use budget::estimate_square_elements;
+pub use budget::{check_element_budget, estimate_contour_elements};
 pub use constrained::PlaneTriangulation;
 pub use contour::{ContourLayout, ContourSettings, ScalarField, contour_layout};
 pub use hierarchy::{ElementHierarchy, ElementKey, ElementNode};
 pub use interpolation_error::{ErrorGrid, InterpolationError, interpolation_error};
 pub use patch::{Cell, Patch};
-pub use square::{SquareMeshSettings, mesh_square, mesh_surfaces, receiver_inset};
+pub use square::SquareMeshSettings;
 pub use topology::{Element, Mesh, MeshVertex};

@@ -122,7 +122,7 @@ pub struct Patch {
     pub surface: usize,
     /// Its shape, over which shots are sampled.
     pub cell: Cell,
-    /// Indices of its elements in [`crate::Mesh::elements`].
+    /// Indices of its elements in [`crate::mesh::Mesh::elements`].
     pub elements: Vec<u32>,
     /// The area of its elements: the cell's area, less any part hidden
     /// under an object standing on it. Power is radiosity times this area.

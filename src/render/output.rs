@@ -1,20 +1,19 @@
 //! Image files: linear EXR (written and read back) and tone-mapped PNG.
 //!
-//! Every writer is atomic: it writes a temporary file `.<name>.tmp-<pid>-<n>`
-//! next to the target, then renames it over the target, so an existing file is
-//! either left as it was or replaced whole. On failure the temporary file is
-//! removed and the error names the target path.
+//! Every writer is atomic ([`crate::fs::write_atomically`]): an existing file
+//! is either left as it was or replaced whole, and errors name the target
+//! path.
 
-use std::fs::{self, File};
-use std::io::{BufReader, BufWriter, Write};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::fs::File;
+use std::io::BufReader;
+use std::path::Path;
 
 use exr::prelude::{ReadChannels, ReadLayers, SpecificChannels, Vec2, WritableImage, read};
 
 use super::image::Image;
 use super::tone_map::ToneMap;
 use crate::error::{Error, Result};
+use crate::fs::{io_error, output_error, write_atomically};
 
 /// Writes `image` to `path` as an OpenEXR file of 32-bit float linear RGB
 /// (lossless compression), values exactly as stored.
@@ -108,53 +107,6 @@ pub fn write_png(image: &Image, tone_map: &ToneMap, path: &Path) -> Result<()> {
     })
 }
 
-/// Distinguishes temporary files written concurrently by one process.
-static TEMPORARY_COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// Runs `encode` on a temporary file beside `path`, syncs it, and renames it
-/// over `path`; removes the temporary file on any failure.
-pub(crate) fn write_atomically(
-    path: &Path,
-    encode: impl FnOnce(&mut BufWriter<File>) -> Result<()>,
-) -> Result<()> {
-    let temporary = temporary_path(path)?;
-    let result = write_then_rename(path, &temporary, encode);
-    if result.is_err() {
-        // Nothing to report if it was never created.
-        let _ = fs::remove_file(&temporary);
-    }
-    result
-}
-
-/// The steps of [`write_atomically`], any of which may fail.
-fn write_then_rename(
-    path: &Path,
-    temporary: &Path,
-    encode: impl FnOnce(&mut BufWriter<File>) -> Result<()>,
-) -> Result<()> {
-    let io = |source| io_error(path, source);
-    let mut writer = BufWriter::new(File::create(temporary).map_err(io)?);
-    encode(&mut writer)?;
-    writer.flush().map_err(io)?;
-    let file = writer.into_inner().map_err(|e| io(e.into_error()))?;
-    file.sync_all().map_err(io)?;
-    fs::rename(temporary, path).map_err(io)
-}
-
-/// `.<name>.tmp-<pid>-<n>` in the directory of `path`.
-fn temporary_path(path: &Path) -> Result<PathBuf> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| output_error(path, "the path does not name a file"))?;
-    let count = TEMPORARY_COUNTER.fetch_add(1, Ordering::Relaxed);
-    let temporary = format!(
-        ".{}.tmp-{}-{count}",
-        name.to_string_lossy(),
-        std::process::id()
-    );
-    Ok(path.with_file_name(temporary))
-}
-
 /// Refuses images without pixels, which neither format can hold.
 fn ensure_not_empty(image: &Image, path: &Path) -> Result<()> {
     if image.width() == 0 || image.height() == 0 {
@@ -185,22 +137,6 @@ fn ensure_finite(image: &Image, path: &Path) -> Result<()> {
                 image.pixels()[index]
             ),
         )),
-    }
-}
-
-/// [`Error::Io`] naming `path`.
-pub(super) fn io_error(path: &Path, source: std::io::Error) -> Error {
-    Error::Io {
-        path: path.to_path_buf(),
-        source,
-    }
-}
-
-/// [`Error::Output`] naming `path`.
-pub(super) fn output_error(path: &Path, message: impl ToString) -> Error {
-    Error::Output {
-        path: path.to_path_buf(),
-        message: message.to_string(),
     }
 }
 

@@ -17,27 +17,12 @@
 //! The image is cut into bands of rows rendered in parallel (rayon); each
 //! triangle is binned into the bands its screen bounds overlap.
 
-use glam::DVec3;
 use rayon::prelude::*;
 
 use super::image::Image;
 use super::setup::{Setup, View, clamp_range};
+use super::shaded_triangle::ShadedTriangle;
 use crate::scene::{Camera, Rgb};
-
-/// A triangle with a radiance value at each vertex, W/(m²·sr).
-///
-/// One-sided: the front is the side from which p0, p1, p2 appear
-/// counter-clockwise, the side the normal n = (p1 − p0) × (p2 − p0) points to.
-/// Seen from the back (n · (eye − p0) ≤ 0) the triangle is drawn black but
-/// still hides what lies behind it, like a one-sided surface in pbrt or
-/// Mitsuba.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShadedTriangle {
-    /// Vertex positions, world space.
-    pub positions: [DVec3; 3],
-    /// Radiance at each vertex, W/(m²·sr), linear RGB.
-    pub radiance: [Rgb; 3],
-}
 
 /// How to rasterize: anti-aliasing and background.
 ///
@@ -313,6 +298,7 @@ fn row_span(setup: &Setup, partial: [f64; 3], view: &View) -> Option<(u32, u32)>
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
 
     /// How many triangles cover each sample (near plane and z-buffer aside).
     fn coverage_counts(triangles: &[ShadedTriangle], view: &View) -> Vec<u32> {

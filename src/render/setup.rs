@@ -37,7 +37,7 @@
 
 use glam::DVec3;
 
-use super::rasterizer::ShadedTriangle;
+use super::shaded_triangle::ShadedTriangle;
 use crate::scene::{Camera, CameraFrame, Rgb};
 
 /// Near-plane distance relative to the eye's distance h from a triangle's plane.

@@ -1,35 +1,25 @@
 //! Scenes: planar surfaces with diffuse materials, a camera, and loaders.
 
 mod build;
-mod builtin;
 mod camera;
-mod coplanar_merge;
 mod load;
 mod material;
-mod mtl;
-mod obj;
-mod obj_scan;
-mod plane_polygon;
-mod polygon;
-mod probe_points;
-mod scene_file;
-mod source;
-mod surface;
-mod triangulate;
+pub(crate) mod plane_polygon;
+pub(crate) mod polygon;
+pub(crate) mod surface;
+pub(crate) mod triangulate;
 mod visibility;
 
-pub use builtin::builtin_names;
 pub use camera::{Camera, CameraFrame};
-pub use coplanar_merge::{MergeReport, merge_coplanar_faces};
-pub use load::{LoadSettings, LoadedScene, load_scene, load_scene_with};
+pub use load::{
+    LoadSettings, LoadedScene, MergeReport, ProbePoint, builtin_names, load_obj, load_probe_points,
+    load_scene, load_scene_file, load_scene_with, merge_coplanar_faces, parse_probe_points,
+};
 pub use material::{Material, Rgb};
-pub use obj::load_obj;
-pub use plane_polygon::{distance_to_boundary, distance_to_segment, polygon_contains};
-pub use polygon::{PolygonPlane, best_fit_plane};
-pub use probe_points::{ProbePoint, load_probe_points, parse_probe_points};
-pub use scene_file::load_scene_file;
-pub use surface::{PlaneFrame, Surface, newell_normal};
-pub use triangulate::triangulate_polygon;
+pub(crate) use plane_polygon::{distance_to_boundary, distance_to_segment, polygon_contains};
+pub use polygon::PolygonPlane;
+pub use surface::{PlaneFrame, Surface};
+pub(crate) use triangulate::triangulate_polygon;
 pub use visibility::Visibility;
 
 use glam::DVec3;

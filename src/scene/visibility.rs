@@ -29,7 +29,7 @@ use super::Scene;
 /// its front), and callers also lift end points off their surfaces (see
 /// [`Visibility::surface_offset`]): no self-shadowing speckle on flat walls.
 ///
-/// [`Surface::occluder_vertices`]: crate::Surface::occluder_vertices
+/// [`Surface::occluder_vertices`]: crate::scene::Surface::occluder_vertices
 pub struct Visibility {
     bvh: CwBvh,
     /// Triangles in the BVH's primitive order (`bvh.primitive_indices` applied).

@@ -1,29 +1,21 @@
-//! The progressive shooting solver and its source sampling; luminaires, the
-//! direct field of one on a receiver's plane, and which receivers a dominant
-//! small luminaire lights (the contour mesher's candidates).
+//! The progressive shooting solver: shooters and their source sampling,
+//! run/stop criteria, adaptive refinement, the solution and its probes, the
+//! settings of a whole solve, and the plan of which mesher each receiver
+//! gets (`scene_mesh.rs`, where lighting's fields meet the meshers).
 
-mod direct_field;
-mod dominance;
-mod emitters;
-mod mesh_budget;
+mod mesh_settings;
 mod progressive;
 mod refinement;
 mod run;
-mod sampling;
 mod scene_mesh;
 mod settings;
+mod shooter;
 mod solution;
-mod source_sampling;
-mod stratified;
 
-pub use direct_field::DirectField;
-pub use dominance::{DominanceSettings, ReceiverAnalysis, analyse_receivers};
-pub use emitters::{Luminaire, luminaires};
+pub use mesh_settings::{Length, MeshKind, MeshSettings};
 pub use progressive::{EnergyBalance, Solver};
 pub use refinement::{RefinementSettings, elements_to_split};
 pub use run::{Progress, StopReason, Until};
-pub use scene_mesh::{
-    Length, MeshAnalysis, MeshKind, MeshSettings, SceneMesh, mesh_scene, receiver_layout,
-};
+pub use scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene, receiver_layout};
 pub use settings::{FormFactorKernel, Settings, SolverSettings};
 pub use solution::{Probe, ProbeMode, Solution, SurfaceTotals};

@@ -2,11 +2,12 @@
 
 use rayon::prelude::*;
 
+use super::mesh_settings::MeshKind;
 use super::refinement::Refiner;
-use super::scene_mesh::{MeshAnalysis, MeshKind, SceneMesh, mesh_scene};
+use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene};
 use super::settings::{Settings, SolverSettings};
+use super::shooter::{Receiver, Shooter};
 use super::solution::Solution;
-use super::source_sampling::{Receiver, Shooter};
 use crate::mesh::{ElementHierarchy, Mesh};
 use crate::scene::{Rgb, Scene, Visibility};
 
@@ -94,8 +95,8 @@ impl Solver {
         Ok(solver)
     }
 
-    /// A solver for `scene` on a mesh the caller made (with [`crate::mesh_square`]
-    /// or [`crate::mesh_scene`], say), nothing yet shot.
+    /// A solver for `scene` on a mesh the caller made (with [`crate::mesh::mesh_square`]
+    /// or [`crate::solver::mesh_scene`], say), nothing yet shot.
     pub fn with_mesh(scene: Scene, mesh: Mesh, settings: SolverSettings) -> crate::Result<Self> {
         settings.validate()?;
         scene.validate()?;

@@ -18,7 +18,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::progressive::Solver;
-use super::source_sampling::{Receiver, Shooter};
+use super::shooter::{Receiver, Shooter};
 use crate::mesh::{ElementHierarchy, Mesh};
 use crate::scene::Rgb;
 

@@ -1,6 +1,6 @@
 //! Settings of the progressive shooting solver, and of a whole solve.
 
-use super::scene_mesh::MeshSettings;
+use super::mesh_settings::MeshSettings;
 
 /// How a vertex-to-patch form factor is estimated. Each kernel splits the
 /// patch into m × m strata with one shadow ray each; they differ in what a

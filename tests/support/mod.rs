@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
-use isorad::{Material, Rgb, Scene, Surface};
+use isorad::{Material, Rgb, Scene, scene::Surface};
 
 /// A scene builder: materials by name, polygons oriented as given.
 #[derive(Default)]
@@ -33,7 +33,7 @@ impl SceneBuilder {
         mut vertices: Vec<DVec3>,
         towards: DVec3,
     ) {
-        let normal = isorad::newell_normal(&vertices);
+        let normal = isorad::internals::newell_normal(&vertices);
         let centre = vertices.iter().copied().sum::<DVec3>() / vertices.len() as f64;
         if normal.dot(towards - centre) < 0.0 {
             vertices.reverse();
@@ -60,7 +60,7 @@ pub fn box_faces(size: DVec3) -> Vec<Vec<DVec3>> {
                 corner(1.0, 1.0),
                 corner(0.0, 1.0),
             ];
-            if isorad::newell_normal(&quad).dot(size * 0.5 - quad[0]) < 0.0 {
+            if isorad::internals::newell_normal(&quad).dot(size * 0.5 - quad[0]) < 0.0 {
                 quad.reverse();
             }
             faces.push(quad);

@@ -3,9 +3,9 @@
 use glam::DVec2;
 use std::path::Path;
 
+use super::plot::Series;
 use crate::error::{Error, Result};
 use crate::mesh::{ErrorGrid, PlaneTriangulation};
-use crate::render::Series;
 
 /// One mesh of one receiver, measured.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -171,7 +171,7 @@ pub fn write_json(comparisons: &[ReceiverComparison], path: &Path) -> Result<()>
         path: path.to_path_buf(),
         message: e.to_string(),
     })?;
-    crate::render::write_atomically(path, |file| {
+    crate::fs::write_atomically(path, |file| {
         use std::io::Write;
         file.write_all(text.as_bytes()).map_err(|source| Error::Io {
             path: path.to_path_buf(),

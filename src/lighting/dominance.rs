@@ -17,8 +17,8 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::direct_field::DirectField;
-use super::emitters::Luminaire;
-use super::sampling::SampleStream;
+use super::luminaire::Luminaire;
+use super::sample_stream::SampleStream;
 use super::stratified::stratified_points;
 use crate::error::{Error, Result};
 use crate::scene::{Scene, Surface, Visibility, polygon_contains};

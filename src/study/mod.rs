@@ -1,5 +1,9 @@
-//! Contour meshes against square meshes: vertices and interpolation error
-//! on the receivers lit by a dominant small emitter.
+//! Studies of the meshers: contour meshes against square meshes on the
+//! receivers lit by a dominant small emitter (vertices and interpolation
+//! error), and the pictures that show them: log–log plots
+//! ([`write_loglog_plot`]) and meshes side by side ([`write_mesh_panels`]),
+//! which take plain data and draw text with the bundled DejaVu Sans
+//! (`assets/fonts`). Nothing else in isorad imports this module.
 //!
 //! For each receiver, every mesh gets the exact direct radiosity of the
 //! dominant luminaire at its vertices (visibility included), and its
@@ -8,19 +12,24 @@
 //! mesh is measured"). The vertex values are exact, so the error is the
 //! mesh's alone.
 
+mod font;
+mod mesh_panels;
+mod plot;
 mod records;
 
+pub use mesh_panels::{MeshPanel, write_mesh_panels};
+pub use plot::{Series, write_loglog_plot};
 pub use records::{ComparedMesh, MeshRecord, ReceiverComparison, write_json};
 
 use glam::DVec2;
 use std::time::Instant;
 
+use crate::lighting::{DirectField, Luminaire};
 use crate::mesh::{
     ContourSettings, ErrorGrid, PlaneTriangulation, SquareMeshSettings, mesh_square,
 };
-use crate::render::MeshPanel;
 use crate::scene::{Scene, Visibility};
-use crate::solver::{DirectField, Luminaire, receiver_layout};
+use crate::solver::receiver_layout;
 
 /// What a comparison meshes and how finely it measures.
 #[derive(Clone, Debug, PartialEq)]

@@ -38,10 +38,10 @@ use std::path::Path;
 
 use glam::{DVec2, DVec3};
 
-use super::polygon::{best_fit_plane, project_onto_plane};
-use super::surface::{PlaneFrame, Surface};
-use super::triangulate::signed_area_2d;
-use super::{Scene, Warning};
+use crate::scene::polygon::{best_fit_plane, project_onto_plane};
+use crate::scene::surface::{PlaneFrame, Surface};
+use crate::scene::triangulate::signed_area_2d;
+use crate::scene::{Scene, Warning};
 
 /// Vertices closer than this fraction of the scene's diagonal are welded
 /// (they fall in the same quantisation cell).

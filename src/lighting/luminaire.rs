@@ -14,7 +14,7 @@ const NORMAL_TOLERANCE: f64 = 1e-6;
 
 /// Distances (off the plane, between touching boundaries) below this
 /// fraction of the scene's diagonal count as zero: the scale of
-/// [`crate::Visibility::surface_offset`].
+/// [`crate::scene::Visibility::surface_offset`].
 const DISTANCE_TOLERANCE: f64 = 1e-5;
 
 /// One lamp: coplanar emitting surfaces of one material that share an edge

@@ -1,8 +1,35 @@
-//! Turning a solved mesh into triangles with vertex radiance.
+//! Looking at a solution: its shaded triangles, for a program's own viewer,
+//! and its image in memory. The one place where a solution meets the
+//! renderer, which itself knows only triangles.
 
-use super::rasterizer::ShadedTriangle;
 use crate::mesh::Mesh;
-use crate::scene::Rgb;
+use crate::render::{Image, RenderSettings, ShadedTriangle, rasterize};
+use crate::scene::{Camera, Rgb};
+use crate::solver::Solution;
+
+impl Solution<'_> {
+    /// The rendered triangles: the mesh's elements (quads split along the
+    /// diagonal with the closer radiosities) with per-vertex radiance
+    /// L = B/π, W/(m²·sr). What [`Solution::render`] draws.
+    #[must_use]
+    pub fn triangles(&self) -> Vec<ShadedTriangle> {
+        mesh_triangles(self.mesh, &self.radiosity)
+    }
+
+    /// The same triangles as vertex-index triples into the mesh's vertices,
+    /// for writers that keep the vertices shared (the exporters).
+    pub(crate) fn triangle_indices(&self) -> Vec<[u32; 3]> {
+        triangle_indices(self.mesh, &self.radiosity)
+    }
+
+    /// Renders the solution through `camera` into an image of linear
+    /// radiance that the caller owns; write it with [`crate::write_exr`] or
+    /// [`crate::write_png`].
+    #[must_use]
+    pub fn render(&self, camera: &Camera, settings: &RenderSettings) -> Image {
+        rasterize(&self.triangles(), camera, settings)
+    }
+}
 
 /// The triangles of a mesh with per-vertex radiance L = B/π, from the
 /// radiosity B (W/m²) of each mesh vertex.
@@ -30,7 +57,7 @@ pub fn mesh_triangles(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<ShadedTriangle> {
 /// [`mesh_triangles`] splits it (a quad along the diagonal of closer
 /// radiosities). The one triangulation the renderer draws and the exporters
 /// write.
-pub(crate) fn triangle_indices(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<[u32; 3]> {
+fn triangle_indices(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<[u32; 3]> {
     let gap = |p: u32, q: u32| {
         (radiosity[p as usize] - radiosity[q as usize])
             .abs()

@@ -27,8 +27,8 @@
 
 use glam::{DVec2, DVec3};
 
-use super::emitters::Luminaire;
-use super::sampling::SampleStream;
+use super::luminaire::Luminaire;
+use super::sample_stream::SampleStream;
 use super::stratified::stratified_points;
 use crate::radiometry::{DiscModel, ReceiverPlane, SmallDisc, polygon_form_factor_with_gradient};
 use crate::scene::{PlaneFrame, Rgb, Scene, Visibility};
@@ -46,7 +46,7 @@ fn luminance(rgb: Rgb) -> f64 {
 }
 
 /// One luminaire's direct radiosity on one receiver's plane, in the
-/// receiver's plane coordinates ([`crate::Surface::frame`]).
+/// receiver's plane coordinates ([`crate::scene::Surface::frame`]).
 #[derive(Clone, Debug)]
 pub struct DirectField {
     /// The receiver's frame: plane coordinates and its front normal n.
@@ -140,7 +140,7 @@ impl DirectField {
     /// Unoccluded direct radiosity B_S(p) = Y(ρ ⊙ E) · Σ_i F(p → P_i), W/m²,
     /// and its gradient (∂B/∂u, ∂B/∂v) in plane coordinates, W/m² per unit
     /// length. Exact: Lambert's form factor and Arvo's gradient
-    /// ([`crate::polygon_form_factor_with_gradient`]), the in-plane gradient
+    /// ([`crate::radiometry::polygon_form_factor_with_gradient`]), the in-plane gradient
     /// projected on the frame's u and v. Zero (with a zero gradient) behind
     /// the luminaire's plane and at non-finite p.
     ///

@@ -9,7 +9,9 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 
-use super::material::{Material, NOT_FINITE, Rgb, emitted_radiance_problem, reflectance_problem};
+use crate::scene::material::{
+    Material, NOT_FINITE, Rgb, emitted_radiance_problem, reflectance_problem,
+};
 
 /// Checks an MTL text before tobj parses it, so that errors carry a line
 /// number and out-of-range colours are caught (tobj itself would panic on a

@@ -27,11 +27,10 @@ use serde::Deserialize;
 
 use crate::error::{Error, Result};
 
-use super::SceneOptions;
-use super::camera::Camera;
-use super::load::LoadedScene;
+use super::loaded::LoadedScene;
 use super::obj::load_obj_from;
 use super::source::{Disk, SourceFiles};
+use crate::scene::{Camera, SceneOptions};
 
 /// The mesher kinds a scene file may name.
 pub const MESH_KINDS: [&str; 3] = ["square", "adaptive", "contour"];

@@ -10,11 +10,19 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use isorad::{
-    CompareSettings, DominanceSettings, ExportFormat, Length, LoadSettings, Luminaire, MeshKind,
-    MeshSettings, ProbeMode, Progress, ReceiverAnalysis, RenderSettings, Scene, SceneOptions,
-    Settings, Solver, StopReason, ToneMap, Until, Visibility, analyse_receivers, auto_exposure,
-    compare_receiver, export_solution, load_probe_points, load_scene, load_scene_with, luminaires,
-    panels_for_figure, write_exr, write_json, write_loglog_plot, write_mesh_panels, write_png,
+    Length, MeshKind, MeshSettings, ProbeMode, Progress, RenderSettings, Scene, Settings, Solver,
+    StopReason, ToneMap, Until,
+    export::ExportFormat,
+    export_solution,
+    lighting::{DominanceSettings, Luminaire, ReceiverAnalysis, analyse_receivers, luminaires},
+    load_scene,
+    render::auto_exposure,
+    scene::{LoadSettings, SceneOptions, Visibility, load_probe_points, load_scene_with},
+    study::{
+        CompareSettings, compare_receiver, panels_for_figure, write_json, write_loglog_plot,
+        write_mesh_panels,
+    },
+    write_exr, write_png,
 };
 
 /// Global illumination by progressive radiosity.
@@ -767,7 +775,7 @@ fn per_receiver(path: &Path, receiver: &str, several: bool) -> PathBuf {
 }
 
 /// A table of the records, and the vertex ratio at equal error.
-fn print_comparison(comparison: &isorad::ReceiverComparison) {
+fn print_comparison(comparison: &isorad::study::ReceiverComparison) {
     println!("receiver {}:", comparison.receiver);
     println!(
         "  {:<8} {:>7} {:>9} {:>10} {:>12} {:>12} {:>9}",

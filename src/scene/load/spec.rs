@@ -6,23 +6,11 @@ use std::path::Path;
 use crate::error::{Error, Result};
 
 use super::builtin::{builtin_names, load_builtin};
+use super::loaded::{LoadSettings, LoadedScene};
 use super::obj::load_obj_from;
 use super::scene_file::load_scene_file_with;
 use super::source::Disk;
-use super::{Scene, SceneOptions};
-
-/// A loaded scene with the settings its file carries.
-#[derive(Clone, Debug)]
-pub struct LoadedScene {
-    /// The scene.
-    pub scene: Scene,
-    /// The scene file's `[solver]` and `[mesh]` settings (all `None` for an
-    /// OBJ file).
-    pub options: SceneOptions,
-    /// Where the scene came from, for messages: the path as given, or the
-    /// built-in scene's name.
-    pub source: String,
-}
+use crate::scene::SceneOptions;
 
 /// Loads a scene from `spec`: a `.toml` scene file, an `.obj` file (with its
 /// MTL libraries), or the name of a built-in scene (see [`builtin_names`]).
@@ -37,25 +25,6 @@ pub struct LoadedScene {
 /// ```
 pub fn load_scene(spec: &str) -> Result<LoadedScene> {
     load_scene_with(spec, &LoadSettings::default())
-}
-
-/// How [`load_scene_with`] treats the geometry it reads.
-#[derive(Clone, Debug, PartialEq, Eq)]
-#[non_exhaustive]
-pub struct LoadSettings {
-    /// Merge adjacent coplanar faces of one object and material into
-    /// polygons (see [`crate::merge_coplanar_faces`]); default true. A scene
-    /// file's `merge_coplanar = false` turns it off as well. Built-in scenes
-    /// have no such faces.
-    pub merge_coplanar: bool,
-}
-
-impl Default for LoadSettings {
-    fn default() -> Self {
-        LoadSettings {
-            merge_coplanar: true,
-        }
-    }
 }
 
 /// [`load_scene`] with settings.

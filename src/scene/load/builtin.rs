@@ -13,7 +13,7 @@ use std::path::Path;
 
 use crate::error::Result;
 
-use super::load::LoadedScene;
+use super::loaded::LoadedScene;
 use super::scene_file::load_scene_file_from;
 use super::source::Embedded;
 
@@ -24,15 +24,15 @@ const BUILTINS: [(&str, &str, Embedded); 1] = [(
     Embedded(&[
         (
             "builtin:cornell/cornell.toml",
-            include_str!("../../scenes/cornell/cornell.toml"),
+            include_str!("../../../scenes/cornell/cornell.toml"),
         ),
         (
             "builtin:cornell/cornell.obj",
-            include_str!("../../scenes/cornell/cornell.obj"),
+            include_str!("../../../scenes/cornell/cornell.obj"),
         ),
         (
             "builtin:cornell/cornell.mtl",
-            include_str!("../../scenes/cornell/cornell.mtl"),
+            include_str!("../../../scenes/cornell/cornell.mtl"),
         ),
     ]),
 )];

@@ -4,8 +4,8 @@ use std::sync::OnceLock;
 
 use glam::DVec3;
 
-use super::sampling::SampleStream;
 use super::settings::FormFactorKernel;
+use crate::lighting::SampleStream;
 use crate::mesh::Cell;
 use crate::radiometry::{disc_form_factor, polygon_form_factor};
 use crate::scene::Visibility;

@@ -31,8 +31,8 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use ::image::RgbImage;
 
 use super::font::{FONT_FAMILY, ensure_font_registered};
-use super::output::{io_error, output_error, write_atomically};
 use crate::error::Result;
+use crate::fs::{io_error, output_error, write_atomically};
 
 /// One named curve of a plot: points (x, y) in any order.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -1,6 +1,6 @@
 //! Wavefront OBJ + MTL scenes, read with tobj.
 //!
-//! Every face (`f`) becomes one [`Surface`](crate::Surface) — quads and n-gons stay whole —
+//! Every face (`f`) becomes one [`Surface`](crate::scene::Surface) — quads and n-gons stay whole —
 //! named after its object or group (`o`/`g`), with the material of the last
 //! `usemtl`. MTL `Kd` is the diffuse reflectance ρ (0 ≤ ρ < 1 per channel),
 //! `Ke` the emitted radiance L_e (≥ 0), as in pbrt and Mitsuba.
@@ -23,15 +23,14 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 
-use super::Scene;
-use super::Warning;
-use super::build::check_not_empty;
 use super::coplanar_merge::merge_scene_faces;
-use super::material::Material;
 use super::mtl::{parse_mtl, to_material};
 use super::obj_scan::{ObjScan, scan_obj};
-use super::polygon::clean_polygon;
 use super::source::{Disk, SourceFiles};
+use crate::scene::build::check_not_empty;
+use crate::scene::material::Material;
+use crate::scene::polygon::clean_polygon;
+use crate::scene::{Scene, Warning};
 
 /// Warnings kept per object before the rest are only counted.
 const WARNINGS_PER_OBJECT: usize = 10;

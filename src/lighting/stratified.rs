@@ -3,7 +3,7 @@
 
 use glam::DVec2;
 
-use super::sampling::SampleStream;
+use super::sample_stream::SampleStream;
 use crate::scene::triangulate_polygon;
 
 /// The golden ratio's fractional part: consecutive multiples of it spread

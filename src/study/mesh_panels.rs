@@ -31,9 +31,9 @@ use glam::DVec2;
 use plotters::prelude::*;
 
 use super::font::{FONT_FAMILY, ensure_font_registered};
-use super::output::{output_error, write_atomically};
-use super::tone_map::srgb_encode;
 use crate::error::Result;
+use crate::fs::{output_error, write_atomically};
+use crate::render::srgb_encode;
 
 /// One mesh to draw: its vertices, a scalar per vertex, its triangles and
 /// the polygon it covers, in any 2D units (the same for all panels).

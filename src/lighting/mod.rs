@@ -1,0 +1,22 @@
+//! Lighting: what the emitters make of a scene before any light is shot.
+//!
+//! Luminaires (touching coplanar emitters of one material grouped into
+//! lamps), the exact direct field of one luminaire on a receiver's plane
+//! (value, gradient, visibility, maximum, kink line: what the contour mesher
+//! meshes), the dominant-small-emitter analysis that decides which receivers
+//! the contour mesher gets, and the stratified points and deterministic
+//! random stream their estimates use.
+//!
+//! It uses the scene and radiometry; the mesh never imports it: the solver
+//! hands its fields down to the meshers as closures.
+
+mod direct_field;
+mod dominance;
+mod luminaire;
+mod sample_stream;
+mod stratified;
+
+pub use direct_field::DirectField;
+pub use dominance::{DominanceSettings, ReceiverAnalysis, analyse_receivers};
+pub use luminaire::{Luminaire, luminaires};
+pub(crate) use sample_stream::SampleStream;

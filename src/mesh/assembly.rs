@@ -1,0 +1,89 @@
+//! Meshing a whole scene: every surface gets its square grid of patches,
+//! re-triangulated where a contour layout is given or where another surface
+//! stands on it (contact lines), with the hidden parts under objects dropped
+//! and boundary vertices moved just inside their surface to gather.
+//!
+//! Every mesher's output passes through here ([`mesh_surfaces`]); the square
+//! mesher is the assembly with no contour layouts ([`mesh_square`]).
+
+use super::contacts::{contact_segments, remesh_surface, remove_hidden_elements};
+use super::contour::ContourLayout;
+use super::square::{SquareMeshSettings, square_grid};
+use super::topology::Mesh;
+use crate::scene::{Scene, Surface};
+
+/// How close to a plane, as a fraction of the scene's diagonal, another
+/// surface's edge must lie to stand on it.
+const CONTACT_TOLERANCE: f64 = 1e-3;
+
+/// How far boundary vertices gather inside their surface, as a fraction of
+/// the scene's diagonal: at least ten times the shadow rays' surface offset,
+/// so a ray from a vertex at a wall's foot starts clear of the wall.
+const RECEIVER_INSET: f64 = 1e-4;
+
+/// The most a boundary vertex is moved inside, as a fraction of the diagonal.
+const MAX_RECEIVER_INSET: f64 = 1e-3;
+
+/// The distance boundary vertices gather inside their surface: the base
+/// inset, or twice the largest projection offset of a nearly planar face if
+/// larger, since a neighbour's projected plane may cut that far across the
+/// corner it shares with the vertex's surface (the Cornell box's red wall
+/// moves by 0.4 mm).
+#[must_use]
+pub fn receiver_inset(scene: &Scene) -> f64 {
+    let diagonal = scene.diagonal();
+    let offset = scene
+        .surfaces
+        .iter()
+        .map(Surface::projection_offset)
+        .fold(0.0, f64::max);
+    (2.0 * offset).clamp(RECEIVER_INSET * diagonal, MAX_RECEIVER_INSET * diagonal)
+}
+
+/// Meshes every surface of the scene uniformly. Where another surface
+/// stands on one (a block on a floor), the grid is re-triangulated with
+/// element edges along the contact lines, and the elements hidden under the
+/// object are dropped (see `mesh/contacts.rs`).
+#[must_use]
+pub fn mesh_square(scene: &Scene, settings: &SquareMeshSettings) -> Mesh {
+    mesh_surfaces(scene, settings, &|_| None)
+}
+
+/// Meshes every surface: a contour layout where `layout` gives one (in the
+/// surface's plane coordinates), the square grid elsewhere, with contact
+/// lines and hidden parts handled as [`mesh_square`] does. Patches are the
+/// square grid's blocks either way.
+#[must_use]
+pub fn mesh_surfaces(
+    scene: &Scene,
+    settings: &SquareMeshSettings,
+    layout: &dyn Fn(usize) -> Option<ContourLayout>,
+) -> Mesh {
+    let mut mesh = Mesh::default();
+    let tolerance = CONTACT_TOLERANCE * scene.diagonal();
+    let mut touched = Vec::new();
+    for (index, surface) in scene.surfaces.iter().enumerate() {
+        let grid = square_grid(surface, index as u32, settings);
+        let contacts = contact_segments(scene, index, tolerance);
+        let layout = layout(index);
+        if contacts.is_empty() && layout.is_none() {
+            mesh.append(grid);
+            continue;
+        }
+        mesh.append(remesh_surface(
+            surface,
+            &grid,
+            &contacts,
+            settings.max_edge,
+            layout.as_ref(),
+        ));
+        if !contacts.is_empty() {
+            touched.push(index as u32);
+        }
+    }
+    if !touched.is_empty() {
+        remove_hidden_elements(&mut mesh, scene, &touched);
+    }
+    mesh.inset_boundary_receivers(receiver_inset(scene));
+    mesh
+}

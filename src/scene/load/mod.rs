@@ -1,0 +1,22 @@
+//! Loaders: scene files (TOML), OBJ + MTL, built-in scenes and probe-point
+//! files, all reading through one [`source::SourceFiles`] so that built-in
+//! scenes and files on disk go through the same checks.
+
+mod builtin;
+mod coplanar_merge;
+mod loaded;
+mod mtl;
+mod obj;
+mod obj_scan;
+mod probe_points;
+mod scene_file;
+mod source;
+mod spec;
+
+pub use builtin::builtin_names;
+pub use coplanar_merge::{MergeReport, merge_coplanar_faces};
+pub use loaded::{LoadSettings, LoadedScene};
+pub use obj::load_obj;
+pub use probe_points::{ProbePoint, load_probe_points, parse_probe_points};
+pub use scene_file::load_scene_file;
+pub use spec::{load_scene, load_scene_with};
