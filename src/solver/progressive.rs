@@ -3,7 +3,7 @@
 use rayon::prelude::*;
 
 use super::mesh_settings::MeshKind;
-use super::refinement::Refiner;
+use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene};
 use super::settings::{Settings, SolverSettings};
 use super::shooter::{Receiver, Shooter};
@@ -45,31 +45,31 @@ pub struct EnergyBalance {
 /// M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive
 /// Refinement Approach to Fast Radiosity Image Generation", SIGGRAPH 1988.
 pub struct Solver {
-    pub(super) scene: Scene,
-    pub(super) mesh: Mesh,
-    pub(super) visibility: Visibility,
+    scene: Scene,
+    mesh: Mesh,
+    visibility: Visibility,
     /// What meshing found (empty when the caller brought the mesh).
     analysis: MeshAnalysis,
-    pub(super) settings: SolverSettings,
+    settings: SolverSettings,
     /// Radiosity B per vertex (emission included), W/m².
-    pub(super) radiosity: Vec<Rgb>,
+    radiosity: Vec<Rgb>,
     /// Irradiance H per vertex (light received), W/m².
-    pub(super) irradiance: Vec<Rgb>,
+    irradiance: Vec<Rgb>,
     /// Unshot radiosity ΔB per patch.
-    pub(super) unshot: Vec<Rgb>,
+    unshot: Vec<Rgb>,
     emitted_power: Rgb,
     shot_power: Rgb,
-    pub(super) received_power: Rgb,
+    received_power: Rgb,
     /// The largest power a single patch emits (sum of channels): the scale
     /// for the number of samples a shot gets.
     reference_power: f64,
-    pub(super) shots: usize,
-    pub(super) rays: u64,
+    shots: usize,
+    rays: u64,
     /// Radiosity shot by each patch in all, Σ ΔB: what new vertices of an
     /// adaptive mesh gather.
-    pub(super) shot: Vec<Rgb>,
+    shot: Vec<Rgb>,
     /// The element hierarchy of an adaptive solve.
-    pub(super) refiner: Option<Refiner>,
+    refiner: Option<Refiner>,
 }
 
 impl Solver {
@@ -214,7 +214,7 @@ impl Solver {
 
     /// Patch j prepared to shoot `power` (sum of channels): samples per side
     /// from the shot's share of the strongest emitter's power.
-    pub(super) fn shooter(&self, j: usize, power: f64) -> Shooter {
+    fn shooter(&self, j: usize, power: f64) -> Shooter {
         let patch = &self.mesh.patches[j];
         let surface = &self.scene.surfaces[patch.surface];
         let share = (power / self.reference_power.max(f64::MIN_POSITIVE)).min(1.0);
@@ -278,7 +278,7 @@ impl Solver {
         }
     }
 
-    pub(super) fn unshot_power(&self) -> Rgb {
+    fn unshot_power(&self) -> Rgb {
         self.mesh
             .patches
             .iter()
@@ -429,5 +429,123 @@ impl Solver {
     #[must_use]
     pub fn mesh_analysis(&self) -> &MeshAnalysis {
         &self.analysis
+    }
+}
+
+impl Solver {
+    /// Splits the elements whose vertices disagree (see [`elements_to_split`]),
+    /// level by level until none does, and gives every new vertex the light
+    /// of all shots so far by gathering it (see [`Solver::gather_shot_light`]).
+    ///
+    /// The energy ledger stays closed: where the finer elements estimate a
+    /// patch's incident power differently, the difference ΔP moves from the
+    /// escaped power to the received power, and ρ ΔP to the patch's unshot
+    /// power.
+    pub(crate) fn refine(&mut self) {
+        let Some(mut refiner) = self.refiner.take() else {
+            return;
+        };
+        loop {
+            if self.mesh.vertices.len() >= refiner.settings.max_vertices {
+                break;
+            }
+            let split = elements_to_split(
+                &self.mesh,
+                &refiner.hierarchy,
+                &self.radiosity,
+                &refiner.settings,
+            );
+            if split.is_empty() {
+                break;
+            }
+            let before = self.incident_power_per_patch();
+            let added = refiner.hierarchy.split(&mut self.mesh, &split);
+            let gathered = self.gather_shot_light(&added);
+            for (&v, irradiance) in added.iter().zip(gathered) {
+                debug_assert_eq!(v as usize, self.radiosity.len());
+                let surface = &self.scene.surfaces[self.mesh.vertices[v as usize].surface as usize];
+                let material = self.scene.material_of(surface);
+                self.irradiance.push(irradiance);
+                self.radiosity
+                    .push(material.emitted_radiosity() + material.reflectance * irradiance);
+            }
+            let after = self.incident_power_per_patch();
+            for (p, (old, new)) in before.into_iter().zip(after).enumerate() {
+                let change = new - old;
+                let patch = &self.mesh.patches[p];
+                if patch.area > 0.0 {
+                    let reflectance = self
+                        .scene
+                        .material_of(&self.scene.surfaces[patch.surface])
+                        .reflectance;
+                    self.unshot[p] += reflectance * change / patch.area;
+                    self.received_power += change;
+                }
+            }
+        }
+        self.refiner = Some(refiner);
+    }
+
+    /// Σ over each patch's elements of the mean irradiance of the element's
+    /// corners times its area: the incident power the ledger counts.
+    fn incident_power_per_patch(&self) -> Vec<Rgb> {
+        let mut power = vec![Rgb::ZERO; self.mesh.patches.len()];
+        for element in &self.mesh.elements {
+            let corners = element.corners();
+            let mean = corners
+                .iter()
+                .map(|&v| self.irradiance[v as usize])
+                .sum::<Rgb>()
+                / corners.len() as f64;
+            power[element.patch as usize] += mean * element.area;
+        }
+        power
+    }
+
+    /// The irradiance of new vertices from every shot so far: for each patch
+    /// p that has shot radiosity S_p in all, H_v = Σ_p S_p F_{v→p}, with the
+    /// form factors of the solver's kernel and sampling. Parallel over vertices.
+    fn gather_shot_light(&mut self, vertices: &[u32]) -> Vec<Rgb> {
+        let shooters: Vec<(Rgb, Shooter)> = self
+            .shot
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.element_sum() > 0.0)
+            .map(|(p, &s)| {
+                let power = s.element_sum() * self.mesh.patches[p].area;
+                (s, self.shooter(p, power))
+            })
+            .collect();
+        let (scene, mesh, visibility) = (&self.scene, &self.mesh, &self.visibility);
+        let (density, kernel, shot) = (
+            self.settings.sample_density,
+            self.settings.kernel,
+            self.shots as u64,
+        );
+        let gathered: Vec<(Rgb, u64)> = vertices
+            .par_iter()
+            .map(|&v| {
+                let vertex = &mesh.vertices[v as usize];
+                let receiver = Receiver {
+                    position: vertex.receiver_position,
+                    normal: scene.surfaces[vertex.surface as usize].normal(),
+                    surface: vertex.surface,
+                    key: u64::from(v),
+                };
+                let mut irradiance = Rgb::ZERO;
+                let mut rays = 0;
+                for (shot_radiosity, shooter) in &shooters {
+                    if shooter.surface == vertex.surface {
+                        continue;
+                    }
+                    let g = shooter.gather(&receiver, density, shot, kernel, visibility);
+                    irradiance += *shot_radiosity * g.form_factor;
+                    rays += u64::from(g.rays);
+                }
+                (irradiance, rays)
+            })
+            .collect();
+        self.rays += gathered.iter().map(|g| g.1).sum::<u64>();
+        gathered.into_iter().map(|g| g.0).collect()
     }
 }
