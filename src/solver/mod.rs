@@ -14,7 +14,7 @@ mod solution;
 
 pub use mesh_settings::{Length, MeshKind, MeshSettings};
 pub use progressive::{EnergyBalance, Solver};
-pub use refinement::{RefinementSettings, elements_to_split};
+pub use refinement::RefinementSettings;
 pub use run::{Progress, StopReason, Until};
 pub use scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene, receiver_layout};
 pub use settings::{FormFactorKernel, Settings, SolverSettings};

@@ -23,9 +23,11 @@ use crate::scene::Rgb;
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct RefinementSettings {
-    /// Split an element when the jump of the radiosity gradient across it,
-    /// times its size (see [`elements_to_split`]), exceeds `threshold` times
-    /// its mean radiosity.
+    /// Split an element when the jump of the radiosity gradient across it
+    /// times its size, η_e = h_e · max_v |G_e − G_v| (Zienkiewicz and Zhu's
+    /// recovery estimator, with G_e the gradient of the element's linear
+    /// interpolant and G_v its area-weighted mean around vertex v), exceeds
+    /// `threshold` times its mean radiosity.
     pub threshold: f64,
     /// Differences in elements darker than `floor` times the scene's mean
     /// radiosity are measured against that floor instead: deep shadows are
