@@ -79,19 +79,12 @@ pub fn stratified_points(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::plane_polygon::L_SHAPE;
     use crate::scene::polygon_contains;
 
     #[test]
     fn points_lie_inside_and_weights_sum_to_the_area() {
-        let l = [
-            (0.0, 0.0),
-            (2.0, 0.0),
-            (2.0, 1.0),
-            (1.0, 1.0),
-            (1.0, 2.0),
-            (0.0, 2.0),
-        ]
-        .map(|(x, y)| DVec2::new(x, y));
+        let l = L_SHAPE;
         for count in [1, 3, 16, 100] {
             let points = stratified_points(&l, count, 0.01, &mut SampleStream::new(1, 2));
             assert_eq!(points.len(), count);

@@ -267,6 +267,7 @@ impl Snapper {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::plane_polygon::L_SHAPE;
 
     fn area(t: &PlaneTriangulation) -> f64 {
         t.triangles
@@ -277,15 +278,7 @@ mod tests {
 
     #[test]
     fn an_l_shape_with_a_crossing_constraint() {
-        let l = [
-            (0.0, 0.0),
-            (2.0, 0.0),
-            (2.0, 1.0),
-            (1.0, 1.0),
-            (1.0, 2.0),
-            (0.0, 2.0),
-        ]
-        .map(|(x, y)| DVec2::new(x, y));
+        let l = L_SHAPE;
         let points = [
             DVec2::new(0.5, 0.5),
             DVec2::new(1.5, 0.5),

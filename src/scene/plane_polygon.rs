@@ -30,21 +30,25 @@ pub fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     p.distance(a + (b - a) * t)
 }
 
+/// An L-shaped hexagon, the unit squares at (0, 0), (1, 0) and (0, 1),
+/// counter-clockwise: the unit tests' non-convex polygon.
+#[cfg(test)]
+pub(crate) const L_SHAPE: [DVec2; 6] = [
+    DVec2::new(0.0, 0.0),
+    DVec2::new(2.0, 0.0),
+    DVec2::new(2.0, 1.0),
+    DVec2::new(1.0, 1.0),
+    DVec2::new(1.0, 2.0),
+    DVec2::new(0.0, 2.0),
+];
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn l_shape() {
-        let l = [
-            (0.0, 0.0),
-            (2.0, 0.0),
-            (2.0, 1.0),
-            (1.0, 1.0),
-            (1.0, 2.0),
-            (0.0, 2.0),
-        ]
-        .map(|(x, y)| DVec2::new(x, y));
+        let l = L_SHAPE;
         assert!(polygon_contains(&l, DVec2::new(0.5, 1.5)));
         assert!(!polygon_contains(&l, DVec2::new(1.5, 1.5)));
         assert!((distance_to_boundary(&l, DVec2::new(1.5, 1.5)) - 0.5).abs() < 1e-15);
