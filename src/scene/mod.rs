@@ -11,11 +11,11 @@ pub(crate) mod triangulate;
 mod visibility;
 
 pub use camera::{Camera, CameraFrame};
+pub(crate) use load::line_at;
 pub use load::{
     LoadSettings, LoadedScene, MergeReport, ProbePoint, builtin_names, load_obj, load_probe_points,
     load_scene, load_scene_file, load_scene_with, merge_coplanar_faces, parse_probe_points,
 };
-pub(crate) use load::line_at;
 pub use material::{Material, Rgb};
 pub(crate) use plane_polygon::{distance_to_boundary, distance_to_segment, polygon_contains};
 pub use polygon::PolygonPlane;

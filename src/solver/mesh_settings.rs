@@ -221,7 +221,10 @@ impl MeshSettings {
         self.max_edge.validate("mesh.max_edge")?;
         self.patch_max_edge.validate("mesh.patch_max_edge")?;
         let counts = [
-            ("mesh.elements_per_side", self.elements_per_side.unwrap_or(1)),
+            (
+                "mesh.elements_per_side",
+                self.elements_per_side.unwrap_or(1),
+            ),
             ("mesh.contour.directions", self.contour.directions),
             ("mesh.contour.levels", self.contour.levels),
         ];

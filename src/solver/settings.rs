@@ -102,7 +102,10 @@ impl SolverSettings {
             ));
         }
         if self.direct_samples == 0 {
-            return Err(invalid("solver.direct_samples", "0 is not at least 1".into()));
+            return Err(invalid(
+                "solver.direct_samples",
+                "0 is not at least 1".into(),
+            ));
         }
         if !(1..=65_536).contains(&self.max_samples) {
             let message = format!("{} is not in 1..=65536", self.max_samples);

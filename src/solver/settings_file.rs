@@ -49,14 +49,13 @@ impl Settings {
             return Ok(Settings::default());
         };
         let text = options.text();
-        let error = |name: String, span: Option<Range<usize>>, message: String| {
-            Error::SceneSetting {
+        let error =
+            |name: String, span: Option<Range<usize>>, message: String| Error::SceneSetting {
                 path: path.to_path_buf(),
                 line: span.map(|span| line_at(text, span.start)),
                 name,
                 message,
-            }
-        };
+            };
         // Types and keys: serde knows the field path, toml the span.
         let deserializer = toml::Deserializer::parse(text).map_err(|e| syntax_error(path, &e))?;
         let tables: SettingsTables =
