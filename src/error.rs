@@ -123,7 +123,9 @@ pub enum Error {
     #[error("invalid setting `{name}`: {message}")]
     InvalidSetting {
         /// The setting's field path in [`crate::Settings`] (and in a scene
-        /// file), such as `mesh.max_edge` or `solver.tolerance`.
+        /// file), such as `mesh.max_edge` or `solver.tolerance`; from a part
+        /// validated on its own, such as [`crate::lighting::DominanceSettings`],
+        /// the field's name in that part (`min_share`).
         name: String,
         /// What is wrong.
         message: String,
