@@ -18,8 +18,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use isorad::{
-    Camera, Length, RenderSettings, Settings, Solver, load_scene, render::rasterize,
-    view::mesh_triangles, write_exr,
+    Camera, RenderSettings, Settings, Solver, load_scene, render::rasterize, view::mesh_triangles,
+    write_exr,
 };
 use serde_json::json;
 
@@ -119,18 +119,8 @@ fn main() -> Report {
     // Load; build the BVH and mesh with the scene file's settings, as `isorad render`.
     let loaded = load_scene(&options.scene)?;
     let load_seconds = start.elapsed().as_secs_f64();
-    let mut settings = Settings::default();
-    settings.mesh.kind = loaded
-        .options
-        .mesh_kind
-        .as_deref()
-        .unwrap_or("square")
-        .parse()?;
-    if let Some(max_edge) = loaded.options.max_edge {
-        settings.mesh.max_edge = Length::Absolute(max_edge);
-    }
-    settings.mesh.elements_per_side = loaded.options.elements_per_side;
-    if let Some(tolerance) = options.tolerance.or(loaded.options.tolerance) {
+    let mut settings = Settings::from_scene_options(&loaded.options)?;
+    if let Some(tolerance) = options.tolerance {
         settings.solver.tolerance = tolerance;
     }
     let mesh_start = Instant::now();

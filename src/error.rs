@@ -119,10 +119,26 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
-    /// A setting or command-line value is out of range.
+    /// A setting is out of range.
     #[error("invalid setting `{name}`: {message}")]
     InvalidSetting {
-        /// The setting's name, as a user writes it.
+        /// The setting's field path in [`crate::Settings`] (and in a scene
+        /// file), such as `mesh.max_edge` or `solver.tolerance`; from a part
+        /// validated on its own, such as [`crate::lighting::DominanceSettings`],
+        /// the field's name in that part (`min_share`).
+        name: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A scene file's `[mesh]` or `[solver]` table holds a value of the
+    /// wrong type, an unknown key or a value out of range.
+    #[error("{path}{}: invalid setting `{name}`: {message}", line_phrase(*.line))]
+    SceneSetting {
+        /// The scene file.
+        path: PathBuf,
+        /// 1-based line of the value (or key), where known.
+        line: Option<usize>,
+        /// The setting's field path, such as `mesh.refinement.threshold`.
         name: String,
         /// What is wrong.
         message: String,
@@ -139,10 +155,10 @@ pub enum Error {
     /// A mesh would have more elements than [`crate::MeshSettings::max_elements`]
     /// allows: refused before any memory is spent on it.
     #[error(
-        "the mesh would have about {estimate:.0} elements, more than --max-elements {limit} \
-         (elements of edge {max_edge:.3e} on a scene {diagonal:.3e} across); use a larger \
-         --max-edge (`[mesh] max_edge`) or fewer --elements-per-side, or raise --max-elements \
-         (`MeshSettings::max_elements`) if this machine can hold and solve that many"
+        "the mesh would have about {estimate:.0} elements, more than the {limit} that \
+         `mesh.max_elements` allows (elements of edge {max_edge:.3e} on a scene {diagonal:.3e} \
+         across); use a larger `mesh.max_edge` or fewer `mesh.elements_per_side`, or raise \
+         `mesh.max_elements` if this machine can hold and solve that many"
     )]
     MeshTooLarge {
         /// Elements the settings would make.
@@ -166,6 +182,27 @@ pub enum Error {
 
 fn line_suffix(line: Option<usize>) -> String {
     line.map(|l| format!(":{l}")).unwrap_or_default()
+}
+
+/// ": line N", as scene-file messages say it.
+fn line_phrase(line: Option<usize>) -> String {
+    line.map(|l| format!(": line {l}")).unwrap_or_default()
+}
+
+impl Error {
+    /// An [`Error::InvalidSetting`] with its name put under `table` (so
+    /// `min_share` becomes `mesh.dominance.min_share`); other errors as
+    /// they are.
+    #[must_use]
+    pub(crate) fn within(self, table: &str) -> Error {
+        match self {
+            Error::InvalidSetting { name, message } => Error::InvalidSetting {
+                name: format!("{table}.{name}"),
+                message,
+            },
+            other => other,
+        }
+    }
 }
 
 fn missing_material_phrase(material: &str) -> String {

@@ -399,3 +399,43 @@ fn preview_every_zero_is_refused() {
     assert!(!out.status.success());
     assert!(stderr(&out).contains("preview-every"), "{}", stderr(&out));
 }
+
+/// A scene file's `[solver]` and `[mesh]` settings take effect as the flags
+/// that set the same fields do, and flags override them.
+#[test]
+fn scene_file_settings_act_as_their_flags_and_flags_override_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell/cornell.obj");
+    let obj = format!("obj = {:?}\n", obj.to_str().unwrap());
+    let settings = "[solver]\nkernel = \"wallace\"\ntolerance = 0.05\n[mesh]\nmax_edge = 100\n";
+    std::fs::write(dir.path().join("set.toml"), format!("{obj}{settings}")).unwrap();
+    std::fs::write(dir.path().join("bare.toml"), &obj).unwrap();
+    let render = |name: &str, args: &[&str]| {
+        let exr = format!("{name}.exr");
+        let png = format!("{name}.png");
+        let mut all = vec!["render", "-o", &exr, "--png", &png, "-q", "--width", "32"];
+        all.extend(["--height", "32", "--supersampling", "1"]);
+        all.extend(args);
+        let out = isorad(dir.path(), &all);
+        assert!(out.status.success(), "{}", stderr(&out));
+        std::fs::read(dir.path().join(&exr)).unwrap()
+    };
+    let flags = ["--tolerance", "0.05", "--max-edge", "100"];
+    let from_file = render("file", &["set.toml"]);
+    let mut with_kernel = vec!["bare.toml", "--form-factor", "wallace"];
+    with_kernel.extend(flags);
+    assert_eq!(from_file, render("flags", &with_kernel));
+    // A flag overrides the file: back to the default kernel.
+    let overridden = render("overridden", &["set.toml", "--form-factor", "mixed"]);
+    let mut default_kernel = vec!["bare.toml"];
+    default_kernel.extend(flags);
+    assert_eq!(overridden, render("default", &default_kernel));
+    assert_ne!(overridden, from_file, "the kernel made no difference");
+    // An invalid flag value is named by its flag.
+    let out = isorad(dir.path(), &["render", "set.toml", "--max-edge=-1", "-q"]);
+    assert!(
+        stderr(&out).contains("invalid value for --max-edge: -1 is not positive"),
+        "{}",
+        stderr(&out)
+    );
+}

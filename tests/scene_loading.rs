@@ -4,7 +4,10 @@
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
-use isorad::{Error, Scene, internals::newell_normal, load_scene, scene::load_obj};
+use isorad::{
+    Error, Length, MeshKind, Scene, Settings, internals::newell_normal, load_scene,
+    scene::load_obj, solver::FormFactorKernel,
+};
 use tempfile::TempDir;
 
 const MTL: &str = "newmtl white\nKd 0.5 0.5 0.5\n\nnewmtl lamp\nKd 0 0 0\nKe 1 2 3\n";
@@ -200,12 +203,131 @@ fn toml_bad_camera_is_named() {
     expect_error(&path, &["scene.toml", "camera", "look_at"]);
 }
 
+/// The settings a scene file's `[mesh]` and `[solver]` tables give.
+fn file_settings(toml: &str) -> Result<Settings, Error> {
+    let (_dir, path) = toml_scene(toml);
+    let loaded = load_scene(path.to_str().unwrap()).unwrap();
+    Settings::from_scene_options(&loaded.options)
+}
+
+/// A bad setting names the file, the line and the field path.
+fn expect_setting_error(toml: &str, line: usize, name: &str, words: &[&str]) {
+    let e = file_settings(toml).unwrap_err();
+    let message = e.to_string();
+    match &e {
+        Error::SceneSetting {
+            path,
+            line: l,
+            name: n,
+            ..
+        } => {
+            assert!(path.ends_with("scene.toml"), "{message}");
+            assert_eq!((*l, n.as_str()), (Some(line), name), "{message}");
+        }
+        other => panic!("expected a scene setting error, got {other:?}"),
+    }
+    let prefix = format!("scene.toml: line {line}: invalid setting `{name}`");
+    assert!(message.contains(&prefix), "{message}");
+    for word in words {
+        assert!(message.contains(word), "{message} lacks {word}");
+    }
+}
+
 #[test]
-fn toml_bad_settings_are_named() {
-    let (_dir, path) = toml_scene("obj = \"scene.obj\"\n[mesh]\nkind = \"hexagonal\"\n");
-    expect_error(&path, &["scene.toml", "hexagonal"]);
-    let (_dir, path) = toml_scene("obj = \"scene.obj\"\n[solver]\ntolerance = 2.0\n");
-    expect_error(&path, &["scene.toml", "tolerance"]);
+fn toml_bad_settings_are_named_with_line_and_field() {
+    let obj = "obj = \"scene.obj\"\n";
+    // Type errors: an unknown variant, a string for a number, unknown keys.
+    expect_setting_error(
+        &format!("{obj}[mesh]\nkind = \"hexagonal\"\n"),
+        3,
+        "mesh.kind",
+        &["hexagonal", "square"],
+    );
+    expect_setting_error(
+        &format!("{obj}[solver]\nmax_shots = 10\ntolerance = \"low\"\n"),
+        4,
+        "solver.tolerance",
+        &["string \"low\""],
+    );
+    expect_setting_error(
+        &format!("{obj}[mesh]\nmax_egde = 1.0\nkind = \"square\"\n"),
+        3,
+        "mesh.max_egde",
+        &["unknown field"],
+    );
+    expect_setting_error(
+        &format!("{obj}[mesh.refinement]\nthreshold = 1.0\nlevels = 2\n"),
+        4,
+        "mesh.refinement.levels",
+        &["unknown field", "max_levels"],
+    );
+    expect_setting_error(
+        &format!("{obj}[mesh]\nmax_edge = {{ of_diameter = 0.1 }}\n"),
+        3,
+        "mesh.max_edge",
+        &["of_diagonal"],
+    );
+    // Range errors found by validation.
+    expect_setting_error(
+        &format!("{obj}[solver]\ntolerance = 2.0\n"),
+        3,
+        "solver.tolerance",
+        &["2 is not in (0, 1)"],
+    );
+    expect_setting_error(
+        &format!("{obj}[mesh]\nkind = \"adaptive\"\nrefinement.threshold = 0\n"),
+        4,
+        "mesh.refinement.threshold",
+        &["positive"],
+    );
+    expect_setting_error(
+        &format!("{obj}[mesh]\nelements_per_side = 0\n"),
+        3,
+        "mesh.elements_per_side",
+        &["0 is not in 1..=1000"],
+    );
+    // A table where a table belongs is checked when loading.
+    let (_dir, path) = toml_scene(&format!("{obj}mesh = 3\n"));
+    expect_error(&path, &["scene.toml", "line 2", "invalid type"]);
+}
+
+#[test]
+fn toml_settings_reach_every_field() {
+    let toml = "obj = \"scene.obj\"\n[solver]\nkernel = \"exact\"\nmax_samples = 32\n\
+                [mesh]\nkind = \"adaptive\"\nmax_edge = 2\n\
+                patch_max_edge = { of_diagonal = 0.5 }\nrefinement.threshold = 0.25\n\
+                [mesh.contour]\nlevels = 5\n[mesh.dominance]\nmin_share = 0.7\n";
+    let settings = file_settings(toml).unwrap();
+    assert_eq!(settings.solver.kernel, FormFactorKernel::Exact);
+    assert_eq!(settings.solver.max_samples, 32);
+    assert_eq!(settings.mesh.kind, MeshKind::Adaptive);
+    assert_eq!(settings.mesh.max_edge, Length::Absolute(2.0));
+    assert_eq!(settings.mesh.patch_max_edge, Length::OfDiagonal(0.5));
+    assert_eq!(settings.mesh.refinement.threshold, 0.25);
+    assert_eq!(settings.mesh.contour.levels, 5);
+    assert_eq!(settings.mesh.dominance.min_share, 0.7);
+    // Everything else keeps its default.
+    let mut expected = Settings::default();
+    expected.solver.kernel = FormFactorKernel::Exact;
+    expected.solver.max_samples = 32;
+    expected.mesh = settings.mesh.clone();
+    assert_eq!(settings, expected);
+    assert_eq!(
+        settings.mesh.contour.directions,
+        Settings::default().mesh.contour.directions
+    );
+}
+
+#[test]
+fn settings_round_trip_through_toml() {
+    let mut settings = Settings::final_quality();
+    settings.mesh.kind = MeshKind::Contour;
+    settings.mesh.max_edge = Length::Absolute(0.5);
+    settings.mesh.elements_per_side = Some(4);
+    settings.solver.kernel = FormFactorKernel::Wallace;
+    let text = toml::to_string(&settings).unwrap();
+    let back: Settings = toml::from_str(&text).unwrap();
+    assert_eq!(back, settings, "{text}");
 }
 
 #[test]
@@ -221,10 +343,11 @@ fn toml_settings_and_camera_defaults() {
         (512, 512, 40.0)
     );
     assert_eq!(camera.up, DVec3::Y);
-    assert_eq!(loaded.options.tolerance, Some(0.02));
-    assert_eq!(loaded.options.mesh_kind.as_deref(), Some("contour"));
-    assert_eq!(loaded.options.max_edge, Some(0.1));
-    assert_eq!(loaded.options.elements_per_side, Some(7));
+    let settings = Settings::from_scene_options(&loaded.options).unwrap();
+    assert_eq!(settings.solver.tolerance, 0.02);
+    assert_eq!(settings.mesh.kind, MeshKind::Contour);
+    assert_eq!(settings.mesh.max_edge, Length::Absolute(0.1));
+    assert_eq!(settings.mesh.elements_per_side, Some(7));
     assert_eq!(loaded.source, path.to_str().unwrap());
 }
 
@@ -337,7 +460,10 @@ fn cornell_builtin_equals_the_shipped_files() {
     assert_eq!(builtin.scene.surfaces, file.scene.surfaces);
     assert_eq!(builtin.scene.materials, file.scene.materials);
     assert_eq!(builtin.scene.camera, file.scene.camera);
-    assert_eq!(builtin.options, file.options);
+    assert_eq!(
+        Settings::from_scene_options(&builtin.options).unwrap(),
+        Settings::from_scene_options(&file.options).unwrap()
+    );
     assert!(builtin.scene.warnings.is_empty() && file.scene.warnings.is_empty());
     assert_eq!(builtin.source, "cornell");
     let camera = builtin.scene.camera.unwrap();

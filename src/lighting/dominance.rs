@@ -28,7 +28,9 @@ use crate::scene::{Scene, Surface, Visibility, polygon_contains};
 const SAMPLE_SHRINK: f64 = 0.01;
 
 /// Settings of [`analyse_receivers`]. Plain data: set the fields you need.
-#[derive(Clone, Debug, PartialEq)]
+/// In a scene file: `[mesh.dominance]`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct DominanceSettings {
     /// A luminaire dominates a receiver when it gives at least this share of
@@ -70,7 +72,8 @@ impl Default for DominanceSettings {
 
 impl DominanceSettings {
     /// Checks the ranges: `min_share` in (0, 1], `max_size_ratio` positive
-    /// and finite, at least one sample point and one shadow ray.
+    /// and finite, at least one sample point and one shadow ray. An
+    /// [`Error::InvalidSetting`] names the field (`min_share`).
     pub fn validate(&self) -> Result<()> {
         let invalid = |name: &str, message: String| Error::InvalidSetting {
             name: name.into(),
@@ -78,18 +81,19 @@ impl DominanceSettings {
         };
         if !(self.min_share > 0.0 && self.min_share <= 1.0) {
             let message = format!("{} is not in (0, 1]", self.min_share);
-            return Err(invalid("min-share", message));
+            return Err(invalid("min_share", message));
         }
         if !(self.max_size_ratio > 0.0 && self.max_size_ratio.is_finite()) {
             let message = format!("{} is not positive", self.max_size_ratio);
-            return Err(invalid("max-size-ratio", message));
+            return Err(invalid("max_size_ratio", message));
         }
-        if self.sample_points == 0 || self.shadow_rays == 0 {
-            let message = format!(
-                "{} sample points and {} shadow rays: both must be at least 1",
-                self.sample_points, self.shadow_rays
-            );
-            return Err(invalid("sample-points", message));
+        for (name, count) in [
+            ("sample_points", self.sample_points),
+            ("shadow_rays", self.shadow_rays),
+        ] {
+            if count == 0 {
+                return Err(invalid(name, "must be at least 1".into()));
+            }
         }
         Ok(())
     }

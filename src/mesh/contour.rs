@@ -26,8 +26,10 @@ use crate::scene::{distance_to_boundary, polygon_contains};
 /// A scalar field on a plane: its value and gradient at a point.
 pub type ScalarField<'a> = dyn Fn(DVec2) -> (f64, DVec2) + Sync + 'a;
 
-/// Size and orientation of a contour mesh.
-#[derive(Clone, Debug, PartialEq)]
+/// Size and orientation of a contour mesh. In a scene file:
+/// `[mesh.contour]` with `directions` and `levels`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct ContourSettings {
     /// D: rays from the centre, spread uniformly in angle.
@@ -36,7 +38,9 @@ pub struct ContourSettings {
     pub levels: usize,
     /// Angle of the first ray, radians, in plane coordinates (the solver
     /// aligns it with the emitter's tilt so the mesh is symmetric with the
-    /// light).
+    /// light). Not read from files (`serde(skip)`): the solver sets it for
+    /// every receiver, so a value written there would have no effect.
+    #[serde(skip)]
     pub orientation: f64,
 }
 

@@ -11,6 +11,7 @@ pub(crate) mod triangulate;
 mod visibility;
 
 pub use camera::{Camera, CameraFrame};
+pub(crate) use load::line_at;
 pub use load::{
     LoadSettings, LoadedScene, MergeReport, ProbePoint, builtin_names, load_obj, load_probe_points,
     load_scene, load_scene_file, load_scene_with, merge_coplanar_faces, parse_probe_points,
@@ -21,6 +22,8 @@ pub use polygon::PolygonPlane;
 pub use surface::{PlaneFrame, Surface};
 pub(crate) use triangulate::triangulate_polygon;
 pub use visibility::Visibility;
+
+use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
@@ -94,17 +97,38 @@ impl Scene {
     }
 }
 
-/// Optional settings a scene file carries (its `[solver]` and `[mesh]`
-/// tables). Each is `None` when the file leaves it out; the caller applies
-/// its own defaults, then command-line flags.
+/// The settings a scene file carries, its `[mesh]` and `[solver]` tables,
+/// as written. The scene layer knows nothing of the solver's settings, so it
+/// keeps the file's path and text; [`crate::Settings::from_scene_options`]
+/// reads the two tables from them, and its messages give the file, the line
+/// and the setting's field path. The scene loader has already checked that
+/// the file is TOML, that its top-level keys are known and that `[mesh]` and
+/// `[solver]` are tables.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SceneOptions {
-    /// `[solver] tolerance`: stop when unshot power < tolerance × emitted power.
-    pub tolerance: Option<f64>,
-    /// `[mesh] kind`: "square", "adaptive" or "contour".
-    pub mesh_kind: Option<String>,
-    /// `[mesh] max_edge`: longest element edge, scene units.
-    pub max_edge: Option<f64>,
-    /// `[mesh] elements_per_side`: N for an N × N grid on every quad.
-    pub elements_per_side: Option<usize>,
+    /// The scene file and its text; `None` for an OBJ file or a built-in
+    /// scene, which carry no settings.
+    file: Option<(PathBuf, String)>,
+}
+
+impl SceneOptions {
+    /// The options of the scene file at `path`, whose text is `text`.
+    #[must_use]
+    pub fn from_scene_file(path: PathBuf, text: String) -> SceneOptions {
+        SceneOptions {
+            file: Some((path, text)),
+        }
+    }
+
+    /// The scene file, if the scene came from one.
+    #[must_use]
+    pub fn path(&self) -> Option<&Path> {
+        self.file.as_ref().map(|(path, _)| path.as_path())
+    }
+
+    /// The scene file's text (empty without a file: no settings).
+    #[must_use]
+    pub fn text(&self) -> &str {
+        self.file.as_ref().map_or("", |(_, text)| text.as_str())
+    }
 }

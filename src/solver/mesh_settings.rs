@@ -1,6 +1,9 @@
 //! How a scene is meshed: which mesher, how fine, and the guard against
 //! meshes too large to hold.
 
+use serde::ser::SerializeMap;
+use serde::{Deserialize, Serialize, de};
+
 use super::refinement::RefinementSettings;
 use crate::error::Result;
 use crate::lighting::DominanceSettings;
@@ -10,8 +13,10 @@ use crate::mesh::{
 };
 use crate::scene::Scene;
 
-/// Which mesher meshes the receivers.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// Which mesher meshes the receivers. In a scene file: `kind = "square"`,
+/// `"contour"` or `"adaptive"`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum MeshKind {
     /// A uniform grid everywhere.
     #[default]
@@ -24,24 +29,16 @@ pub enum MeshKind {
     Adaptive,
 }
 
-impl std::str::FromStr for MeshKind {
-    type Err = crate::Error;
-
-    fn from_str(name: &str) -> crate::Result<Self> {
-        match name {
-            "square" => Ok(MeshKind::Square),
-            "contour" => Ok(MeshKind::Contour),
-            "adaptive" => Ok(MeshKind::Adaptive),
-            other => Err(crate::Error::InvalidSetting {
-                name: "mesh".into(),
-                message: format!("`{other}` is not one of square, contour, adaptive"),
-            }),
-        }
-    }
-}
-
 /// A length in scene units, given outright or as a fraction of the scene's
 /// bounding diagonal (so that settings can be written before a scene exists).
+///
+/// In a file, a bare number is an absolute length and a one-key table
+/// `{ of_diagonal = F }` a fraction of the diagonal:
+///
+/// ```toml
+/// max_edge = 50.0                          # Length::Absolute(50.0)
+/// patch_max_edge = { of_diagonal = 0.125 } # Length::OfDiagonal(0.125)
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Length {
     /// This many scene units.
@@ -60,6 +57,8 @@ impl Length {
         }
     }
 
+    /// Fails unless the number is positive and finite; the error is named
+    /// `name`.
     fn validate(self, name: &str) -> crate::Result<()> {
         let (Length::Absolute(x) | Length::OfDiagonal(x)) = self;
         if x > 0.0 && x.is_finite() {
@@ -73,17 +72,81 @@ impl Length {
     }
 }
 
+/// The key of [`Length::OfDiagonal`] in a file.
+const OF_DIAGONAL: &str = "of_diagonal";
+
+impl Serialize for Length {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match *self {
+            Length::Absolute(length) => serializer.serialize_f64(length),
+            Length::OfDiagonal(fraction) => {
+                let mut map = serializer.serialize_map(Some(1))?;
+                map.serialize_entry(OF_DIAGONAL, &fraction)?;
+                map.end()
+            }
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Length {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_any(LengthVisitor)
+    }
+}
+
+/// Reads a [`Length`]: a number, or `{ of_diagonal = F }`.
+struct LengthVisitor;
+
+impl<'de> de::Visitor<'de> for LengthVisitor {
+    type Value = Length;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("a length in scene units or { of_diagonal = fraction }")
+    }
+
+    fn visit_f64<E: de::Error>(self, length: f64) -> Result<Length, E> {
+        Ok(Length::Absolute(length))
+    }
+
+    fn visit_i64<E: de::Error>(self, length: i64) -> Result<Length, E> {
+        Ok(Length::Absolute(length as f64))
+    }
+
+    fn visit_u64<E: de::Error>(self, length: u64) -> Result<Length, E> {
+        Ok(Length::Absolute(length as f64))
+    }
+
+    fn visit_map<A: de::MapAccess<'de>>(self, mut map: A) -> Result<Length, A::Error> {
+        let mut fraction = None;
+        while let Some(key) = map.next_key::<String>()? {
+            if key != OF_DIAGONAL {
+                return Err(de::Error::unknown_field(&key, &[OF_DIAGONAL]));
+            }
+            if fraction.is_some() {
+                return Err(de::Error::duplicate_field(OF_DIAGONAL));
+            }
+            fraction = Some(map.next_value::<f64>()?);
+        }
+        fraction
+            .map(Length::OfDiagonal)
+            .ok_or_else(|| de::Error::missing_field(OF_DIAGONAL))
+    }
+}
+
 /// How a scene is meshed. Lengths may be relative to the scene's size, so
-/// the defaults and presets need no scene.
-#[derive(Clone, Debug, PartialEq)]
+/// the defaults and presets need no scene. A scene file's `[mesh]` table is
+/// read into this struct, field by field (see `scene/load/scene_file.rs`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct MeshSettings {
-    /// Square or contour.
+    /// Square, contour or adaptive.
     pub kind: MeshKind,
     /// Longest element edge (default: 1/40 of the scene's diagonal).
     pub max_edge: Length,
     /// N for an N × N grid on every quad (and N divisions of every triangle
     /// edge), instead of `max_edge`.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub elements_per_side: Option<usize>,
     /// Longest shooting-patch edge (default: 1/8 of the scene's diagonal);
     /// never shorter than `max_edge`.
@@ -151,14 +214,19 @@ impl MeshSettings {
         square
     }
 
-    /// Checks every field is in range; returns the first problem.
+    /// Checks every field is in range; returns the first problem, an
+    /// [`crate::Error::InvalidSetting`] named by its field path
+    /// (`mesh.max_edge`, `mesh.refinement.threshold`).
     pub fn validate(&self) -> crate::Result<()> {
-        self.max_edge.validate("max-edge")?;
-        self.patch_max_edge.validate("patch-max-edge")?;
+        self.max_edge.validate("mesh.max_edge")?;
+        self.patch_max_edge.validate("mesh.patch_max_edge")?;
         let counts = [
-            ("elements-per-side", self.elements_per_side.unwrap_or(1)),
-            ("directions", self.contour.directions),
-            ("levels", self.contour.levels),
+            (
+                "mesh.elements_per_side",
+                self.elements_per_side.unwrap_or(1),
+            ),
+            ("mesh.contour.directions", self.contour.directions),
+            ("mesh.contour.levels", self.contour.levels),
         ];
         for (name, value) in counts {
             if !(1..=1000).contains(&value) {
@@ -168,8 +236,12 @@ impl MeshSettings {
                 });
             }
         }
-        self.dominance.validate()?;
-        self.refinement.validate()
+        self.dominance
+            .validate()
+            .map_err(|e| e.within("mesh.dominance"))?;
+        self.refinement
+            .validate()
+            .map_err(|e| e.within("mesh.refinement"))
     }
 }
 

@@ -9,6 +9,7 @@ mod refinement;
 mod run;
 mod scene_mesh;
 mod settings;
+mod settings_file;
 mod shooter;
 mod solution;
 

@@ -19,8 +19,10 @@ use glam::DVec3;
 use crate::mesh::{ElementHierarchy, Mesh};
 use crate::scene::Rgb;
 
-/// When and how far elements are split during an adaptive solve.
-#[derive(Clone, Debug, PartialEq)]
+/// When and how far elements are split during an adaptive solve. In a scene
+/// file: `[mesh.refinement]`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct RefinementSettings {
     /// Split an element when the jump of the radiosity gradient across it
@@ -55,7 +57,8 @@ impl Default for RefinementSettings {
 }
 
 impl RefinementSettings {
-    /// Checks every field is in range.
+    /// Checks every field is in range. An [`crate::Error::InvalidSetting`]
+    /// names the field (`threshold`).
     pub fn validate(&self) -> crate::Result<()> {
         let invalid = |name: &str, message: String| {
             Err(crate::Error::InvalidSetting {
@@ -65,16 +68,16 @@ impl RefinementSettings {
         };
         if !(self.threshold > 0.0 && self.threshold.is_finite()) {
             return invalid(
-                "refine-threshold",
+                "threshold",
                 format!("{} must be a positive number", self.threshold),
             );
         }
         if !(self.floor >= 0.0 && self.floor.is_finite()) {
-            return invalid("refine-floor", format!("{} must be ≥ 0", self.floor));
+            return invalid("floor", format!("{} must be ≥ 0", self.floor));
         }
         if self.max_levels > 16 {
             return invalid(
-                "refine-levels",
+                "max_levels",
                 format!("{} is more than 16 levels", self.max_levels),
             );
         }

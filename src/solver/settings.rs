@@ -1,11 +1,15 @@
 //! Settings of the progressive shooting solver, and of a whole solve.
 
+use serde::{Deserialize, Serialize};
+
 use super::mesh_settings::MeshSettings;
 
 /// How a vertex-to-patch form factor is estimated. Each kernel splits the
 /// patch into m × m strata with one shadow ray each; they differ in what a
-/// stratum contributes.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// stratum contributes. In a scene file: `kernel = "mixed"`, `"wallace"` or
+/// `"exact"`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum FormFactorKernel {
     /// Wallace's disc term A cosθ_r cosθ_s / (π r² + A) on far strata and
     /// Lambert's exact polygon factor on strata nearer than ten of their
@@ -20,39 +24,11 @@ pub enum FormFactorKernel {
     Exact,
 }
 
-impl FormFactorKernel {
-    /// The kernel's name as the command line spells it.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            FormFactorKernel::Mixed => "mixed",
-            FormFactorKernel::Wallace => "wallace",
-            FormFactorKernel::Exact => "exact",
-        }
-    }
-}
-
-impl std::str::FromStr for FormFactorKernel {
-    type Err = crate::Error;
-
-    fn from_str(name: &str) -> crate::Result<Self> {
-        [
-            FormFactorKernel::Mixed,
-            FormFactorKernel::Wallace,
-            FormFactorKernel::Exact,
-        ]
-        .into_iter()
-        .find(|k| k.name() == name)
-        .ok_or_else(|| crate::Error::InvalidSetting {
-            name: "form-factor".into(),
-            message: format!("`{name}` is not one of mixed, wallace, exact"),
-        })
-    }
-}
-
 /// Settings of [`crate::Solver`]. Plain data: set the fields you need and
-/// keep the defaults for the rest.
-#[derive(Clone, Debug, PartialEq)]
+/// keep the defaults for the rest. A scene file's `[solver]` table is read
+/// into this struct, field by field.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct SolverSettings {
     /// Stop when the unshot power falls below this fraction of the emitted
@@ -111,7 +87,9 @@ impl SolverSettings {
         }
     }
 
-    /// Checks every field is in range; returns the first problem.
+    /// Checks every field is in range; returns the first problem, an
+    /// [`crate::Error::InvalidSetting`] named by its field path
+    /// (`solver.tolerance`).
     pub fn validate(&self) -> crate::Result<()> {
         let invalid = |name: &str, message: String| crate::Error::InvalidSetting {
             name: name.into(),
@@ -119,22 +97,23 @@ impl SolverSettings {
         };
         if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
             return Err(invalid(
-                "tolerance",
+                "solver.tolerance",
                 format!("{} is not in (0, 1)", self.tolerance),
             ));
         }
-        if self.direct_samples == 0 || self.max_samples == 0 || self.max_samples > 65_536 {
+        if self.direct_samples == 0 {
             return Err(invalid(
-                "samples",
-                format!(
-                    "direct {} / max {} must be in 1..=65536",
-                    self.direct_samples, self.max_samples
-                ),
+                "solver.direct_samples",
+                "0 is not at least 1".into(),
             ));
+        }
+        if !(1..=65_536).contains(&self.max_samples) {
+            let message = format!("{} is not in 1..=65536", self.max_samples);
+            return Err(invalid("solver.max_samples", message));
         }
         if !(self.sample_density > 0.0 && self.sample_density.is_finite()) {
             return Err(invalid(
-                "sample_density",
+                "solver.sample_density",
                 format!("{} is not positive", self.sample_density),
             ));
         }
@@ -150,7 +129,11 @@ impl SolverSettings {
 /// settings.solver.tolerance = 0.02;
 /// assert!(settings.validate().is_ok());
 /// ```
-#[derive(Clone, Debug, Default, PartialEq)]
+///
+/// A scene file's `[mesh]` and `[solver]` tables are read into it by
+/// [`Settings::from_scene_options`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct Settings {
     /// How the scene is meshed.

@@ -18,5 +18,6 @@ pub use coplanar_merge::{MergeReport, merge_coplanar_faces};
 pub use loaded::{LoadSettings, LoadedScene};
 pub use obj::load_obj;
 pub use probe_points::{ProbePoint, load_probe_points, parse_probe_points};
+pub(crate) use scene_file::line_at;
 pub use scene_file::load_scene_file;
 pub use spec::{load_scene, load_scene_with};

@@ -10,15 +10,46 @@
 //! vfov_deg = 39.3                      # default 40
 //! width    = 512                       # default 512
 //! height   = 512                       # default 512
-//! [solver]                             # optional
+//! [solver]                             # optional; every key defaulted
 //! tolerance = 0.01                     # stop when unshot power < 1 % of emitted
-//! [mesh]                               # optional
-//! kind = "contour"                     # "square" | "adaptive" | "contour"
-//! max_edge = 50.0                      # longest element edge, scene units
-//! elements_per_side = 10               # N × N grid on every quad
+//! max_shots = 1000000                  # stop after this many shots
+//! direct_samples = 64                  # samples per patch for the brightest shooters
+//! max_samples = 256                    # most samples per patch and vertex (≤ 65536)
+//! sample_density = 3.0                 # samples grow as (density · √A / r)²
+//! kernel = "mixed"                     # "mixed" | "wallace" | "exact"
+//! [mesh]                               # optional; every key defaulted
+//! kind = "contour"                     # "square" (default) | "contour" | "adaptive"
+//! max_edge = 50.0                      # longest element edge (default 1/40 of the diagonal)
+//! patch_max_edge = { of_diagonal = 0.125 } # longest patch edge (default 1/8 of it)
+//! elements_per_side = 10               # N × N grid on every quad, instead of max_edge
+//! max_elements = 5000000               # refuse a larger mesh (counted before meshing)
+//! [mesh.contour]                       # the contour mesher
+//! directions = 16                      # D rays from the light's maximum
+//! levels = 8                           # K contour levels
+//! [mesh.dominance]                     # which receivers get the contour mesher
+//! min_share = 0.6                      # the luminaire's least share of the direct light
+//! max_size_ratio = 0.25                # its largest radius / distance
+//! sample_points = 16                   # points per receiver estimating the shares
+//! shadow_rays = 4                      # shadow rays per luminaire polygon and point
+//! [mesh.refinement]                    # the adaptive mesher
+//! threshold = 1.0                      # split where gradient jump × size > this × radiosity
+//! floor = 0.05                         # darker than this × the mean counts as this
+//! max_levels = 3                       # halvings of a starting element (≤ 16)
+//! coarsening = 1.0                     # starting elements this many times max_edge (≥ 1)
+//! max_vertices = 2000000               # stop splitting at this many vertices
 //! ```
 //!
-//! Unknown keys are errors (a typo must not be silently ignored).
+//! A length (`max_edge`, `patch_max_edge`) is a bare number in scene units,
+//! or a fraction of the scene's bounding diagonal written
+//! `{ of_diagonal = 0.025 }`. Sub-tables may also be written inline or
+//! with dotted keys (`refinement.threshold = 0.5` under `[mesh]`).
+//!
+//! Unknown keys are errors (a typo must not be silently ignored). This
+//! loader checks the top-level keys and the camera; the `[mesh]` and
+//! `[solver]` tables are kept as written in [`LoadedScene::options`] and
+//! read by `Settings::from_scene_options` (in the solver layer, which owns
+//! those settings), whose errors name the file, the line and the field
+//! path (`mesh.refinement.threshold`).
 
 use std::path::{Path, PathBuf};
 
@@ -32,17 +63,18 @@ use super::obj::load_obj_from;
 use super::source::{Disk, SourceFiles};
 use crate::scene::{Camera, SceneOptions};
 
-/// The mesher kinds a scene file may name.
-pub const MESH_KINDS: [&str; 3] = ["square", "adaptive", "contour"];
-
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SceneFileToml {
     obj: PathBuf,
     merge_coplanar: Option<bool>,
     camera: Option<CameraToml>,
-    solver: Option<SolverToml>,
-    mesh: Option<MeshToml>,
+    /// Read by the solver layer; here only checked to be a table.
+    #[serde(rename = "solver")]
+    _solver: Option<toml::Table>,
+    /// Read by the solver layer; here only checked to be a table.
+    #[serde(rename = "mesh")]
+    _mesh: Option<toml::Table>,
 }
 
 #[derive(Deserialize)]
@@ -56,23 +88,9 @@ struct CameraToml {
     height: Option<u32>,
 }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct SolverToml {
-    tolerance: Option<f64>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct MeshToml {
-    kind: Option<String>,
-    max_edge: Option<f64>,
-    elements_per_side: Option<usize>,
-}
-
 /// Loads a scene file and the OBJ scene it names. The scene's camera is the
-/// file's `[camera]` (validated) if any; its `[solver]` and `[mesh]` settings
-/// come back in [`LoadedScene::options`].
+/// file's `[camera]` (validated) if any; its `[solver]` and `[mesh]` tables
+/// come back, unread, in [`LoadedScene::options`].
 pub fn load_scene_file(path: &Path) -> Result<LoadedScene> {
     load_scene_file_from(path, &Disk, path.display().to_string())
 }
@@ -105,8 +123,7 @@ pub(crate) fn load_scene_file_with(
         path: path.to_path_buf(),
         message,
     };
-    // Settings and camera first: cheap to check.
-    let options = scene_options(file.solver, file.mesh).map_err(file_error)?;
+    // The camera first: cheap to check.
     let camera = file
         .camera
         .map(camera_from_toml)
@@ -124,7 +141,7 @@ pub(crate) fn load_scene_file_with(
     scene.camera = camera;
     Ok(LoadedScene {
         scene,
-        options,
+        options: SceneOptions::from_scene_file(path.to_path_buf(), text),
         source,
     })
 }
@@ -133,12 +150,15 @@ pub(crate) fn load_scene_file_with(
 fn toml_message(text: &str, error: &toml::de::Error) -> String {
     let what = error.message().trim();
     match error.span() {
-        Some(span) => {
-            let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
-            format!("line {line}: {what}")
-        }
+        Some(span) => format!("line {}: {what}", line_at(text, span.start)),
         None => what.to_owned(),
     }
+}
+
+/// The 1-based line of `text` holding byte `offset`.
+pub(crate) fn line_at(text: &str, offset: usize) -> usize {
+    let before = text.get(..offset.min(text.len())).unwrap_or(text);
+    before.matches('\n').count() + 1
 }
 
 /// The `[camera]` table, with defaults, checked by [`Camera::validate`].
@@ -153,44 +173,4 @@ fn camera_from_toml(c: CameraToml) -> Result<Camera, String> {
     };
     camera.validate().map_err(|e| format!("[camera]: {e}"))?;
     Ok(camera)
-}
-
-/// The `[solver]` and `[mesh]` tables, range-checked.
-fn scene_options(
-    solver: Option<SolverToml>,
-    mesh: Option<MeshToml>,
-) -> Result<SceneOptions, String> {
-    let tolerance = solver.and_then(|s| s.tolerance);
-    if let Some(t) = tolerance
-        && !(t > 0.0 && t < 1.0)
-    {
-        return Err(format!("[solver] tolerance = {t} is not in (0, 1)"));
-    }
-    let mesh = mesh.unwrap_or(MeshToml {
-        kind: None,
-        max_edge: None,
-        elements_per_side: None,
-    });
-    if let Some(kind) = &mesh.kind
-        && !MESH_KINDS.contains(&kind.as_str())
-    {
-        return Err(format!(
-            "[mesh] kind = {kind:?} is not one of {}",
-            MESH_KINDS.join(", ")
-        ));
-    }
-    if let Some(e) = mesh.max_edge
-        && !(e > 0.0 && e.is_finite())
-    {
-        return Err(format!("[mesh] max_edge = {e} is not a positive length"));
-    }
-    if mesh.elements_per_side == Some(0) {
-        return Err("[mesh] elements_per_side must be at least 1".into());
-    }
-    Ok(SceneOptions {
-        tolerance,
-        mesh_kind: mesh.kind,
-        max_edge: mesh.max_edge,
-        elements_per_side: mesh.elements_per_side,
-    })
 }

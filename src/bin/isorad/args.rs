@@ -1,0 +1,266 @@
+//! Flags shared by commands: what to solve and the settings overrides, the
+//! enums they name, and how a flag's invalid value is reported.
+
+use std::path::Path;
+
+use clap::{Args, ValueEnum};
+use isorad::{
+    Length, MeshKind, ProbeMode, Settings, Solver,
+    scene::{LoadSettings, SceneOptions, load_scene_with},
+    solver::FormFactorKernel,
+};
+
+/// What to solve, and how: shared by `render` and `probe`.
+#[derive(Args)]
+pub struct SolveArgs {
+    /// A scene file (.toml), an OBJ file, or a built-in scene name.
+    #[arg(default_value = "cornell")]
+    pub scene: String,
+    #[command(flatten)]
+    pub overrides: Overrides,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// Keep adjacent coplanar faces apart (by default they are merged into
+    /// polygons when loading).
+    #[arg(long)]
+    pub no_merge: bool,
+}
+
+/// Flags that override the scene file's settings, each onto one field of
+/// [`Settings`].
+#[derive(Args)]
+pub struct Overrides {
+    /// Stop when unshot power < TOLERANCE × emitted power.
+    #[arg(long)]
+    tolerance: Option<f64>,
+    /// Form-factor kernel: mixed (default), wallace or exact.
+    #[arg(long, value_enum, value_name = "KERNEL")]
+    form_factor: Option<KernelArg>,
+    /// Mesher: square, contour (the radial contour-level mesher on
+    /// receivers lit by a dominant small emitter, square elsewhere), or
+    /// adaptive (a coarser grid whose elements split while solving where the
+    /// light changes).
+    #[arg(long, value_enum)]
+    mesh: Option<MeshArg>,
+    /// Adaptive mesher: split an element when its vertices' radiosities
+    /// span more than this fraction of its mean.
+    #[arg(long, value_name = "FRACTION")]
+    refine_threshold: Option<f64>,
+    /// Adaptive mesher: how many times an element may be halved.
+    #[arg(long, value_name = "N")]
+    refine_levels: Option<u32>,
+    /// Contour mesher: D, rays from the light's maximum.
+    #[arg(long)]
+    directions: Option<usize>,
+    /// Contour mesher: K, contour levels.
+    #[arg(long)]
+    levels: Option<usize>,
+    /// Longest element edge, in scene units.
+    #[arg(long)]
+    max_edge: Option<f64>,
+    /// N × N elements on every quad instead of --max-edge.
+    #[arg(long)]
+    elements_per_side: Option<usize>,
+    /// Refuse to mesh when the mesh would have more elements than this
+    /// (counted before meshing, so absurd settings fail at once) [default:
+    /// 5000000, or the scene file's `[mesh] max_elements`].
+    #[arg(long)]
+    max_elements: Option<usize>,
+}
+
+impl Overrides {
+    /// Sets every field whose flag was given, then validates; an invalid
+    /// value from a flag is named by the flag.
+    pub fn apply(&self, settings: &mut Settings) -> anyhow::Result<()> {
+        let (mesh, solver) = (&mut settings.mesh, &mut settings.solver);
+        if let Some(tolerance) = self.tolerance {
+            solver.tolerance = tolerance;
+        }
+        if let Some(kernel) = self.form_factor {
+            solver.kernel = kernel.into();
+        }
+        if let Some(kind) = self.mesh {
+            mesh.kind = kind.into();
+        }
+        if let Some(threshold) = self.refine_threshold {
+            mesh.refinement.threshold = threshold;
+        }
+        if let Some(levels) = self.refine_levels {
+            mesh.refinement.max_levels = levels;
+        }
+        if let Some(directions) = self.directions {
+            mesh.contour.directions = directions;
+        }
+        if let Some(levels) = self.levels {
+            mesh.contour.levels = levels;
+        }
+        if let Some(max_edge) = self.max_edge {
+            mesh.max_edge = Length::Absolute(max_edge);
+        }
+        if self.elements_per_side.is_some() {
+            mesh.elements_per_side = self.elements_per_side;
+        }
+        if let Some(max_elements) = self.max_elements {
+            mesh.max_elements = max_elements;
+        }
+        settings
+            .validate()
+            .map_err(|error| with_flag_names(error, &self.given()))
+    }
+
+    /// The flags given, each with the field path of the setting it sets.
+    fn given(&self) -> Vec<(&'static str, &'static str)> {
+        [
+            ("--tolerance", "solver.tolerance", self.tolerance.is_some()),
+            (
+                "--refine-threshold",
+                "mesh.refinement.threshold",
+                self.refine_threshold.is_some(),
+            ),
+            (
+                "--refine-levels",
+                "mesh.refinement.max_levels",
+                self.refine_levels.is_some(),
+            ),
+            (
+                "--directions",
+                "mesh.contour.directions",
+                self.directions.is_some(),
+            ),
+            ("--levels", "mesh.contour.levels", self.levels.is_some()),
+            ("--max-edge", "mesh.max_edge", self.max_edge.is_some()),
+            (
+                "--elements-per-side",
+                "mesh.elements_per_side",
+                self.elements_per_side.is_some(),
+            ),
+            (
+                "--max-elements",
+                "mesh.max_elements",
+                self.max_elements.is_some(),
+            ),
+        ]
+        .into_iter()
+        .filter(|&(_, _, given)| given)
+        .map(|(flag, field, _)| (flag, field))
+        .collect()
+    }
+}
+
+/// A library error in the command line's words: an invalid setting that one
+/// of `flags` (flag, field path) set is named by the flag, and a mesh over
+/// the element budget names the flags that change it.
+pub fn with_flag_names(error: isorad::Error, flags: &[(&str, &str)]) -> anyhow::Error {
+    match error {
+        isorad::Error::InvalidSetting { name, message } => {
+            match flags.iter().find(|&&(_, field)| field == name) {
+                Some((flag, _)) => anyhow::anyhow!("invalid value for {flag}: {message}"),
+                None => isorad::Error::InvalidSetting { name, message }.into(),
+            }
+        }
+        isorad::Error::MeshTooLarge {
+            estimate,
+            limit,
+            max_edge,
+            diagonal,
+        } => anyhow::anyhow!(
+            "the mesh would have about {estimate:.0} elements, more than --max-elements {limit} \
+             (elements of edge {max_edge:.3e} on a scene {diagonal:.3e} across); use a larger \
+             --max-edge (`[mesh] max_edge`) or fewer --elements-per-side, or raise \
+             --max-elements (`[mesh] max_elements`) if this machine can hold and solve that many"
+        ),
+        other => other.into(),
+    }
+}
+
+/// A clap value enum mirroring a library enum variant for variant, and its
+/// conversion into that enum.
+macro_rules! value_enum {
+    ($(#[$meta:meta])* $name:ident => $target:ident { $($variant:ident),+ $(,)? }) => {
+        $(#[$meta])*
+        #[derive(Clone, Copy, Debug, ValueEnum)]
+        pub enum $name {
+            $(#[allow(missing_docs)] $variant),+
+        }
+
+        impl From<$name> for $target {
+            fn from(value: $name) -> $target {
+                match value {
+                    $($name::$variant => $target::$variant),+
+                }
+            }
+        }
+    };
+}
+
+value_enum!(
+    /// `--mesh`, as [`MeshKind`].
+    MeshArg => MeshKind { Square, Contour, Adaptive }
+);
+value_enum!(
+    /// `--form-factor`, as [`FormFactorKernel`].
+    KernelArg => FormFactorKernel { Mixed, Wallace, Exact }
+);
+value_enum!(
+    /// `probe --mode`, as [`ProbeMode`].
+    ProbeModeArg => ProbeMode { Gather, Mesh }
+);
+
+/// A loaded and meshed scene, ready to solve.
+pub struct Prepared {
+    pub solver: Solver,
+    /// Where the scene came from, for messages.
+    pub source: String,
+}
+
+/// Loads and meshes a scene: the scene file's settings, then the flags.
+pub fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
+    let mut load_settings = LoadSettings::default();
+    load_settings.merge_coplanar = !args.no_merge;
+    let loaded = load_scene_with(&args.scene, &load_settings)?;
+    for warning in &loaded.scene.warnings {
+        eprintln!("warning: {}", warning.message);
+    }
+    let settings = settings_from(&args.overrides, &loaded.options)?;
+    let contour = settings.mesh.kind == MeshKind::Contour;
+    let solver = Solver::new(loaded.scene, settings)
+        .map_err(|error| with_flag_names(error, &args.overrides.given()))?;
+    let analysis = solver.mesh_analysis();
+    if contour {
+        eprintln!(
+            "contour mesher on {} of {} receivers ({} vertices placed in {} Newton iterations)",
+            analysis.contour_surfaces.len(),
+            analysis.receivers.len(),
+            analysis.newton_solves,
+            analysis.newton_iterations
+        );
+    }
+    Ok(Prepared {
+        solver,
+        source: loaded.source,
+    })
+}
+
+/// The library's settings: its defaults, then the scene file's, then the
+/// flags given.
+fn settings_from(overrides: &Overrides, options: &SceneOptions) -> anyhow::Result<Settings> {
+    let mut settings = Settings::from_scene_options(options)?;
+    overrides.apply(&mut settings)?;
+    Ok(settings)
+}
+
+/// Fails unless the directory that would hold `path` exists.
+pub fn ensure_directory_exists(path: &Path) -> anyhow::Result<()> {
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    anyhow::ensure!(
+        parent.is_dir(),
+        "{}: cannot write: directory {} does not exist",
+        path.display(),
+        parent.display()
+    );
+    Ok(())
+}

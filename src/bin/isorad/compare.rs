@@ -1,0 +1,180 @@
+//! `isorad compare`: contour meshes against square meshes on the receivers
+//! lit by a dominant small emitter.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use isorad::{
+    lighting::{DominanceSettings, analyse_receivers, luminaires},
+    load_scene,
+    scene::Visibility,
+    study::{
+        CompareSettings, compare_receiver, panels_for_figure, write_json, write_loglog_plot,
+        write_mesh_panels,
+    },
+};
+
+use crate::args::ensure_directory_exists;
+
+#[derive(Args)]
+pub struct CompareArgs {
+    /// A scene file (.toml), an OBJ file, or a built-in scene name.
+    scene: String,
+    /// Only this receiver (its OBJ object name), even if it does not qualify.
+    #[arg(long)]
+    receiver: Option<String>,
+    /// Write one JSON record per mesh.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Write the meshes side by side: square 10×10 | contour 20×5 | square 30×30.
+    #[arg(long)]
+    image: Option<PathBuf>,
+    /// Write a log–log plot of RMS error against vertices (.png or .svg).
+    #[arg(long)]
+    plot: Option<PathBuf>,
+    /// Error grid: N × N points over the receiver (at least 200).
+    #[arg(long, default_value_t = 400)]
+    grid: usize,
+}
+
+pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
+    for path in [&args.json, &args.image, &args.plot].into_iter().flatten() {
+        ensure_directory_exists(path)?;
+    }
+    let loaded = load_scene(&args.scene)?;
+    let scene = &loaded.scene;
+    let visibility = Visibility::new(scene);
+    let lamps = luminaires(scene);
+    let analyses = analyse_receivers(scene, &visibility, &lamps, &DominanceSettings::default());
+    // The receivers to compare, each with the luminaire to mesh for.
+    let mut chosen: Vec<(usize, usize)> = Vec::new();
+    for analysis in &analyses {
+        let name = &scene.surfaces[analysis.receiver].name;
+        let wanted = match &args.receiver {
+            Some(only) => only == name,
+            None => analysis.qualifies,
+        };
+        if let (true, Some(lamp)) = (wanted, analysis.dominant) {
+            chosen.push((analysis.receiver, lamp));
+        }
+    }
+    if chosen.is_empty() {
+        anyhow::bail!(
+            "{}: no receiver {}",
+            loaded.source,
+            match &args.receiver {
+                Some(name) => format!("named `{name}` is lit by a luminaire"),
+                None => "is lit by a dominant small luminaire (see `isorad info`)".into(),
+            }
+        );
+    }
+    let mut settings = CompareSettings::default();
+    settings.grid = args.grid.max(200);
+    let mut comparisons = Vec::new();
+    for (receiver, lamp) in chosen {
+        if let Some(comparison) =
+            compare_receiver(scene, &visibility, receiver, &lamps[lamp], &settings)
+        {
+            print_comparison(&comparison);
+            comparisons.push(comparison);
+        }
+    }
+    if let Some(path) = &args.json {
+        write_json(&comparisons, path)?;
+    }
+    for comparison in &comparisons {
+        let several = comparisons.len() > 1;
+        if let Some(path) = &args.image {
+            write_mesh_panels(
+                &per_receiver(path, &comparison.receiver, several),
+                &panels_for_figure(comparison),
+                480,
+            )?;
+        }
+        if let Some(path) = &args.plot {
+            let series = comparison.plot_series();
+            let title = format!(
+                "{}: RMS error of Gouraud interpolation",
+                comparison.receiver
+            );
+            write_loglog_plot(
+                &per_receiver(path, &comparison.receiver, several),
+                &title,
+                "vertices",
+                "RMS relative error",
+                &series,
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// `out.png` → `out_floor.png` when several receivers are written.
+fn per_receiver(path: &Path, receiver: &str, several: bool) -> PathBuf {
+    if !several {
+        return path.to_path_buf();
+    }
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let extension = path
+        .extension()
+        .map(|e| format!(".{}", e.to_string_lossy()))
+        .unwrap_or_default();
+    let safe: String = receiver
+        .chars()
+        .map(|c| {
+            if c.is_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    path.with_file_name(format!("{stem}_{safe}{extension}"))
+}
+
+/// A table of the records, and the vertex ratio at equal error.
+fn print_comparison(comparison: &isorad::study::ReceiverComparison) {
+    println!("receiver {}:", comparison.receiver);
+    println!(
+        "  {:<8} {:>7} {:>9} {:>10} {:>12} {:>12} {:>9}",
+        "mesher", "params", "vertices", "triangles", "rms_rel_err", "max_rel_err", "seconds"
+    );
+    for (record, mesh) in comparison.records.iter().zip(&comparison.meshes) {
+        println!(
+            "  {:<8} {:>7} {:>9} {:>10} {:>12.5} {:>12.5} {:>9.4}",
+            record.mesher,
+            mesh.params,
+            record.vertices,
+            record.triangles,
+            record.rms_rel_error,
+            record.max_rel_error,
+            record.seconds
+        );
+    }
+    // For each contour mesh, the square mesh vertices the same error needs.
+    let ratios: Vec<f64> = comparison
+        .records
+        .iter()
+        .filter(|r| r.mesher == "contour")
+        .filter_map(|r| {
+            comparison
+                .vertices_for_error("square", r.rms_rel_error)
+                .map(|v| v / r.vertices as f64)
+        })
+        .collect();
+    if ratios.is_empty() {
+        println!("  (no contour mesh falls within the square meshes' error range)");
+    } else {
+        let mut sorted = ratios.clone();
+        sorted.sort_by(f64::total_cmp);
+        println!(
+            "  square meshes need {:.1}× (median; {:.1}× to {:.1}×) the contour meshes' vertices for the same RMS error",
+            sorted[sorted.len() / 2],
+            sorted[0],
+            sorted[sorted.len() - 1]
+        );
+    }
+}

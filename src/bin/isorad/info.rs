@@ -1,0 +1,132 @@
+//! `isorad info`: a scene's luminaires and, per receiver, its dominant
+//! luminaire and the mesher it would get.
+
+use std::io::Write;
+
+use clap::Args;
+use isorad::{
+    Scene, Settings,
+    lighting::{Luminaire, ReceiverAnalysis, analyse_receivers, luminaires},
+    load_scene,
+    scene::Visibility,
+};
+
+use crate::args::with_flag_names;
+use crate::table::{significant, write_table};
+
+#[derive(Args)]
+pub struct InfoArgs {
+    /// A scene file (.toml), an OBJ file, or a built-in scene name.
+    #[arg(default_value = "cornell")]
+    scene: String,
+    /// A luminaire dominates a receiver from this share of its direct light
+    /// [default: 0.6, or the scene file's `[mesh.dominance] min_share`].
+    #[arg(long)]
+    min_share: Option<f64>,
+    /// A dominant luminaire is small under this radius / distance [default:
+    /// 0.25, or the scene file's `[mesh.dominance] max_size_ratio`].
+    #[arg(long)]
+    max_size_ratio: Option<f64>,
+}
+
+/// Prints the scene's luminaires and the dominant-emitter analysis of each
+/// receiver, as aligned text tables on stdout. The analysis takes the scene
+/// file's `[mesh.dominance]`, then the flags.
+pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
+    let loaded = load_scene(&args.scene)?;
+    let mut settings = Settings::from_scene_options(&loaded.options)?
+        .mesh
+        .dominance;
+    let mut flags = Vec::new();
+    if let Some(min_share) = args.min_share {
+        settings.min_share = min_share;
+        flags.push(("--min-share", "min_share"));
+    }
+    if let Some(max_size_ratio) = args.max_size_ratio {
+        settings.max_size_ratio = max_size_ratio;
+        flags.push(("--max-size-ratio", "max_size_ratio"));
+    }
+    settings
+        .validate()
+        .map_err(|error| with_flag_names(error, &flags))?;
+    let scene = &loaded.scene;
+    for warning in &scene.warnings {
+        eprintln!("warning: {}", warning.message);
+    }
+    let visibility = Visibility::new(scene);
+    let lights = luminaires(scene);
+    let analyses = analyse_receivers(scene, &visibility, &lights, &settings);
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    writeln!(
+        out,
+        "{}: {} surfaces, {} luminaire(s), {} receivers\n",
+        loaded.source,
+        scene.surfaces.len(),
+        lights.len(),
+        analyses.len()
+    )?;
+    let header = ["luminaire", "surfaces", "area", "radius", "exitance (W/m²)"];
+    write_table(&mut out, &header, &luminaire_rows(&lights))?;
+    writeln!(out)?;
+    let header = [
+        "receiver",
+        "name",
+        "area",
+        "dominant",
+        "share %",
+        "size ratio",
+        "mesher",
+    ];
+    write_table(&mut out, &header, &receiver_rows(scene, &analyses))?;
+    out.flush()?;
+    Ok(())
+}
+
+/// One row per luminaire: index, surfaces, area, radius, exitance.
+fn luminaire_rows(lights: &[Luminaire]) -> Vec<Vec<String>> {
+    lights
+        .iter()
+        .enumerate()
+        .map(|(index, light)| {
+            let surfaces: Vec<String> = light.surfaces.iter().map(usize::to_string).collect();
+            let e = light.exitance;
+            vec![
+                index.to_string(),
+                surfaces.join(","),
+                significant(light.area),
+                significant(light.radius),
+                format!("{:.3} {:.3} {:.3}", e.x, e.y, e.z),
+            ]
+        })
+        .collect()
+}
+
+/// One row per receiver: index, name, area, dominant luminaire, share,
+/// size ratio, mesher.
+fn receiver_rows(scene: &Scene, analyses: &[ReceiverAnalysis]) -> Vec<Vec<String>> {
+    analyses
+        .iter()
+        .map(|analysis| {
+            let surface = &scene.surfaces[analysis.receiver];
+            let ratio = if analysis.size_ratio.is_finite() {
+                format!("{:.3}", analysis.size_ratio)
+            } else {
+                "-".to_owned()
+            };
+            let mesher = if analysis.qualifies {
+                "contour"
+            } else {
+                "square"
+            };
+            vec![
+                analysis.receiver.to_string(),
+                surface.name.clone(),
+                significant(surface.area()),
+                analysis.dominant.map_or("-".to_owned(), |d| d.to_string()),
+                format!("{:.1}", 100.0 * analysis.share),
+                ratio,
+                mesher.to_owned(),
+            ]
+        })
+        .collect()
+}

@@ -1,0 +1,81 @@
+//! `isorad probe`: irradiance and radiosity at points, as CSV on stdout.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use isorad::{Solver, Until, scene::load_probe_points};
+
+use crate::args::{ProbeModeArg, SolveArgs, prepare};
+use crate::progress::solve_with_progress;
+
+#[derive(Args)]
+pub struct ProbeArgs {
+    #[command(flatten)]
+    solve: SolveArgs,
+    /// CSV of points, one per line: x,y,z or x,y,z,nx,ny,nz.
+    #[arg(long)]
+    points: PathBuf,
+    /// gather: final gather at the exact point; mesh: the rendered mesh's value.
+    #[arg(long, value_enum, default_value_t = ProbeModeArg::Gather)]
+    mode: ProbeModeArg,
+    /// Also print the in-plane radiosity gradient of each channel.
+    #[arg(long)]
+    gradient: bool,
+}
+
+pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
+    let points = load_probe_points(&args.points)?;
+    let mut solver = prepare(&args.solve)?.solver;
+    let no_previews = |_: &Solver| Ok(());
+    solve_with_progress(
+        &mut solver,
+        &Until::default(),
+        args.solve.quiet,
+        None,
+        no_previews,
+    )?;
+    let solution = solver.solution(true);
+    let mode = args.mode.into();
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    let mut header = String::from(
+        "x,y,z,irradiance_r,irradiance_g,irradiance_b,radiosity_r,radiosity_g,radiosity_b",
+    );
+    if args.gradient {
+        for channel in ["r", "g", "b"] {
+            for axis in ["x", "y", "z"] {
+                header.push_str(&format!(",grad_{channel}_{axis}"));
+            }
+        }
+    }
+    writeln!(out, "{header}")?;
+    for point in &points {
+        let probe = solution
+            .probe(point, mode)
+            .map_err(|error| with_points_path(error, &args.points))?;
+        let p = probe.position;
+        let (h, b) = (probe.irradiance, probe.radiosity);
+        let mut row = format!(
+            "{},{},{},{},{},{},{},{},{}",
+            p.x, p.y, p.z, h.x, h.y, h.z, b.x, b.y, b.z
+        );
+        if args.gradient {
+            for g in probe.gradient {
+                row.push_str(&format!(",{},{},{}", g.x, g.y, g.z));
+            }
+        }
+        writeln!(out, "{row}")?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// A probe error names the points file the user gave.
+fn with_points_path(error: isorad::Error, path: &Path) -> anyhow::Error {
+    match error {
+        isorad::Error::ProbePoint { line, message, .. } => {
+            anyhow::anyhow!("{}:{line}: {message}", path.display())
+        }
+        other => other.into(),
+    }
+}

@@ -1,0 +1,154 @@
+//! `isorad render`: solve a scene and write EXR and PNG images, previews
+//! and exports.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
+use std::time::Instant;
+
+use anyhow::Context;
+use clap::Args;
+use isorad::{
+    RenderSettings, Solver, StopReason, ToneMap, Until, export::ExportFormat, export_solution,
+    render::auto_exposure, write_exr, write_png,
+};
+
+use crate::args::{Prepared, SolveArgs, ensure_directory_exists, prepare};
+use crate::progress::{INTERRUPTED, Interrupted, solve_with_progress};
+
+#[derive(Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    solve: SolveArgs,
+    /// Output EXR of linear radiance, W/(m²·sr).
+    #[arg(short, long, default_value = "isorad.exr")]
+    output: PathBuf,
+    /// Output PNG, tone-mapped with the sRGB curve.
+    #[arg(long, default_value = "isorad.png")]
+    png: PathBuf,
+    /// Image width in pixels (overrides the scene's camera).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels (overrides the scene's camera).
+    #[arg(long)]
+    height: Option<u32>,
+    /// PNG exposure in stops; automatic when left out.
+    #[arg(long, allow_hyphen_values = true)]
+    exposure: Option<f64>,
+    /// Anti-aliasing: S × S samples per pixel.
+    #[arg(long, default_value_t = 3)]
+    supersampling: u32,
+    /// Write the images (ambient term added) every N shots while solving.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    preview_every: Option<u64>,
+    /// Also export the solved mesh with baked light: .ply or .glb (repeatable).
+    #[arg(long, value_name = "FILE")]
+    export: Vec<PathBuf>,
+}
+
+pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
+    let start = Instant::now();
+    // Outputs are checked first, so that a typo costs no solve.
+    for path in [&args.output, &args.png].into_iter().chain(&args.export) {
+        ensure_directory_exists(path)?;
+    }
+    if let Some(exposure) = args.exposure {
+        anyhow::ensure!(
+            exposure.is_finite(),
+            "--exposure {exposure} is not a number of stops"
+        );
+    }
+    for path in &args.export {
+        ExportFormat::from_path(path)?;
+    }
+    // `-o` is the OpenEXR image; a PNG name there is a mistake worth a word.
+    let extension = |path: &Path| {
+        path.extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+    };
+    anyhow::ensure!(
+        extension(&args.output).as_deref() != Some("png"),
+        "-o {} would be an OpenEXR image under a .png name: give the EXR path to -o \
+         (e.g. -o out.exr) and the PNG path to --png (e.g. --png out.png)",
+        args.output.display()
+    );
+    anyhow::ensure!(
+        extension(&args.png).as_deref() != Some("exr"),
+        "--png {} would be a PNG under an .exr name: give the PNG path to --png \
+         (e.g. --png out.png) and the EXR path to -o (e.g. -o out.exr)",
+        args.png.display()
+    );
+    ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed))
+        .context("cannot install the Ctrl-C handler")?;
+    let Prepared { mut solver, source } = prepare(&args.solve)?;
+    let mut camera = solver.scene().camera_or_default();
+    camera.width = args.width.unwrap_or(camera.width);
+    camera.height = args.height.unwrap_or(camera.height);
+    camera
+        .validate()
+        .map_err(anyhow::Error::msg)
+        .context("camera")?;
+    let mut render_settings = RenderSettings::default();
+    render_settings.supersampling = args.supersampling.clamp(1, 16);
+    // Intermediate and final images add the ambient term for the light not yet shot.
+    let write_images = |solver: &Solver| -> anyhow::Result<f64> {
+        let image = solver.solution(true).render(&camera, &render_settings);
+        write_exr(&image, &args.output)?;
+        let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
+        write_png(&image, &ToneMap { exposure }, &args.png)?;
+        Ok(exposure)
+    };
+    let until = Until::default().cancelled_by(&INTERRUPTED);
+    let (stop, solve_seconds) = solve_with_progress(
+        &mut solver,
+        &until,
+        args.solve.quiet,
+        args.preview_every,
+        |solver| write_images(solver).map(|_| ()),
+    )?;
+    let exposure = write_images(&solver)?;
+    // Exports (final only, not at previews) take the PNG's exposure.
+    let solution = solver.solution(true);
+    for path in &args.export {
+        export_solution(&solution, &ToneMap { exposure }, path)?;
+    }
+    print_summary(&source, &solver, solve_seconds);
+    let mut written: Vec<String> = [&args.output, &args.png]
+        .into_iter()
+        .chain(&args.export)
+        .map(|path| path.display().to_string())
+        .collect();
+    let last = written.pop().unwrap_or_default();
+    let outputs = format!("{} and {last}", written.join(", "));
+    if stop == StopReason::Cancelled {
+        return Err(Interrupted(format!(
+            "interrupted: wrote the solution after {} shots (unshot {:.3} %, ambient term added) to {outputs}",
+            solver.shots(),
+            100.0 * solver.unshot_fraction()
+        ))
+        .into());
+    }
+    eprintln!(
+        "wrote {outputs} (exposure {exposure:+.2}) in {:.2} s total",
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
+    let (scene, mesh) = (solver.scene(), solver.mesh());
+    let rays = solver.rays();
+    eprintln!(
+        "{source}: {} surfaces, {} patches, {} elements, {} vertices",
+        scene.surfaces.len(),
+        mesh.patches.len(),
+        mesh.elements.len(),
+        mesh.vertices.len()
+    );
+    eprintln!(
+        "solved: {} shots, {} shadow rays in {solve_seconds:.2} s ({:.2} M rays/s), unshot {:.3} %",
+        solver.shots(),
+        rays,
+        rays as f64 / solve_seconds.max(1e-9) / 1e6,
+        100.0 * solver.unshot_fraction()
+    );
+}
