@@ -228,6 +228,44 @@ fn values_are_normalised_over_all_panels() {
 }
 
 #[test]
+fn clockwise_triangles_are_shaded_and_far_lines_stay_in_their_square() {
+    const SIZE: u32 = 160;
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let path = dir.path().join("panels.png");
+    // Clockwise triangles, and a sliver along y = 0.5 reaching far out.
+    let mut odd = unit_square("clockwise");
+    odd.triangles = vec![[0, 2, 1], [0, 3, 2]];
+    odd.points.extend([
+        DVec2::new(-1e6, 0.5),
+        DVec2::new(1e6, 0.5),
+        DVec2::new(1e300, 0.5),
+    ]);
+    odd.triangles.extend([[4, 5, 6]]);
+    let start = std::time::Instant::now();
+    write_mesh_panels(&path, &[odd, unit_square("plain")], SIZE).expect("panels written");
+    assert!(start.elapsed().as_secs() < 10, "far lines took too long");
+    let image = image::open(&path).expect("a PNG").to_rgb8();
+    let pixel = |x: u32, y: u32| image.get_pixel(x, y).0;
+
+    // Both panels show the same field away from the edges.
+    for (column, row) in [(80, HEADER + 115), (40, HEADER + 50)] {
+        assert_eq!(pixel(column, row), pixel(column + SIZE + GAP, row));
+        assert_ne!(pixel(column, row), BACKGROUND);
+    }
+    // The sliver's edge y = 0.5 (row 48 + 10 + 70) crosses the first square
+    // from side to side and stops there: the gap and the second panel keep
+    // their own pixels.
+    let row = HEADER + 80;
+    for column in [0, 5, 80, 155, SIZE - 1] {
+        assert_eq!(pixel(column, row), WIREFRAME, "column {column}");
+    }
+    for column in SIZE..SIZE + GAP {
+        assert_eq!(pixel(column, row), BACKGROUND);
+    }
+    assert_eq!(pixel(SIZE + GAP + 3, row), BACKGROUND);
+}
+
+#[test]
 fn degenerate_panels_are_drawn_without_panic() {
     let dir = tempfile::tempdir().expect("temporary directory");
     let path = dir.path().join("degenerate.png");
