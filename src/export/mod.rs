@@ -81,7 +81,7 @@ impl ExportFormat {
 /// unknown extension.
 ///
 /// ```
-/// use isorad::{Settings, Solver, ToneMap, auto_exposure, export_solution, load_scene};
+/// use isorad::{Settings, Solver, ToneMap, export_solution, load_scene, render::auto_exposure};
 ///
 /// let mut solver = Solver::new(load_scene("cornell")?.scene, Settings::preview())?;
 /// solver.run();

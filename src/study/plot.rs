@@ -11,7 +11,7 @@
 //! out; a plot with nothing left still writes a valid file that says so.
 //!
 //! ```no_run
-//! use isorad::{Series, write_loglog_plot};
+//! use isorad::study::{Series, write_loglog_plot};
 //! use std::path::Path;
 //!
 //! let square = Series { name: "square".into(), points: vec![(121.0, 0.08), (961.0, 0.02)] };
