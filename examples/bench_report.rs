@@ -22,7 +22,7 @@ use isorad::{
     load_scene,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
     scene::Visibility,
-    study::{CompareSettings, Series, compare_receiver, write_loglog_plot},
+    study::{CompareSettings, MeshSpec, Series, compare_receiver, write_loglog_plot},
 };
 use rayon::prelude::*;
 
@@ -698,14 +698,14 @@ fn meshing_section(md: &mut String, out_dir: &Path) -> Report {
         "| mesher | size | vertices | triangles | RMS rel. error | max rel. error | mesh (ms) |"
     )?;
     writeln!(md, "|---|---|---|---|---|---|---|")?;
-    for (record, mesh) in comparison.records.iter().zip(&comparison.meshes) {
+    for record in &comparison.records {
         writeln!(
             md,
             "| {} | {} | {} | {} | {:.4} | {:.4} | {:.2} |",
-            record.mesher,
-            mesh.params,
-            record.vertices,
-            record.triangles,
+            record.spec.mesher(),
+            record.spec.size(),
+            record.vertex_count(),
+            record.triangle_count(),
             record.rms_rel_error,
             record.max_rel_error,
             1e3 * record.seconds
@@ -721,8 +721,8 @@ fn meshing_section(md: &mut String, out_dir: &Path) -> Report {
     )?;
     writeln!(md, "|---|---|---|---|")?;
     for rms in [0.1, 0.05, 0.03, 0.02, 0.01] {
-        let square = comparison.vertices_for_error("square", rms);
-        let contour = comparison.vertices_for_error("contour", rms);
+        let square = comparison.vertices_for_error(MeshSpec::is_square, rms);
+        let contour = comparison.vertices_for_error(MeshSpec::is_contour, rms);
         let show = |v: Option<f64>| v.map_or("out of range".into(), |v| format!("{v:.0}"));
         let ratio = match (square, contour) {
             (Some(s), Some(c)) => format!("{:.1}", s / c),

@@ -149,14 +149,18 @@ fn unit_square(title: &str) -> MeshPanel {
     }
 }
 
+/// `panels` written side by side in squares of `size` pixels, read back.
+fn drawn(panels: &[MeshPanel], size: u32) -> image::RgbImage {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let path = dir.path().join("panels.png");
+    write_mesh_panels(&path, panels, size).expect("panels written");
+    image::open(&path).expect("a PNG").to_rgb8()
+}
+
 #[test]
 fn mesh_panels_shade_the_field_and_draw_the_wireframe() {
     const SIZE: u32 = 160;
-    let dir = tempfile::tempdir().expect("temporary directory");
-    let path = dir.path().join("panels.png");
-    let panels = [unit_square("square 1×1"), unit_square("again")];
-    write_mesh_panels(&path, &panels, SIZE).expect("panels written");
-    let image = image::open(&path).expect("a PNG").to_rgb8();
+    let image = drawn(&[unit_square("square 1×1"), unit_square("again")], SIZE);
     assert_eq!(image.dimensions(), (2 * SIZE + GAP, HEADER + SIZE));
     let pixel = |x: u32, y: u32| image.get_pixel(x, y).0;
 
@@ -212,19 +216,51 @@ fn mesh_panels_shade_the_field_and_draw_the_wireframe() {
 #[test]
 fn values_are_normalised_over_all_panels() {
     const SIZE: u32 = 160;
-    let dir = tempfile::tempdir().expect("temporary directory");
-    let path = dir.path().join("panels.png");
     // The second panel's field is twice the first: the first shows v/2.
     let mut brighter = unit_square("brighter");
     brighter.values = vec![0.0, 2.0, 2.0, 0.0];
-    write_mesh_panels(&path, &[unit_square("dim"), brighter], SIZE).expect("panels written");
-    let image = image::open(&path).expect("a PNG").to_rgb8();
+    let image = drawn(&[unit_square("dim"), brighter], SIZE);
     let (column, row) = (80, HEADER + 115);
     let v = (f64::from(column) + 0.5 - 10.0) / 140.0;
     let dim = f64::from(image.get_pixel(column, row).0[0]);
     let bright = f64::from(image.get_pixel(column + SIZE + GAP, row).0[0]);
     assert!((dim - 255.0 * srgb_encode(0.5 * v)).abs() <= 1.0, "{dim}");
     assert!((bright - 255.0 * srgb_encode(v)).abs() <= 1.0, "{bright}");
+}
+
+#[test]
+fn clockwise_triangles_are_shaded_and_far_lines_stay_in_their_square() {
+    const SIZE: u32 = 160;
+    // Clockwise triangles, and a sliver along y = 0.5 reaching far out.
+    let mut odd = unit_square("clockwise");
+    odd.triangles = vec![[0, 2, 1], [0, 3, 2]];
+    odd.points.extend([
+        DVec2::new(-1e6, 0.5),
+        DVec2::new(1e6, 0.5),
+        DVec2::new(1e300, 0.5),
+    ]);
+    odd.triangles.extend([[4, 5, 6]]);
+    let start = std::time::Instant::now();
+    let image = drawn(&[odd, unit_square("plain")], SIZE);
+    assert!(start.elapsed().as_secs() < 10, "far lines took too long");
+    let pixel = |x: u32, y: u32| image.get_pixel(x, y).0;
+
+    // Both panels show the same field away from the edges.
+    for (column, row) in [(80, HEADER + 115), (40, HEADER + 50)] {
+        assert_eq!(pixel(column, row), pixel(column + SIZE + GAP, row));
+        assert_ne!(pixel(column, row), BACKGROUND);
+    }
+    // The sliver's edge y = 0.5 (row 48 + 10 + 70) crosses the first square
+    // from side to side and stops there: the gap and the second panel keep
+    // their own pixels.
+    let row = HEADER + 80;
+    for column in [0, 5, 80, 155, SIZE - 1] {
+        assert_eq!(pixel(column, row), WIREFRAME, "column {column}");
+    }
+    for column in SIZE..SIZE + GAP {
+        assert_eq!(pixel(column, row), BACKGROUND);
+    }
+    assert_eq!(pixel(SIZE + GAP + 3, row), BACKGROUND);
 }
 
 #[test]

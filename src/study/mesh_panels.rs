@@ -13,9 +13,17 @@
 //! - **Field.** `values` (one per point) are interpolated linearly over each
 //!   triangle (Gouraud), divided by the largest finite value over all panels,
 //!   clamped to [0, 1], and shown as grey through the sRGB curve
-//!   ([`srgb_encode`]). Missing, NaN and infinite values count as 0.
-//! - **Wireframe.** Triangle edges in orange `[255, 140, 0]`, one pixel wide
-//!   (Bresenham), then the outline in light blue `[90, 180, 255]`.
+//!   ([`srgb_encode`](crate::render::srgb_encode)). Missing, NaN and infinite
+//!   values count as 0. A pixel is shaded when its centre lies in a triangle:
+//!   isorad's own rasterizer ([`rasterize`], one sample per pixel) draws the
+//!   triangles seen straight down from above their plane, where perspective
+//!   interpolation is exactly linear.
+//! - **Wireframe.** Triangle edges in orange `[255, 140, 0]`, then the
+//!   outline in light blue `[90, 180, 255]`, one pixel wide, drawn by
+//!   plotters: exact colours on horizontal, vertical and 45° lines,
+//!   antialiased (blended over two pixels) on the others. Lines stop at the
+//!   panel's square; an end farther than 4 squares outside it is pulled in
+//!   to that distance, so only absurd coordinates bend a line.
 //! - **Header.** Above each square, a band of 48 pixels holds the title and
 //!   the vertex count ("N vertices").
 //!
@@ -23,17 +31,19 @@
 //! `[40, 40, 40]`. Panels are laid left to right, 4 pixels apart, so the
 //! picture is `n · panel_size + 4 · (n − 1)` by `48 + panel_size` pixels.
 //! Triangles with an index out of range, a non-finite corner or no area are
-//! skipped.
+//! skipped; clockwise triangles are drawn like counter-clockwise ones.
 
 use std::path::Path;
 
-use glam::DVec2;
+use ::image::{Rgb as Rgb8, RgbImage, imageops};
+use glam::{DVec2, DVec3};
 use plotters::prelude::*;
 
 use super::font::{FONT_FAMILY, ensure_font_registered};
 use crate::error::Result;
 use crate::fs::{output_error, write_atomically};
-use crate::render::srgb_encode;
+use crate::render::{RenderSettings, ShadedTriangle, ToneMap, rasterize};
+use crate::scene::{Camera, Rgb};
 
 /// One mesh to draw: its vertices, a scalar per vertex, its triangles and
 /// the polygon it covers, in any 2D units (the same for all panels).
@@ -59,9 +69,9 @@ const HEADER: u32 = 48;
 /// Pixels outside every triangle, and the header band.
 const BACKGROUND: [u8; 3] = [40, 40, 40];
 /// Triangle edges.
-const WIREFRAME: [u8; 3] = [255, 140, 0];
+const WIREFRAME: RGBColor = RGBColor(255, 140, 0);
 /// The outline polygon.
-const OUTLINE: [u8; 3] = [90, 180, 255];
+const OUTLINE: RGBColor = RGBColor(90, 180, 255);
 /// Header text.
 const TEXT: RGBColor = RGBColor(230, 230, 230);
 
@@ -94,36 +104,31 @@ pub fn write_mesh_panels(path: &Path, panels: &[MeshPanel], panel_size: u32) -> 
     if !ensure_font_registered() {
         return Err(output_error(path, "the bundled font cannot be loaded"));
     }
-    let mut canvas = Canvas::new(width, HEADER + panel_size);
+    let mut picture = RgbImage::from_pixel(width, HEADER + panel_size, Rgb8(BACKGROUND));
 
     // One scale for all panels, one brightness scale for all values.
     let scale = shared_scale(panels, panel_size);
     let value_scale = brightest_value(panels);
 
-    // Shade and outline each panel in its square.
+    // Shade and outline each panel in its own square, then place it.
     for (index, panel) in panels.iter().enumerate() {
-        let square = Square {
-            left: index as u32 * (panel_size + GAP),
-            top: HEADER,
-            size: panel_size,
-        };
         let centre = framing_box(panel).map_or(DVec2::ZERO, |(low, high)| 0.5 * (low + high));
         let frame = Frame {
-            square,
+            size: panel_size,
             centre,
             scale,
         };
-        draw_panel(&mut canvas, panel, &frame, value_scale);
+        let square = draw_panel(panel, &frame, value_scale).map_err(|e| output_error(path, e))?;
+        let left = index as u32 * (panel_size + GAP);
+        imageops::replace(&mut picture, &square, left.into(), HEADER.into());
     }
 
     // Titles and vertex counts, with the bundled font.
-    draw_headers(&mut canvas, panels, panel_size).map_err(|e| output_error(path, e))?;
+    draw_headers(&mut picture, panels, panel_size).map_err(|e| output_error(path, e))?;
 
     // Save.
-    let image = ::image::RgbImage::from_raw(canvas.width, canvas.height, canvas.rgb)
-        .ok_or_else(|| output_error(path, "pixel buffer does not match the picture size"))?;
     write_atomically(path, |writer| {
-        image
+        picture
             .write_with_encoder(::image::codecs::png::PngEncoder::new(writer))
             .map_err(|e| output_error(path, e))
     })
@@ -157,39 +162,10 @@ fn brightest_value(panels: &[MeshPanel]) -> f64 {
     if brightest > 0.0 { brightest } else { 1.0 }
 }
 
-/// An 8-bit RGB picture, row-major from the top.
-struct Canvas {
-    width: u32,
-    height: u32,
-    rgb: Vec<u8>,
-}
-
-impl Canvas {
-    fn new(width: u32, height: u32) -> Canvas {
-        let rgb = BACKGROUND.repeat(width as usize * height as usize);
-        Canvas { width, height, rgb }
-    }
-
-    /// Sets pixel (`x`, `y`); ignores pixels outside the canvas.
-    fn set(&mut self, x: i64, y: i64, colour: [u8; 3]) {
-        if (0..i64::from(self.width)).contains(&x) && (0..i64::from(self.height)).contains(&y) {
-            let index = 3 * (y as usize * self.width as usize + x as usize);
-            self.rgb[index..index + 3].copy_from_slice(&colour);
-        }
-    }
-}
-
-/// A panel's square on the canvas, pixels.
-#[derive(Clone, Copy, Debug)]
-struct Square {
-    left: u32,
-    top: u32,
-    size: u32,
-}
-
-/// Where a panel's 2D units land on the canvas.
+/// Where a panel's 2D units land in its square of pixels.
 struct Frame {
-    square: Square,
+    /// Side of the square, pixels.
+    size: u32,
     /// The point drawn at the centre of the square.
     centre: DVec2,
     /// Pixels per unit.
@@ -197,14 +173,26 @@ struct Frame {
 }
 
 impl Frame {
-    /// Canvas position (pixels, continuous, y down) of a point.
+    /// Position in the square (pixels, continuous, y down) of a point.
     fn pixel_from_point(&self, point: DVec2) -> DVec2 {
-        let half = 0.5 * f64::from(self.square.size);
+        let half = 0.5 * f64::from(self.size);
         let offset = (point - self.centre) * self.scale;
-        DVec2::new(
-            f64::from(self.square.left) + half + offset.x,
-            f64::from(self.square.top) + half - offset.y,
-        )
+        DVec2::new(half + offset.x, half - offset.y)
+    }
+
+    /// A camera straight above the plane z = 0, looking down with +y up,
+    /// whose `size` × `size` image shows the square: at height h, a 90°
+    /// field of view spans 2h, which is `size / scale` units.
+    fn camera(&self) -> Camera {
+        let height = 0.5 * f64::from(self.size) / self.scale;
+        Camera {
+            position: self.centre.extend(height),
+            look_at: self.centre.extend(0.0),
+            up: DVec3::Y,
+            vfov_deg: 90.0,
+            width: self.size,
+            height: self.size,
+        }
     }
 }
 
@@ -225,150 +213,102 @@ fn framing_box(panel: &MeshPanel) -> Option<(DVec2, DVec2)> {
         })
 }
 
-/// Shades the panel's triangles, then draws their edges and the outline.
-fn draw_panel(canvas: &mut Canvas, panel: &MeshPanel, frame: &Frame, value_scale: f64) {
+/// The panel's square: its triangles shaded, then their edges and the
+/// outline drawn on top.
+fn draw_panel(
+    panel: &MeshPanel,
+    frame: &Frame,
+    value_scale: f64,
+) -> std::result::Result<RgbImage, String> {
+    // The drawable triangles, corners with their scaled values.
     let corner = |index: usize| {
         let point = *panel.points.get(index)?;
         let value = panel.values.get(index).copied().unwrap_or(0.0);
         let value = if value.is_finite() { value } else { 0.0 };
-        Some((frame.pixel_from_point(point), value / value_scale))
+        point.is_finite().then_some((point, value / value_scale))
     };
     let triangles: Vec<[(DVec2, f64); 3]> = panel
         .triangles
         .iter()
         .filter_map(|t| Some([corner(t[0])?, corner(t[1])?, corner(t[2])?]))
-        .filter(|t| t.iter().all(|(p, _)| p.is_finite()))
         .collect();
-    for triangle in &triangles {
-        fill_triangle(canvas, frame.square, triangle);
-    }
+    let mut square = shade(&triangles, frame);
+
+    // Edges, then the outline, clipped to the square by the bitmap.
+    let size = (frame.size, frame.size);
+    let root = BitMapBackend::with_buffer(&mut square, size).into_drawing_area();
+    let draw = |a: DVec2, b: DVec2, colour: &RGBColor| {
+        let ends = [a, b].map(|p| pixel_coordinate(frame, p));
+        root.draw(&PathElement::new(ends, colour))
+            .map_err(|e| e.to_string())
+    };
     for triangle in &triangles {
         for k in 0..3 {
-            let (a, b) = (triangle[k].0, triangle[(k + 1) % 3].0);
-            draw_segment(canvas, frame.square, a, b, WIREFRAME);
+            draw(triangle[k].0, triangle[(k + 1) % 3].0, &WIREFRAME)?;
         }
     }
-    let outline: Vec<DVec2> = panel
-        .outline
-        .iter()
-        .map(|&p| frame.pixel_from_point(p))
-        .collect();
-    for k in 0..outline.len() {
-        let (a, b) = (outline[k], outline[(k + 1) % outline.len()]);
+    let outline = &panel.outline;
+    for (k, &a) in outline.iter().enumerate() {
+        let b = outline[(k + 1) % outline.len()];
         if a.is_finite() && b.is_finite() {
-            draw_segment(canvas, frame.square, a, b, OUTLINE);
+            draw(a, b, &OUTLINE)?;
         }
     }
+    root.present().map_err(|e| e.to_string())?;
+    drop(root);
+    Ok(square)
 }
 
-/// Fills the pixels of `square` whose centres lie in the triangle (corners
-/// in canvas pixels, values already divided by the brightness scale), each
-/// with the value interpolated linearly at its centre, as sRGB grey.
-fn fill_triangle(canvas: &mut Canvas, square: Square, triangle: &[(DVec2, f64); 3]) {
-    let [(p0, v0), (p1, v1), (p2, v2)] = *triangle;
-    let double_area = (p1 - p0).perp_dot(p2 - p0);
-    if !double_area.is_finite() || double_area.abs() < 1e-12 {
-        return;
-    }
-    // Pixel range covered by the triangle, within the square.
-    let low = p0.min(p1).min(p2).floor();
-    let high = p0.max(p1).max(p2).ceil();
-    let x_range = clamp_span(low.x, high.x, square.left, square.size);
-    let y_range = clamp_span(low.y, high.y, square.top, square.size);
-    for y in y_range {
-        for x in x_range.clone() {
-            // Barycentric weights of the pixel centre.
-            let centre = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
-            let w0 = (p2 - p1).perp_dot(centre - p1) / double_area;
-            let w1 = (p0 - p2).perp_dot(centre - p2) / double_area;
-            let w2 = 1.0 - w0 - w1;
-            // Written so that NaN weights count as outside.
-            if !(w0 >= -1e-9 && w1 >= -1e-9 && w2 >= -1e-9) {
-                continue;
+/// The square's pixels: the sRGB grey of the field where a pixel's centre
+/// lies in a triangle, the background elsewhere.
+fn shade(triangles: &[[(DVec2, f64); 3]], frame: &Frame) -> RgbImage {
+    // Red carries the field, blue 1 marks the pixels a triangle covers.
+    let shaded: Vec<ShadedTriangle> = triangles
+        .iter()
+        .map(|triangle| {
+            let [a, mut b, mut c] = *triangle;
+            // Counter-clockwise seen from above: the front faces the camera.
+            if (b.0 - a.0).perp_dot(c.0 - a.0) < 0.0 {
+                std::mem::swap(&mut b, &mut c);
             }
-            let value = (w0 * v0 + w1 * v1 + w2 * v2).clamp(0.0, 1.0);
-            let grey = (255.0 * srgb_encode(value).clamp(0.0, 1.0)).round() as u8;
-            canvas.set(x, y, [grey; 3]);
-        }
-    }
-}
-
-/// The integer pixels from `low` to `high` (exclusive) that lie in
-/// `start..start + size`.
-fn clamp_span(low: f64, high: f64, start: u32, size: u32) -> std::ops::Range<i64> {
-    let (start, end) = (i64::from(start), i64::from(start) + i64::from(size));
-    // `as` saturates, so far-away corners cannot overflow.
-    (low as i64).clamp(start, end)..(high as i64).clamp(start, end)
-}
-
-/// Draws the part of segment `a`–`b` (canvas pixels) inside `square`, one
-/// pixel wide (Bresenham), in `colour`.
-fn draw_segment(canvas: &mut Canvas, square: Square, a: DVec2, b: DVec2, colour: [u8; 3]) {
-    let low = DVec2::new(f64::from(square.left), f64::from(square.top));
-    let high = low + DVec2::splat(f64::from(square.size) - 1e-6);
-    let Some((a, b)) = clip_segment(a, b, low, high) else {
-        return;
-    };
-    let (mut x, mut y) = (a.x.floor() as i64, a.y.floor() as i64);
-    let (x_end, y_end) = (b.x.floor() as i64, b.y.floor() as i64);
-    let (dx, dy) = ((x_end - x).abs(), -(y_end - y).abs());
-    let (step_x, step_y) = ((x_end - x).signum(), (y_end - y).signum());
-    let mut error = dx + dy;
-    loop {
-        canvas.set(x, y, colour);
-        if x == x_end && y == y_end {
-            break;
-        }
-        let doubled = 2 * error;
-        if doubled >= dy {
-            error += dy;
-            x += step_x;
-        }
-        if doubled <= dx {
-            error += dx;
-            y += step_y;
-        }
-    }
-}
-
-/// The part of segment `a`–`b` inside the box `low`–`high` (Liang–Barsky),
-/// or `None` when it misses the box.
-fn clip_segment(a: DVec2, b: DVec2, low: DVec2, high: DVec2) -> Option<(DVec2, DVec2)> {
-    let delta = b - a;
-    let (mut t_in, mut t_out) = (0.0_f64, 1.0_f64);
-    for (p, q) in [
-        (-delta.x, a.x - low.x),
-        (delta.x, high.x - a.x),
-        (-delta.y, a.y - low.y),
-        (delta.y, high.y - a.y),
-    ] {
-        if p == 0.0 {
-            if q < 0.0 {
-                return None;
+            ShadedTriangle {
+                positions: [a, b, c].map(|(p, _)| p.extend(0.0)),
+                radiance: [a, b, c].map(|(_, v)| Rgb::new(v, 0.0, 1.0)),
             }
+        })
+        .collect();
+    let image = rasterize(&shaded, &frame.camera(), &RenderSettings::preview());
+    let grey = ToneMap::default();
+    RgbImage::from_fn(frame.size, frame.size, |x, y| {
+        let [value, _, covered] = image.pixel(x, y);
+        if covered > 0.5 {
+            Rgb8([grey.map_channel(f64::from(value)); 3])
         } else {
-            let t = q / p;
-            if p < 0.0 {
-                t_in = t_in.max(t);
-            } else {
-                t_out = t_out.min(t);
-            }
+            Rgb8(BACKGROUND)
         }
-    }
-    // Rounding may leave an end a hair outside: clamp it back in.
-    let at = |t: f64| (a + t * delta).clamp(low, high);
-    (t_in <= t_out).then(|| (at(t_in), at(t_out)))
+    })
+}
+
+/// The pixel a point falls in, for plotters; coordinates are held within
+/// 4 squares of the square, so that a line's pixels stay few.
+fn pixel_coordinate(frame: &Frame, point: DVec2) -> (i32, i32) {
+    let reach = 4.0 * f64::from(frame.size);
+    let pixel = frame.pixel_from_point(point).floor().clamp(
+        DVec2::splat(-reach),
+        DVec2::splat(f64::from(frame.size) + reach),
+    );
+    (pixel.x as i32, pixel.y as i32)
 }
 
 /// Draws each panel's title and vertex count in the header band, shrinking
 /// the text to fit the panel's width.
 fn draw_headers(
-    canvas: &mut Canvas,
+    picture: &mut RgbImage,
     panels: &[MeshPanel],
     panel_size: u32,
 ) -> std::result::Result<(), String> {
-    let size = (canvas.width, canvas.height);
-    let root = BitMapBackend::with_buffer(&mut canvas.rgb, size).into_drawing_area();
+    let size = picture.dimensions();
+    let root = BitMapBackend::with_buffer(picture, size).into_drawing_area();
     let room = f64::from(panel_size.saturating_sub(12).max(1));
     for (index, panel) in panels.iter().enumerate() {
         let left = (index as u32 * (panel_size + GAP) + 6) as i32;
@@ -390,51 +330,4 @@ fn draw_headers(
         }
     }
     root.present().map_err(|e| e.to_string())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn segments_are_clipped_to_the_box() {
-        let (low, high) = (DVec2::ZERO, DVec2::splat(10.0));
-        let clipped = clip_segment(DVec2::new(-5.0, 5.0), DVec2::new(15.0, 5.0), low, high);
-        assert_eq!(clipped, Some((DVec2::new(0.0, 5.0), DVec2::new(10.0, 5.0))));
-        assert!(clip_segment(DVec2::new(-5.0, -1.0), DVec2::new(15.0, -1.0), low, high).is_none());
-        let inside = clip_segment(DVec2::splat(2.0), DVec2::splat(3.0), low, high);
-        assert_eq!(inside, Some((DVec2::splat(2.0), DVec2::splat(3.0))));
-    }
-
-    #[test]
-    fn long_segments_are_cut_to_the_square() {
-        let mut canvas = Canvas::new(20, 20);
-        let square = Square {
-            left: 0,
-            top: 0,
-            size: 10,
-        };
-        let lit = |canvas: &Canvas| -> Vec<usize> {
-            (0..400)
-                .filter(|&i| canvas.rgb[3 * i..3 * i + 3] == WIREFRAME)
-                .collect()
-        };
-        let (a, b) = (DVec2::new(-1e6, 5.5), DVec2::new(1e6, 5.5));
-        draw_segment(&mut canvas, square, a, b, WIREFRAME);
-        assert_eq!(lit(&canvas), (100..110).collect::<Vec<_>>());
-
-        // Absurd coordinates lose the line's place, but stay in the square.
-        let mut canvas = Canvas::new(20, 20);
-        let (a, b) = (DVec2::new(-1e300, 5.5), DVec2::new(1e300, 7.5));
-        draw_segment(&mut canvas, square, a, b, WIREFRAME);
-        assert!(lit(&canvas).iter().all(|i| i % 20 < 10 && i / 20 < 10));
-        draw_segment(
-            &mut canvas,
-            square,
-            DVec2::splat(-5.0),
-            DVec2::splat(-1.0),
-            OUTLINE,
-        );
-        assert!(!canvas.rgb.chunks(3).any(|p| p == OUTLINE));
-    }
 }

@@ -19,7 +19,9 @@ mod records;
 
 pub use mesh_panels::{MeshPanel, write_mesh_panels};
 pub use plot::{Series, write_loglog_plot};
-pub use records::{ComparedMesh, MeshRecord, ReceiverComparison, write_json};
+pub use records::{MeshRecord, MeshSpec, ReceiverComparison, write_json};
+
+use records::Built;
 
 use glam::DVec2;
 use std::time::Instant;
@@ -89,21 +91,18 @@ pub fn compare_receiver(
         surface: receiver,
         outline: outline.clone(),
         records: Vec::new(),
-        meshes: Vec::new(),
     };
     for &n in &settings.square_sizes {
         let start = Instant::now();
         let triangulation = square_triangulation(scene, receiver, n, &exact);
         let seconds = start.elapsed().as_secs_f64();
-        comparison.add(
-            "square",
-            format!("{n}x{n}"),
-            serde_json::json!({ "n": n }),
-            triangulation,
-            &exact,
-            &grid,
+        let built = Built {
+            spec: MeshSpec::Square { n },
+            newton_iterations: 0,
+            shadow_points: 0,
             seconds,
-        );
+        };
+        comparison.add(built, triangulation, &exact, &grid);
     }
     for &(directions, levels) in &settings.contour_sizes {
         let start = Instant::now();
@@ -117,16 +116,13 @@ pub fn compare_receiver(
         };
         let triangulation = layout.triangulate(&outline);
         let seconds = start.elapsed().as_secs_f64();
-        let params = serde_json::json!({ "directions": directions, "levels": levels, "newton_iterations": layout.newton_iterations, "shadow_points": layout.shadow_points });
-        comparison.add(
-            "contour",
-            format!("{directions}x{levels}"),
-            params,
-            triangulation,
-            &exact,
-            &grid,
+        let built = Built {
+            spec: MeshSpec::Contour { directions, levels },
+            newton_iterations: layout.newton_iterations,
+            shadow_points: layout.shadow_points,
             seconds,
-        );
+        };
+        comparison.add(built, triangulation, &exact, &grid);
     }
     Some(comparison)
 }
@@ -168,15 +164,22 @@ fn square_triangulation(
 /// 20×5 | square 30×30, with their exact vertex values.
 #[must_use]
 pub fn panels_for_figure(comparison: &ReceiverComparison) -> Vec<MeshPanel> {
-    ["10x10", "20x5", "30x30"]
-        .iter()
-        .filter_map(|params| comparison.meshes.iter().find(|m| &m.params == params))
-        .map(|m| MeshPanel {
-            title: format!("{} {}", m.mesher, m.params.replace('x', "×")),
-            points: m.triangulation.points.clone(),
-            values: m.values.clone(),
-            triangles: m.triangulation.triangles.clone(),
-            outline: comparison.outline.clone(),
-        })
-        .collect()
+    [
+        MeshSpec::Square { n: 10 },
+        MeshSpec::Contour {
+            directions: 20,
+            levels: 5,
+        },
+        MeshSpec::Square { n: 30 },
+    ]
+    .into_iter()
+    .filter_map(|spec| comparison.record(spec))
+    .map(|record| MeshPanel {
+        title: record.spec.to_string(),
+        points: record.triangulation.points.clone(),
+        values: record.values.clone(),
+        triangles: record.triangulation.triangles.clone(),
+        outline: comparison.outline.clone(),
+    })
+    .collect()
 }

@@ -1,25 +1,103 @@
 //! The records of a comparison, and their JSON form.
 
 use glam::DVec2;
+use std::fmt;
 use std::path::Path;
 
 use super::plot::Series;
 use crate::error::{Error, Result};
 use crate::mesh::{ErrorGrid, PlaneTriangulation};
 
-/// One mesh of one receiver, measured.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+/// Which mesh of a receiver: the mesher and its size.
+///
+/// Shown as "square 10×10" or "contour 20×5"; serialized as the records'
+/// JSON has it, `{"mesher": "square", "params": {"n": 10}}` or
+/// `{"mesher": "contour", "params": {"directions": 20, "levels": 5}}`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(tag = "mesher", content = "params", rename_all = "lowercase")]
+pub enum MeshSpec {
+    /// The square N × N mesh.
+    Square {
+        /// Divisions along each side.
+        n: usize,
+    },
+    /// The radial contour-level mesh of D directions and K levels.
+    Contour {
+        /// D, the rays from the light's maximum.
+        directions: usize,
+        /// K, the iso-radiosity levels.
+        levels: usize,
+    },
+}
+
+impl MeshSpec {
+    /// The mesher's name: "square" or "contour".
+    #[must_use]
+    pub fn mesher(&self) -> &'static str {
+        match self {
+            MeshSpec::Square { .. } => "square",
+            MeshSpec::Contour { .. } => "contour",
+        }
+    }
+
+    /// The size as a table shows it: "NxN" or "DxK".
+    #[must_use]
+    pub fn size(&self) -> String {
+        let (a, b) = self.dimensions();
+        format!("{a}x{b}")
+    }
+
+    /// True for a square mesh.
+    #[must_use]
+    pub fn is_square(&self) -> bool {
+        matches!(self, MeshSpec::Square { .. })
+    }
+
+    /// True for a contour mesh.
+    #[must_use]
+    pub fn is_contour(&self) -> bool {
+        matches!(self, MeshSpec::Contour { .. })
+    }
+
+    /// (N, N) or (D, K).
+    fn dimensions(&self) -> (usize, usize) {
+        match *self {
+            MeshSpec::Square { n } => (n, n),
+            MeshSpec::Contour { directions, levels } => (directions, levels),
+        }
+    }
+}
+
+impl fmt::Display for MeshSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (a, b) = self.dimensions();
+        write!(f, "{} {a}×{b}", self.mesher())
+    }
+}
+
+/// One mesh of one receiver, measured: the mesh itself, its exact vertex
+/// values and its errors.
+///
+/// Serialized as one record of [`write_json`]: `receiver`, `mesher`,
+/// `params` (`{"n"}` or `{"directions", "levels", "newton_iterations",
+/// "shadow_points"}`), `vertices`, `triangles`, `rms_rel_error`,
+/// `max_rel_error`, `seconds`.
+#[derive(Clone, Debug, PartialEq)]
 pub struct MeshRecord {
     /// The receiver's name (its OBJ object).
     pub receiver: String,
-    /// "square" or "contour".
-    pub mesher: String,
-    /// The mesher's parameters: `{"n"}` or `{"directions", "levels", …}`.
-    pub params: serde_json::Value,
-    /// Vertices of the mesh.
-    pub vertices: usize,
-    /// Triangles of the mesh.
-    pub triangles: usize,
+    /// Which mesh.
+    pub spec: MeshSpec,
+    /// Newton iterations spent placing a contour mesh's vertices (0 for a
+    /// square mesh).
+    pub newton_iterations: usize,
+    /// A contour mesh's vertices added on and beside shadow boundaries (0
+    /// for a square mesh).
+    pub shadow_points: usize,
+    /// The mesh, in the receiver's plane coordinates.
+    pub triangulation: PlaneTriangulation,
+    /// The exact field at its points.
+    pub values: Vec<f64>,
     /// √mean((B_h − B)²) / √mean(B²) over the receiver.
     pub rms_rel_error: f64,
     /// max |B_h − B| / max B over the receiver.
@@ -28,17 +106,72 @@ pub struct MeshRecord {
     pub seconds: f64,
 }
 
-/// A mesh kept for pictures: its triangles and exact vertex values.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ComparedMesh {
-    /// "square" or "contour".
-    pub mesher: String,
-    /// "NxN" or "DxK".
-    pub params: String,
-    /// The mesh, in the receiver's plane coordinates.
-    pub triangulation: PlaneTriangulation,
-    /// The exact field at its points.
-    pub values: Vec<f64>,
+impl MeshRecord {
+    /// Vertices of the mesh.
+    #[must_use]
+    pub fn vertex_count(&self) -> usize {
+        self.triangulation.points.len()
+    }
+
+    /// Triangles of the mesh.
+    #[must_use]
+    pub fn triangle_count(&self) -> usize {
+        self.triangulation.triangles.len()
+    }
+}
+
+impl serde::Serialize for MeshRecord {
+    fn serialize<S: serde::Serializer>(
+        &self,
+        serializer: S,
+    ) -> std::result::Result<S::Ok, S::Error> {
+        /// The mesher's parameters as the JSON has them.
+        #[derive(serde::Serialize)]
+        #[serde(untagged)]
+        enum Params {
+            Square {
+                n: usize,
+            },
+            Contour {
+                directions: usize,
+                levels: usize,
+                newton_iterations: usize,
+                shadow_points: usize,
+            },
+        }
+        /// The record as the JSON has it.
+        #[derive(serde::Serialize)]
+        struct Json<'a> {
+            receiver: &'a str,
+            mesher: &'static str,
+            params: Params,
+            vertices: usize,
+            triangles: usize,
+            rms_rel_error: f64,
+            max_rel_error: f64,
+            seconds: f64,
+        }
+        let params = match self.spec {
+            MeshSpec::Square { n } => Params::Square { n },
+            MeshSpec::Contour { directions, levels } => Params::Contour {
+                directions,
+                levels,
+                newton_iterations: self.newton_iterations,
+                shadow_points: self.shadow_points,
+            },
+        };
+        Json {
+            receiver: &self.receiver,
+            mesher: self.spec.mesher(),
+            params,
+            vertices: self.vertex_count(),
+            triangles: self.triangle_count(),
+            rms_rel_error: self.rms_rel_error,
+            max_rel_error: self.max_rel_error,
+            seconds: self.seconds,
+        }
+        .serialize(serializer)
+    }
 }
 
 /// Every mesh of one receiver, measured.
@@ -50,43 +183,51 @@ pub struct ReceiverComparison {
     pub surface: usize,
     /// Its polygon, in plane coordinates.
     pub outline: Vec<DVec2>,
-    /// One record per mesh.
+    /// One record per mesh, in the order measured.
     pub records: Vec<MeshRecord>,
-    /// The meshes, for pictures.
-    pub meshes: Vec<ComparedMesh>,
+}
+
+/// How a mesh was built, besides its triangulation.
+pub(super) struct Built {
+    /// Which mesh.
+    pub spec: MeshSpec,
+    /// Newton iterations of a contour layout (0 for a square mesh).
+    pub newton_iterations: usize,
+    /// Shadow-boundary vertices of a contour layout (0 for a square mesh).
+    pub shadow_points: usize,
+    /// Seconds to build it.
+    pub seconds: f64,
 }
 
 impl ReceiverComparison {
-    /// Measures a mesh and records it.
-    #[allow(clippy::too_many_arguments)]
+    /// Gives the mesh the exact values at its points, measures it and
+    /// records it.
     pub(super) fn add(
         &mut self,
-        mesher: &str,
-        label: String,
-        params: serde_json::Value,
+        built: Built,
         triangulation: PlaneTriangulation,
         exact: &dyn Fn(DVec2) -> f64,
         grid: &ErrorGrid,
-        seconds: f64,
     ) {
         let values: Vec<f64> = triangulation.points.iter().map(|&p| exact(p)).collect();
         let error = grid.measure(&triangulation, &values);
         self.records.push(MeshRecord {
             receiver: self.receiver.clone(),
-            mesher: mesher.into(),
-            params,
-            vertices: triangulation.points.len(),
-            triangles: triangulation.triangles.len(),
-            rms_rel_error: error.rms_rel_error,
-            max_rel_error: error.max_rel_error,
-            seconds,
-        });
-        self.meshes.push(ComparedMesh {
-            mesher: mesher.into(),
-            params: label,
+            spec: built.spec,
+            newton_iterations: built.newton_iterations,
+            shadow_points: built.shadow_points,
             triangulation,
             values,
+            rms_rel_error: error.rms_rel_error,
+            max_rel_error: error.max_rel_error,
+            seconds: built.seconds,
         });
+    }
+
+    /// The record of the mesh `spec`, if it was measured.
+    #[must_use]
+    pub fn record(&self, spec: MeshSpec) -> Option<&MeshRecord> {
+        self.records.iter().find(|r| r.spec == spec)
     }
 
     /// The series of a log–log plot of RMS error against vertices: square
@@ -99,16 +240,10 @@ impl ReceiverComparison {
             "contour D × K, seed sizes",
             "contour D × K, D = 2K",
         ];
-        let family = |record: &MeshRecord| {
-            if record.mesher == "square" {
-                FAMILIES[0]
-            } else if record.params["directions"]
-                == 2 * record.params["levels"].as_u64().unwrap_or(0)
-            {
-                FAMILIES[2]
-            } else {
-                FAMILIES[1]
-            }
+        let family = |spec: MeshSpec| match spec {
+            MeshSpec::Square { .. } => FAMILIES[0],
+            MeshSpec::Contour { directions, levels } if directions == 2 * levels => FAMILIES[2],
+            MeshSpec::Contour { .. } => FAMILIES[1],
         };
         FAMILIES
             .into_iter()
@@ -117,22 +252,23 @@ impl ReceiverComparison {
                 points: self
                     .records
                     .iter()
-                    .filter(|r| family(r) == name)
-                    .map(|r| (r.vertices as f64, r.rms_rel_error))
+                    .filter(|r| family(r.spec) == name)
+                    .map(|r| (r.vertex_count() as f64, r.rms_rel_error))
                     .collect(),
             })
             .collect()
     }
 
-    /// The vertices each mesher needs to reach `rms` RMS error, interpolated
-    /// log-linearly between its measured meshes (None outside their range).
+    /// The vertices the meshes `of` selects (e.g. [`MeshSpec::is_square`])
+    /// need to reach `rms` RMS error, interpolated log-linearly between
+    /// their measurements (None outside their range).
     #[must_use]
-    pub fn vertices_for_error(&self, mesher: &str, rms: f64) -> Option<f64> {
+    pub fn vertices_for_error(&self, of: impl Fn(&MeshSpec) -> bool, rms: f64) -> Option<f64> {
         let mut points: Vec<(f64, f64)> = self
             .records
             .iter()
-            .filter(|r| r.mesher == mesher && r.rms_rel_error > 0.0)
-            .map(|r| (r.vertices as f64, r.rms_rel_error))
+            .filter(|r| of(&r.spec) && r.rms_rel_error > 0.0)
+            .map(|r| (r.vertex_count() as f64, r.rms_rel_error))
             .collect();
         points.sort_by(|a, b| a.0.total_cmp(&b.0));
         // The lower envelope: error must fall as vertices grow.
@@ -162,8 +298,8 @@ pub fn write_json(comparisons: &[ReceiverComparison], path: &Path) -> Result<()>
         return Err(Error::Output {
             path: path.to_path_buf(),
             message: format!(
-                "the record of {} {} on `{}` holds a non-finite error; nothing was written",
-                bad.mesher, bad.params, bad.receiver
+                "the record of {} on `{}` holds a non-finite error; nothing was written",
+                bad.spec, bad.receiver
             ),
         });
     }
@@ -178,4 +314,117 @@ pub fn write_json(comparisons: &[ReceiverComparison], path: &Path) -> Result<()>
             source,
         })
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::{Value, json};
+
+    /// A record of `spec` on a unit square split into two triangles.
+    fn record(spec: MeshSpec, newton_iterations: usize, shadow_points: usize) -> MeshRecord {
+        MeshRecord {
+            receiver: "floor".into(),
+            spec,
+            newton_iterations,
+            shadow_points,
+            triangulation: PlaneTriangulation {
+                points: vec![DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y],
+                triangles: vec![[0, 1, 2], [0, 2, 3]],
+            },
+            values: vec![1.0; 4],
+            rms_rel_error: 0.125,
+            max_rel_error: 0.5,
+            seconds: 0.25,
+        }
+    }
+
+    #[test]
+    fn specs_read_as_the_tables_and_the_json_name_them() {
+        let square = MeshSpec::Square { n: 10 };
+        let contour = MeshSpec::Contour {
+            directions: 20,
+            levels: 5,
+        };
+        assert_eq!(square.to_string(), "square 10×10");
+        assert_eq!(contour.to_string(), "contour 20×5");
+        assert_eq!((square.mesher(), square.size()), ("square", "10x10".into()));
+        assert_eq!(
+            (contour.mesher(), contour.size()),
+            ("contour", "20x5".into())
+        );
+        assert!(square.is_square() && !square.is_contour() && contour.is_contour());
+        assert_eq!(
+            serde_json::to_value(square).unwrap(),
+            json!({ "mesher": "square", "params": { "n": 10 } })
+        );
+        assert_eq!(
+            serde_json::to_value(contour).unwrap(),
+            json!({ "mesher": "contour", "params": { "directions": 20, "levels": 5 } })
+        );
+    }
+
+    #[test]
+    fn the_json_has_the_documented_fields_and_no_others() {
+        let contour = MeshSpec::Contour {
+            directions: 20,
+            levels: 5,
+        };
+        let comparison = ReceiverComparison {
+            receiver: "floor".into(),
+            surface: 3,
+            outline: Vec::new(),
+            records: vec![
+                record(MeshSpec::Square { n: 1 }, 0, 0),
+                record(contour, 41, 7),
+            ],
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("records.json");
+        write_json(&[comparison], &path).unwrap();
+        let written: Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let measured = json!({
+            "receiver": "floor",
+            "vertices": 4,
+            "triangles": 2,
+            "rms_rel_error": 0.125,
+            "max_rel_error": 0.5,
+            "seconds": 0.25,
+        });
+        let with = |mesher: &str, params: Value| {
+            let mut record = measured.clone();
+            record["mesher"] = mesher.into();
+            record["params"] = params;
+            record
+        };
+        let expected = json!([
+            with("square", json!({ "n": 1 })),
+            with(
+                "contour",
+                json!({ "directions": 20, "levels": 5, "newton_iterations": 41, "shadow_points": 7 })
+            ),
+        ]);
+        assert_eq!(written, expected);
+    }
+
+    #[test]
+    fn non_finite_errors_are_refused_before_writing() {
+        let mut bad = record(MeshSpec::Square { n: 1 }, 0, 0);
+        bad.rms_rel_error = f64::NAN;
+        let comparison = ReceiverComparison {
+            receiver: "floor".into(),
+            surface: 0,
+            outline: Vec::new(),
+            records: vec![bad],
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("records.json");
+        let result = write_json(&[comparison], &path);
+        assert!(
+            matches!(&result, Err(Error::Output { message, .. }) if message.contains("square 1×1 on `floor`")),
+            "{result:?}"
+        );
+        assert!(!path.exists());
+    }
 }

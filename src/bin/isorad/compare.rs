@@ -9,8 +9,8 @@ use isorad::{
     load_scene,
     scene::Visibility,
     study::{
-        CompareSettings, compare_receiver, panels_for_figure, write_json, write_loglog_plot,
-        write_mesh_panels,
+        CompareSettings, MeshSpec, compare_receiver, panels_for_figure, write_json,
+        write_loglog_plot, write_mesh_panels,
     },
 };
 
@@ -142,13 +142,13 @@ fn print_comparison(comparison: &isorad::study::ReceiverComparison) {
         "  {:<8} {:>7} {:>9} {:>10} {:>12} {:>12} {:>9}",
         "mesher", "params", "vertices", "triangles", "rms_rel_err", "max_rel_err", "seconds"
     );
-    for (record, mesh) in comparison.records.iter().zip(&comparison.meshes) {
+    for record in &comparison.records {
         println!(
             "  {:<8} {:>7} {:>9} {:>10} {:>12.5} {:>12.5} {:>9.4}",
-            record.mesher,
-            mesh.params,
-            record.vertices,
-            record.triangles,
+            record.spec.mesher(),
+            record.spec.size(),
+            record.vertex_count(),
+            record.triangle_count(),
             record.rms_rel_error,
             record.max_rel_error,
             record.seconds
@@ -158,11 +158,11 @@ fn print_comparison(comparison: &isorad::study::ReceiverComparison) {
     let ratios: Vec<f64> = comparison
         .records
         .iter()
-        .filter(|r| r.mesher == "contour")
+        .filter(|r| r.spec.is_contour())
         .filter_map(|r| {
             comparison
-                .vertices_for_error("square", r.rms_rel_error)
-                .map(|v| v / r.vertices as f64)
+                .vertices_for_error(MeshSpec::is_square, r.rms_rel_error)
+                .map(|v| v / r.vertex_count() as f64)
         })
         .collect();
     if ratios.is_empty() {
