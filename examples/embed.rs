@@ -39,7 +39,7 @@ fn main() -> isorad::Result<()> {
 
     // Irradiance under the light's centre, by a final gather, against the
     // exact unoccluded value: E_light × F for a square seen from its axis.
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     let centre = ProbePoint {
         position: DVec3::ZERO,
         normal: None,

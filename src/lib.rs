@@ -71,8 +71,8 @@
 //!    or an `AtomicBool` set from another thread — calling back with
 //!    [`Progress`] after each shot, and says why it stopped ([`StopReason`]).
 //!    It stops only between shots, so the solution is always consistent.
-//! 4. **Query.** [`Solver::solution`] (with or without the ambient term for
-//!    the light not yet shot) gives a [`Solution`]: values at any point of a
+//! 4. **Query.** [`Solver::solution`] (or [`Solver::solution_with_ambient`],
+//!    with the ambient term for the light not yet shot) gives a [`Solution`]: values at any point of a
 //!    surface ([`Solution::probe`], by final gather or mesh interpolation),
 //!    per-surface totals ([`Solution::surface_totals`]), and the shaded
 //!    triangles for a viewer of your own ([`Solution::triangles`]).

@@ -93,7 +93,7 @@ fn no_darkness_bleeds_out_from_under_a_block() {
     settings.tolerance = 1e-3;
     let mut solver = Solver::with_mesh(scene, mesh, settings).unwrap();
     solver.run();
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     // Just outside each side of the block, the rendered mesh agrees with an
     // exact gather: the dark floor under the block no longer exists.
     let mut worst: f64 = 0.0;

@@ -37,7 +37,7 @@ fn display_colour(radiosity: isorad::Rgb, tone_map: &ToneMap) -> [f32; 3] {
 #[test]
 fn glb_parses_back_with_the_solutions_vertices_and_colours() {
     let solver = solved_cornell();
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cornell.glb");
     export_glb(&solution, &tone_map(), &path).unwrap();
@@ -183,7 +183,7 @@ fn read_ply(bytes: &[u8]) -> Ply {
 #[test]
 fn ply_round_trips_positions_radiance_colours_and_faces() {
     let solver = solved_cornell();
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cornell.ply");
     let tone_map = tone_map();
@@ -226,7 +226,7 @@ fn ply_round_trips_positions_radiance_colours_and_faces() {
 #[test]
 fn non_finite_radiosity_is_refused_and_nothing_is_written() {
     let solver = solved_cornell();
-    let mut solution = solver.solution(true);
+    let mut solution = solver.solution_with_ambient();
     solution.radiosity[7].y = f64::NAN;
     let dir = tempfile::tempdir().unwrap();
     for name in ["bad.glb", "bad.ply"] {
@@ -246,7 +246,7 @@ fn non_finite_radiosity_is_refused_and_nothing_is_written() {
 #[test]
 fn unknown_extension_is_refused() {
     let solver = solved_cornell();
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     let error = export_solution(&solution, &tone_map(), Path::new("out.obj")).unwrap_err();
     assert!(error.to_string().contains(".ply or .glb"), "{error}");
 }

@@ -59,7 +59,7 @@ fn at(x: f64, y: f64) -> ProbePoint {
 fn gather_matches_the_exact_disc_formula() {
     let scene = disc_scene(false);
     solve(&scene, |solver| {
-        let solution = solver.solution(true);
+        let solution = solver.solution_with_ambient();
         for x in [0.0, 0.3, 0.77, 1.0, 1.9, 3.3, 5.0] {
             let probe = solution.probe(&at(x, 0.1), ProbeMode::Gather).unwrap();
             let r = (x * x + 0.01_f64).sqrt();
@@ -80,7 +80,7 @@ fn gather_matches_the_exact_disc_formula() {
 fn gather_gradient_agrees_with_finite_differences() {
     let scene = disc_scene(false);
     solve(&scene, |solver| {
-        let solution = solver.solution(true);
+        let solution = solver.solution_with_ambient();
         let value = |x: f64, y: f64| {
             solution
                 .probe(&at(x, y), ProbeMode::Gather)
@@ -110,7 +110,7 @@ fn gather_gradient_agrees_with_finite_differences() {
 fn a_shadowed_point_gets_no_direct_light() {
     let scene = disc_scene(true);
     solve(&scene, |solver| {
-        let solution = solver.solution(false);
+        let solution = solver.solution();
         for mode in [ProbeMode::Gather, ProbeMode::Mesh] {
             let probe = solution.probe(&at(0.05, -0.1), mode).unwrap();
             assert_eq!(probe.irradiance, isorad::Rgb::ZERO, "{mode:?}");
@@ -124,7 +124,7 @@ fn a_shadowed_point_gets_no_direct_light() {
 fn mesh_mode_interpolates_vertices_and_has_the_interpolant_gradient() {
     let scene = disc_scene(false);
     solve(&scene, |solver| {
-        let solution = solver.solution(true);
+        let solution = solver.solution_with_ambient();
         let mesh = solution.mesh;
         // At a vertex, the value is the vertex's.
         let (index, vertex) = mesh
@@ -185,7 +185,7 @@ fn mesh_mode_interpolates_vertices_and_has_the_interpolant_gradient() {
 fn a_point_on_no_surface_is_an_error_naming_its_line() {
     let scene = disc_scene(false);
     solve(&scene, |solver| {
-        let solution = solver.solution(true);
+        let solution = solver.solution_with_ambient();
         let point = ProbePoint {
             position: DVec3::new(0.0, 0.0, 0.5),
             normal: None,

@@ -85,7 +85,7 @@ impl ExportFormat {
 ///
 /// let mut solver = Solver::new(load_scene("cornell")?.scene, Settings::preview())?;
 /// solver.run();
-/// let solution = solver.solution(true);
+/// let solution = solver.solution_with_ambient();
 /// // The PNG's exposure, so the exported colours look as the image does.
 /// let image = solution.render(&solver.scene().camera_or_default(), &Default::default());
 /// let tone_map = ToneMap::new(auto_exposure(&image));

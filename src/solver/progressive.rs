@@ -303,7 +303,7 @@ impl Solver {
     /// shot, spread evenly, B_v + ρ_v · A_mb. For intermediate images.
     #[must_use]
     pub fn radiosity_with_ambient(&self) -> Vec<Rgb> {
-        self.solution(true).radiosity
+        self.solution_with_ambient().radiosity
     }
 
     /// Cohen's ambient irradiance: A_mb = Σ_p ΔB_p A_p / Σ A_p · 1/(1 − ρ̄),
@@ -329,20 +329,27 @@ impl Solver {
         self.unshot_power() / total_area * interreflection
     }
 
-    /// The solution so far, with the ambient term for unshot light added
-    /// (`with_ambient`) or not.
+    /// The solution from the light shot so far, without the ambient term.
     #[must_use]
-    pub fn solution(&self, with_ambient: bool) -> Solution<'_> {
-        let (radiosity, irradiance) = if with_ambient {
-            let ambient = self.ambient_irradiance();
-            let irradiance: Vec<Rgb> = self.irradiance.iter().map(|h| *h + ambient).collect();
-            let radiosity = (0..self.radiosity.len())
-                .map(|v| self.radiosity[v] + self.reflectance(v) * ambient)
-                .collect();
-            (radiosity, irradiance)
-        } else {
-            (self.radiosity.clone(), self.irradiance.clone())
-        };
+    pub fn solution(&self) -> Solution<'_> {
+        self.solution_from(self.radiosity.clone(), self.irradiance.clone())
+    }
+
+    /// The solution with the ambient term for the light not yet shot added,
+    /// spread evenly (Cohen et al. 1988, §4): B_v + ρ_v · A_mb and H_v + A_mb.
+    /// For intermediate images.
+    #[must_use]
+    pub fn solution_with_ambient(&self) -> Solution<'_> {
+        let ambient = self.ambient_irradiance();
+        let irradiance = self.irradiance.iter().map(|h| *h + ambient).collect();
+        let radiosity = (0..self.radiosity.len())
+            .map(|v| self.radiosity[v] + self.reflectance(v) * ambient)
+            .collect();
+        self.solution_from(radiosity, irradiance)
+    }
+
+    /// A [`Solution`] of this solver's scene and mesh with the given values.
+    fn solution_from(&self, radiosity: Vec<Rgb>, irradiance: Vec<Rgb>) -> Solution<'_> {
         Solution {
             scene: &self.scene,
             mesh: &self.mesh,

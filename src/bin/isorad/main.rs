@@ -311,7 +311,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     render_settings.supersampling = args.supersampling.clamp(1, 16);
     // Intermediate and final images add the ambient term for the light not yet shot.
     let write_images = |solver: &Solver| -> anyhow::Result<f64> {
-        let image = solver.solution(true).render(&camera, &render_settings);
+        let image = solver
+            .solution_with_ambient()
+            .render(&camera, &render_settings);
         write_exr(&image, &args.output)?;
         let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
         write_png(&image, &ToneMap { exposure }, &args.png)?;
@@ -327,7 +329,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     )?;
     let exposure = write_images(&solver)?;
     // Exports (final only, not at previews) take the PNG's exposure.
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     for path in &args.export {
         export_solution(&solution, &ToneMap { exposure }, path)?;
     }
@@ -365,7 +367,7 @@ fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
         None,
         no_previews,
     )?;
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     let mode = match args.mode {
         Mode::Gather => ProbeMode::Gather,
         Mode::Mesh => ProbeMode::Mesh,
