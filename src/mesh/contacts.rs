@@ -262,12 +262,7 @@ pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[u32]) 
                 return false;
             }
             let normal = scene.surfaces[element.surface as usize].normal();
-            let corners = element.corners();
-            let centroid = corners
-                .iter()
-                .map(|&v| mesh.vertices[v as usize].position)
-                .sum::<DVec3>()
-                / corners.len() as f64;
+            let centroid = element.corner_mean(|v| mesh.vertices[v as usize].position);
             let origin = centroid + normal * lift;
             let backs = hemisphere_directions(normal)
                 .iter()

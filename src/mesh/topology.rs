@@ -3,6 +3,8 @@
 
 use glam::DVec3;
 use std::collections::HashMap;
+use std::iter::Sum;
+use std::ops::Div;
 
 use super::constrained::CHAIN_DISTANCE;
 use super::patch::{Cell, Patch};
@@ -47,6 +49,18 @@ impl Element {
         } else {
             &self.vertices
         }
+    }
+
+    /// The mean of a per-vertex value over the element's corners,
+    /// (Σ value(v)) / n summed in corner order: element averages of vertex
+    /// radiosity, irradiance, form factors or positions.
+    #[must_use]
+    pub fn corner_mean<T>(&self, value: impl Fn(u32) -> T) -> T
+    where
+        T: Sum + Div<f64, Output = T>,
+    {
+        let corners = self.corners();
+        corners.iter().map(|&v| value(v)).sum::<T>() / corners.len() as f64
     }
 
     /// The element as triangles, counter-clockwise. A quad is split along

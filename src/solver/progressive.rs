@@ -242,12 +242,7 @@ impl Solver {
             }
         }
         for element in &self.mesh.elements {
-            let corners = element.corners();
-            let mean_factor = corners
-                .iter()
-                .map(|&v| form_factors[v as usize])
-                .sum::<f64>()
-                / corners.len() as f64;
+            let mean_factor = element.corner_mean(|v| form_factors[v as usize]);
             if mean_factor <= 0.0 {
                 continue;
             }
@@ -367,12 +362,7 @@ impl Solver {
             .elements
             .iter()
             .map(|element| {
-                let corners = element.corners();
-                let mean = corners
-                    .iter()
-                    .map(|&v| self.irradiance[v as usize])
-                    .sum::<Rgb>()
-                    / corners.len() as f64;
+                let mean = element.corner_mean(|v| self.irradiance[v as usize]);
                 let reflectance = self
                     .scene
                     .material_of(&self.scene.surfaces[element.surface as usize])
@@ -498,12 +488,7 @@ impl Solver {
     fn incident_power_per_patch(&self) -> Vec<Rgb> {
         let mut power = vec![Rgb::ZERO; self.mesh.patches.len()];
         for element in &self.mesh.elements {
-            let corners = element.corners();
-            let mean = corners
-                .iter()
-                .map(|&v| self.irradiance[v as usize])
-                .sum::<Rgb>()
-                / corners.len() as f64;
+            let mean = element.corner_mean(|v| self.irradiance[v as usize]);
             power[element.patch as usize] += mean * element.area;
         }
         power

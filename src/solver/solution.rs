@@ -80,10 +80,7 @@ impl Solution<'_> {
             self.scene.surfaces.len()
         ];
         for element in &self.mesh.elements {
-            let corners = element.corners();
-            let mean = |values: &[Rgb]| {
-                corners.iter().map(|&v| values[v as usize]).sum::<Rgb>() / corners.len() as f64
-            };
+            let mean = |values: &[Rgb]| element.corner_mean(|v| values[v as usize]);
             let total = &mut totals[element.surface as usize];
             total.area += element.area;
             total.mean_radiosity += mean(&self.radiosity) * element.area;
@@ -176,12 +173,7 @@ impl Solution<'_> {
             if visible <= 0.0 {
                 continue;
             }
-            let mean_radiosity = element
-                .corners()
-                .iter()
-                .map(|&v| self.radiosity[v as usize])
-                .sum::<Rgb>()
-                / corners.len() as f64;
+            let mean_radiosity = element.corner_mean(|v| self.radiosity[v as usize]);
             irradiance += mean_radiosity * factor * visible;
             let factor_gradient = polygon_form_factor_gradient(x, normal, &corners);
             let in_plane = factor_gradient - normal * factor_gradient.dot(normal);
