@@ -54,7 +54,7 @@ fn main() -> isorad::Result<()> {
     let floor = solution.surface_totals()[0];
     println!(
         "floor: mean radiosity {:.2} W/m² (ambient term added)",
-        floor.mean_radiosity.x
+        floor.mean_radiosity.r
     );
 
     // Resume for another quarter of a second, then stop on the time budget.

@@ -38,7 +38,7 @@
 //! let stop = solver.run_until(&Until::default().tolerance(1e-3), |_progress| {});
 //! assert_eq!(stop, StopReason::Converged);
 //! for radiosity in solver.radiosity() {
-//!     assert!((radiosity.x / (2.0 * std::f64::consts::PI) - 1.0).abs() < 0.01);
+//!     assert!((radiosity.r / (2.0 * std::f64::consts::PI) - 1.0).abs() < 0.01);
 //! }
 //! # Ok::<(), isorad::Error>(())
 //! ```

@@ -111,8 +111,8 @@ fn no_darkness_bleeds_out_from_under_a_block() {
                 .probe(&point, ProbeMode::Gather)
                 .unwrap()
                 .radiosity
-                .x;
-            let shown = solution.probe(&point, ProbeMode::Mesh).unwrap().radiosity.x;
+                .r;
+            let shown = solution.probe(&point, ProbeMode::Mesh).unwrap().radiosity.r;
             worst = worst.max((shown - exact).abs() / exact);
         }
     }

@@ -64,14 +64,14 @@ fn gather_matches_the_exact_disc_formula() {
             let probe = solution.probe(&at(x, 0.1), ProbeMode::Gather).unwrap();
             let r = (x * x + 0.01_f64).sqrt();
             let expected = PI * LIGHT_RADIANCE * coaxial_disc_form_factor(RADIUS, HEIGHT, r);
-            let error = (probe.irradiance.x - expected).abs() / expected;
+            let error = (probe.irradiance.r - expected).abs() / expected;
             assert!(
                 error < 0.005,
                 "x = {x}: irradiance {} vs {expected} ({error:e})",
-                probe.irradiance.x
+                probe.irradiance.r
             );
             let radiosity = FLOOR_REFLECTANCE * expected;
-            assert!((probe.radiosity.x - radiosity).abs() < 0.005 * radiosity);
+            assert!((probe.radiosity.r - radiosity).abs() < 0.005 * radiosity);
         }
     });
 }
@@ -86,7 +86,7 @@ fn gather_gradient_agrees_with_finite_differences() {
                 .probe(&at(x, y), ProbeMode::Gather)
                 .unwrap()
                 .radiosity
-                .x
+                .r
         };
         for (x, y) in [(0.4, 0.2), (1.3, -0.7), (2.5, 1.5), (-3.0, 0.5)] {
             let probe = solution.probe(&at(x, y), ProbeMode::Gather).unwrap();
@@ -116,7 +116,7 @@ fn a_shadowed_point_gets_no_direct_light() {
             assert_eq!(probe.irradiance, isorad::Rgb::ZERO, "{mode:?}");
         }
         let lit = solution.probe(&at(6.0, 0.0), ProbeMode::Gather).unwrap();
-        assert!(lit.irradiance.x > 0.0);
+        assert!(lit.irradiance.r > 0.0);
     });
 }
 
@@ -172,11 +172,11 @@ fn mesh_mode_interpolates_vertices_and_has_the_interpolant_gradient() {
                 ProbeMode::Mesh,
             )
             .unwrap();
-        let predicted = probe.radiosity.x + probe.gradient[0].dot(step);
+        let predicted = probe.radiosity.r + probe.gradient[0].dot(step);
         assert!(
-            (moved.radiosity.x - predicted).abs() < 1e-9 * probe.radiosity.x,
+            (moved.radiosity.r - predicted).abs() < 1e-9 * probe.radiosity.r,
             "{} vs {predicted}",
-            moved.radiosity.x
+            moved.radiosity.r
         );
     });
 }

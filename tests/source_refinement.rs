@@ -28,7 +28,7 @@ fn solve(scene: &Scene, max_edge: f64) -> (Mesh, Vec<f64>) {
     solver_settings.tolerance = 1e-4;
     let mut solver = Solver::with_mesh(scene.clone(), mesh, solver_settings).unwrap();
     solver.run();
-    let radiosity = solver.radiosity().iter().map(|b| b.x).collect();
+    let radiosity = solver.radiosity().iter().map(|b| b.r).collect();
     (solver.mesh().clone(), radiosity)
 }
 

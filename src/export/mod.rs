@@ -36,6 +36,7 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::render::ToneMap;
+use crate::scene::Rgb;
 use crate::solver::Solution;
 
 pub use gltf::export_glb;
@@ -150,7 +151,7 @@ impl BakedMesh {
         }
         let to_f32 = |v: glam::DVec3| v.as_vec3().to_array();
         let scale = tone_map.exposure.exp2();
-        let radiance: Vec<glam::DVec3> = radiosity
+        let radiance: Vec<Rgb> = radiosity
             .iter()
             .map(|b| *b / std::f64::consts::PI)
             .collect();
@@ -163,13 +164,13 @@ impl BakedMesh {
                 .collect(),
             display: radiance
                 .iter()
-                .map(|l| to_f32((*l * scale).clamp(glam::DVec3::ZERO, glam::DVec3::ONE)))
+                .map(|l| (*l * scale).clamp(Rgb::ZERO, Rgb::ONE).to_f32_array())
                 .collect(),
             srgb: radiance
                 .iter()
                 .map(|l| l.to_array().map(|c| tone_map.map_channel(c)))
                 .collect(),
-            radiance: radiance.into_iter().map(to_f32).collect(),
+            radiance: radiance.into_iter().map(Rgb::to_f32_array).collect(),
             triangles,
         })
     }

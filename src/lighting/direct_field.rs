@@ -31,19 +31,13 @@ use super::luminaire::Luminaire;
 use super::sample_stream::SampleStream;
 use super::stratified::stratified_points;
 use crate::radiometry::{DiscModel, ReceiverPlane, SmallDisc, polygon_form_factor_with_gradient};
-use crate::scene::{PlaneFrame, Rgb, Scene, Visibility};
+use crate::scene::{PlaneFrame, Scene, Visibility};
 
 /// Most iterations of the ascent in [`DirectField::maximum`].
 const MAX_ASCENT_STEPS: usize = 100;
 
 /// Most step halvings per ascent step.
 const MAX_HALVINGS: usize = 60;
-
-/// Rec. 709 luminance Y of a linear RGB triple.
-#[must_use]
-fn luminance(rgb: Rgb) -> f64 {
-    0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z
-}
 
 /// One luminaire's direct radiosity on one receiver's plane, in the
 /// receiver's plane coordinates ([`crate::scene::Surface::frame`]).
@@ -105,7 +99,7 @@ impl DirectField {
             .iter()
             .any(|&v| luminaire_frame.height(v) > tolerance);
         let material = scene.materials.get(surface.material)?;
-        let scale = luminance(material.reflectance * luminaire.exitance);
+        let scale = (material.reflectance * luminaire.exitance).luminance();
         if !(lights_plane && faces_receiver && scale.is_finite() && length > 0.0) {
             return None;
         }

@@ -6,6 +6,7 @@ mod load;
 mod material;
 pub(crate) mod plane_polygon;
 pub(crate) mod polygon;
+mod rgb;
 pub(crate) mod surface;
 pub(crate) mod triangulate;
 mod visibility;
@@ -15,9 +16,10 @@ pub use load::{
     LoadSettings, LoadedScene, MergeReport, ProbePoint, builtin_names, load_obj, load_probe_points,
     load_scene, load_scene_file, load_scene_with, merge_coplanar_faces, parse_probe_points,
 };
-pub use material::{Material, Rgb};
+pub use material::Material;
 pub(crate) use plane_polygon::{distance_to_boundary, distance_to_segment, polygon_contains};
 pub use polygon::PolygonPlane;
+pub use rgb::Rgb;
 pub use surface::{PlaneFrame, Surface};
 pub(crate) use triangulate::triangulate_polygon;
 pub use visibility::Visibility;

@@ -177,9 +177,10 @@ impl Solution<'_> {
             irradiance += mean_radiosity * factor * visible;
             let factor_gradient = polygon_form_factor_gradient(x, normal, &corners);
             let in_plane = factor_gradient - normal * factor_gradient.dot(normal);
+            let (radiosity, reflectance) =
+                (mean_radiosity.to_array(), material.reflectance.to_array());
             for (channel, g) in gradient.iter_mut().enumerate() {
-                *g +=
-                    in_plane * (mean_radiosity[channel] * visible * material.reflectance[channel]);
+                *g += in_plane * (radiosity[channel] * visible * reflectance[channel]);
             }
         }
         Probe {
@@ -294,7 +295,7 @@ impl Solution<'_> {
         let gradients = barycentric_gradients(a, b, c, normal);
         let gradient = [0, 1, 2].map(|channel| {
             (0..3)
-                .map(|k| gradients[k] * self.radiosity[triangle[k] as usize][channel])
+                .map(|k| gradients[k] * self.radiosity[triangle[k] as usize].to_array()[channel])
                 .sum()
         });
         Probe {

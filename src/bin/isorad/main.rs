@@ -392,7 +392,7 @@ fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
         let (h, b) = (probe.irradiance, probe.radiosity);
         let mut row = format!(
             "{},{},{},{},{},{},{},{},{}",
-            p.x, p.y, p.z, h.x, h.y, h.z, b.x, b.y, b.z
+            p.x, p.y, p.z, h.r, h.g, h.b, b.r, b.g, b.b
         );
         if args.gradient {
             for g in probe.gradient {
@@ -459,7 +459,7 @@ fn luminaire_rows(lights: &[Luminaire]) -> Vec<Vec<String>> {
                 surfaces.join(","),
                 significant(light.area),
                 significant(light.radius),
-                format!("{:.3} {:.3} {:.3}", e.x, e.y, e.z),
+                format!("{:.3} {:.3} {:.3}", e.r, e.g, e.b),
             ]
         })
         .collect()
