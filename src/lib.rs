@@ -121,7 +121,7 @@ pub mod view;
 pub use error::{Error, Result};
 pub use export::export_solution;
 pub use render::{Image, RenderSettings, ToneMap, write_exr, write_png};
-pub use scene::{Camera, LoadedScene, Material, Rgb, Scene, load_scene};
+pub use scene::{Camera, LoadedScene, Material, Rgb, Scene, SurfaceId, load_scene};
 pub use solver::{
     Length, MeshKind, MeshSettings, Probe, ProbeMode, Progress, Settings, Solution, Solver,
     SolverSettings, StopReason, Until,

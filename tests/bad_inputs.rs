@@ -312,11 +312,7 @@ fn a_concave_face_is_meshed_inside_its_outline() {
         isorad::mesh::mesh_square(&scene, &isorad::mesh::SquareMeshSettings::for_scene(&scene));
     let areas: Vec<f64> = scene.surfaces.iter().map(|s| s.area()).collect();
     mesh.validate(&areas).unwrap();
-    let index = scene
-        .surfaces
-        .iter()
-        .position(|s| s.name == "floor")
-        .unwrap() as u32;
+    let index = scene.surface_named("floor").unwrap();
     let outline = floor.plane_vertices();
     let mut covered = 0.0;
     for element in mesh.elements.iter().filter(|e| e.surface == index) {

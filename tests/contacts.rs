@@ -5,7 +5,7 @@ mod support;
 
 use glam::DVec3;
 use isorad::{
-    ProbeMode, Scene, Solver, SolverSettings,
+    ProbeMode, Scene, Solver, SolverSettings, SurfaceId,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
     scene::ProbePoint,
 };
@@ -56,7 +56,7 @@ fn the_floor_under_a_block_is_cut_out_along_the_contact_lines() {
     let floor: f64 = mesh
         .elements
         .iter()
-        .filter(|e| e.surface == 0)
+        .filter(|e| e.surface == SurfaceId::new(0))
         .map(|e| e.area)
         .sum();
     assert!(
@@ -65,7 +65,11 @@ fn the_floor_under_a_block_is_cut_out_along_the_contact_lines() {
     );
     // No floor vertex strictly inside the block's footprint (|rotated x|, |y| < 0.5).
     let turn = -20f64.to_radians();
-    for v in mesh.vertices.iter().filter(|v| v.surface == 0) {
+    for v in mesh
+        .vertices
+        .iter()
+        .filter(|v| v.surface == SurfaceId::new(0))
+    {
         let p = v.position;
         let (x, y) = (
             p.x * turn.cos() - p.y * turn.sin(),
@@ -80,7 +84,7 @@ fn the_floor_under_a_block_is_cut_out_along_the_contact_lines() {
     assert!(
         mesh.elements
             .iter()
-            .filter(|e| e.surface != 0)
+            .filter(|e| e.surface != SurfaceId::new(0))
             .all(|e| !e.is_triangle)
     );
 }

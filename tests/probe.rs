@@ -4,7 +4,7 @@ mod support;
 
 use glam::DVec3;
 use isorad::{
-    ProbeMode, Scene, Solver, SolverSettings,
+    ProbeMode, Scene, Solver, SolverSettings, SurfaceId,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
     scene::ProbePoint,
 };
@@ -131,7 +131,9 @@ fn mesh_mode_interpolates_vertices_and_has_the_interpolant_gradient() {
             .vertices
             .iter()
             .enumerate()
-            .find(|(_, v)| v.surface == 0 && v.position.x > 1.0 && v.position.y > 1.0)
+            .find(|(_, v)| {
+                v.surface == SurfaceId::new(0) && v.position.x > 1.0 && v.position.y > 1.0
+            })
             .unwrap();
         let probe = solution
             .probe(

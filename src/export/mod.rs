@@ -160,7 +160,7 @@ impl BakedMesh {
             normals: mesh
                 .vertices
                 .iter()
-                .map(|v| to_f32(scene.surfaces[v.surface as usize].normal()))
+                .map(|v| to_f32(scene.surface(v.surface).normal()))
                 .collect(),
             display: radiance
                 .iter()

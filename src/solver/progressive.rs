@@ -9,7 +9,7 @@ use super::settings::{Settings, SolverSettings};
 use super::shooter::{Receiver, Shooter};
 use super::solution::Solution;
 use crate::mesh::{ElementHierarchy, Mesh};
-use crate::scene::{Rgb, Scene, Visibility};
+use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 
 /// Where the emitted power has gone so far, per RGB channel, in watts (or
 /// the scene's length unit squared times W/m²).
@@ -115,16 +115,12 @@ impl Solver {
         analysis: MeshAnalysis,
         settings: SolverSettings,
     ) -> Self {
-        let emitted = |surface: usize| {
+        let emitted = |surface: SurfaceId| {
             scene
-                .material_of(&scene.surfaces[surface])
+                .material_of(scene.surface(surface))
                 .emitted_radiosity()
         };
-        let radiosity: Vec<Rgb> = mesh
-            .vertices
-            .iter()
-            .map(|v| emitted(v.surface as usize))
-            .collect();
+        let radiosity: Vec<Rgb> = mesh.vertices.iter().map(|v| emitted(v.surface)).collect();
         let unshot: Vec<Rgb> = mesh.patches.iter().map(|p| emitted(p.surface)).collect();
         let powers = mesh.patches.iter().zip(&unshot).map(|(p, b)| *b * p.area);
         let emitted_power = powers.clone().sum::<Rgb>();
@@ -174,7 +170,7 @@ impl Solver {
         self.shots += 1;
         // Shadow edges and highlights come from direct light: elements split
         // after the emitters' shots, and new vertices gather only those.
-        let surface = &self.scene.surfaces[self.mesh.patches[j].surface];
+        let surface = self.scene.surface(self.mesh.patches[j].surface);
         if self.scene.material_of(surface).is_emitter() {
             self.refine();
         }
@@ -196,12 +192,12 @@ impl Solver {
             .par_iter()
             .enumerate()
             .map(|(index, vertex)| {
-                if vertex.surface as usize == patch.surface {
+                if vertex.surface == patch.surface {
                     return Default::default();
                 }
                 let receiver = Receiver {
                     position: vertex.receiver_position,
-                    normal: scene.surfaces[vertex.surface as usize].normal(),
+                    normal: scene.surface(vertex.surface).normal(),
                     surface: vertex.surface,
                     key: index as u64,
                 };
@@ -216,7 +212,7 @@ impl Solver {
     /// from the shot's share of the strongest emitter's power.
     fn shooter(&self, j: usize, power: f64) -> Shooter {
         let patch = &self.mesh.patches[j];
-        let surface = &self.scene.surfaces[patch.surface];
+        let surface = self.scene.surface(patch.surface);
         let share = (power / self.reference_power.max(f64::MIN_POSITIVE)).min(1.0);
         let max_side = (self.settings.max_samples as f64).sqrt().floor().max(1.0) as usize;
         let min_side = ((self.settings.direct_samples as f64 * share).sqrt().round() as usize)
@@ -224,7 +220,7 @@ impl Solver {
         Shooter::new(
             patch.cell,
             surface.normal(),
-            patch.surface as u32,
+            patch.surface,
             min_side,
             max_side,
         )
@@ -251,14 +247,14 @@ impl Solver {
             let patch = element.patch as usize;
             let reflectance = self
                 .scene
-                .material_of(&self.scene.surfaces[element.surface as usize])
+                .material_of(self.scene.surface(element.surface))
                 .reflectance;
             self.unshot[patch] += reflectance * incident_power / self.mesh.patches[patch].area;
         }
     }
 
     fn reflectance(&self, vertex: usize) -> Rgb {
-        let surface = &self.scene.surfaces[self.mesh.vertices[vertex].surface as usize];
+        let surface = self.scene.surface(self.mesh.vertices[vertex].surface);
         self.scene.material_of(surface).reflectance
     }
 
@@ -314,7 +310,7 @@ impl Solver {
             .iter()
             .map(|p| {
                 self.scene
-                    .material_of(&self.scene.surfaces[p.surface])
+                    .material_of(self.scene.surface(p.surface))
                     .reflectance
                     * p.area
             })
@@ -365,7 +361,7 @@ impl Solver {
                 let mean = element.corner_mean(|v| self.irradiance[v as usize]);
                 let reflectance = self
                     .scene
-                    .material_of(&self.scene.surfaces[element.surface as usize])
+                    .material_of(self.scene.surface(element.surface))
                     .reflectance;
                 (Rgb::ONE - reflectance) * mean * element.area
             })
@@ -460,7 +456,7 @@ impl Solver {
             let gathered = self.gather_shot_light(&added);
             for (&v, irradiance) in added.iter().zip(gathered) {
                 debug_assert_eq!(v as usize, self.radiosity.len());
-                let surface = &self.scene.surfaces[self.mesh.vertices[v as usize].surface as usize];
+                let surface = self.scene.surface(self.mesh.vertices[v as usize].surface);
                 let material = self.scene.material_of(surface);
                 self.irradiance.push(irradiance);
                 self.radiosity
@@ -473,7 +469,7 @@ impl Solver {
                 if patch.area > 0.0 {
                     let reflectance = self
                         .scene
-                        .material_of(&self.scene.surfaces[patch.surface])
+                        .material_of(self.scene.surface(patch.surface))
                         .reflectance;
                     self.unshot[p] += reflectance * change / patch.area;
                     self.received_power += change;
@@ -520,7 +516,7 @@ impl Solver {
                 let vertex = &mesh.vertices[v as usize];
                 let receiver = Receiver {
                     position: vertex.receiver_position,
-                    normal: scene.surfaces[vertex.surface as usize].normal(),
+                    normal: scene.surface(vertex.surface).normal(),
                     surface: vertex.surface,
                     key: u64::from(v),
                 };

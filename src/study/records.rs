@@ -6,6 +6,7 @@ use std::path::Path;
 use super::plot::Series;
 use crate::error::{Error, Result};
 use crate::mesh::{ErrorGrid, PlaneTriangulation};
+use crate::scene::SurfaceId;
 
 /// One mesh of one receiver, measured.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -46,8 +47,8 @@ pub struct ComparedMesh {
 pub struct ReceiverComparison {
     /// The receiver's name.
     pub receiver: String,
-    /// Its index in the scene.
-    pub surface: usize,
+    /// Its id in the scene.
+    pub surface: SurfaceId,
     /// Its polygon, in plane coordinates.
     pub outline: Vec<DVec2>,
     /// One record per mesh.

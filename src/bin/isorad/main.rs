@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 
 use isorad::{
     Length, MeshKind, MeshSettings, ProbeMode, Progress, RenderSettings, Scene, Settings, Solver,
-    StopReason, ToneMap, Until,
+    StopReason, SurfaceId, ToneMap, Until,
     export::ExportFormat,
     export_solution,
     lighting::{DominanceSettings, Luminaire, ReceiverAnalysis, analyse_receivers, luminaires},
@@ -452,7 +452,7 @@ fn luminaire_rows(lights: &[Luminaire]) -> Vec<Vec<String>> {
         .iter()
         .enumerate()
         .map(|(index, light)| {
-            let surfaces: Vec<String> = light.surfaces.iter().map(usize::to_string).collect();
+            let surfaces: Vec<String> = light.surfaces.iter().map(SurfaceId::to_string).collect();
             let e = light.exitance;
             vec![
                 index.to_string(),
@@ -471,7 +471,7 @@ fn receiver_rows(scene: &Scene, analyses: &[ReceiverAnalysis]) -> Vec<Vec<String
     analyses
         .iter()
         .map(|analysis| {
-            let surface = &scene.surfaces[analysis.receiver];
+            let surface = scene.surface(analysis.receiver);
             let ratio = if analysis.size_ratio.is_finite() {
                 format!("{:.3}", analysis.size_ratio)
             } else {
@@ -688,9 +688,9 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     let lamps = luminaires(scene);
     let analyses = analyse_receivers(scene, &visibility, &lamps, &DominanceSettings::default());
     // The receivers to compare, each with the luminaire to mesh for.
-    let mut chosen: Vec<(usize, usize)> = Vec::new();
+    let mut chosen: Vec<(SurfaceId, usize)> = Vec::new();
     for analysis in &analyses {
-        let name = &scene.surfaces[analysis.receiver].name;
+        let name = &scene.surface(analysis.receiver).name;
         let wanted = match &args.receiver {
             Some(only) => only == name,
             None => analysis.qualifies,
