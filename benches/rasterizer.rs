@@ -12,7 +12,7 @@ fn rasterizer(c: &mut Criterion) {
     settings.solver.tolerance = 0.05;
     let mut solver = Solver::new(scene, settings).expect("valid settings");
     solver.run();
-    let triangles = solver.solution(true).triangles();
+    let triangles = solver.solution_with_ambient().triangles();
     (camera.width, camera.height) = (512, 512);
 
     let mut group = c.benchmark_group("rasterize_cornell_512");

@@ -26,16 +26,12 @@ fn floor_panel(title: &str, kind: MeshKind, fraction: f64) -> MeshPanel {
     let mut solver = Solver::new(scene, settings).expect("valid settings");
     solver.run();
     let (scene, mesh) = (solver.scene(), solver.mesh());
-    let floor = scene
-        .surfaces
-        .iter()
-        .position(|s| s.name == "floor")
-        .expect("a floor");
-    let frame = scene.surfaces[floor].frame();
+    let floor = scene.surface_named("floor").expect("a floor");
+    let frame = scene.surface(floor).frame();
     let mut index = vec![usize::MAX; mesh.vertices.len()];
     let (mut points, mut values, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
     let mut split = Vec::new();
-    for element in mesh.elements.iter().filter(|e| e.surface as usize == floor) {
+    for element in mesh.elements.iter().filter(|e| e.surface == floor) {
         mesh.element_triangles(element, |_, _| 0.0, &mut split);
         for triangle in &split {
             triangles.push(triangle.map(|v| {
@@ -49,7 +45,7 @@ fn floor_panel(title: &str, kind: MeshKind, fraction: f64) -> MeshPanel {
             }));
         }
     }
-    let outline: Vec<DVec2> = scene.surfaces[floor].plane_vertices();
+    let outline: Vec<DVec2> = scene.surface(floor).plane_vertices();
     MeshPanel {
         title: title.into(),
         points,

@@ -674,7 +674,7 @@ fn meshing_section(md: &mut String, out_dir: &Path) -> Report {
     let analyses = analyse_receivers(&scene, &visibility, &lamps, &Default::default());
     let (receiver, lamp) = analyses
         .iter()
-        .find(|a| scene.surfaces[a.receiver].name == "floor")
+        .find(|a| scene.surface(a.receiver).name == "floor")
         .and_then(|a| a.dominant.map(|l| (a.receiver, l)))
         .ok_or("the seed scene's floor is not lit by a luminaire")?;
     let settings = CompareSettings::default();

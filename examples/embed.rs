@@ -39,7 +39,7 @@ fn main() -> isorad::Result<()> {
 
     // Irradiance under the light's centre, by a final gather, against the
     // exact unoccluded value: E_light × F for a square seen from its axis.
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     let centre = ProbePoint {
         position: DVec3::ZERO,
         normal: None,
@@ -51,9 +51,9 @@ fn main() -> isorad::Result<()> {
         * isorad::radiometry::polygon_form_factor(DVec3::ZERO, DVec3::Y, &light);
     println!(
         "irradiance under the light: {:.3} W/m² (exact {exact:.3}), radiosity {:.3} W/m²",
-        probe.irradiance.x, probe.radiosity.x
+        probe.irradiance.r, probe.radiosity.r
     );
-    assert!((probe.irradiance.x / exact - 1.0).abs() < 0.01);
+    assert!((probe.irradiance.r / exact - 1.0).abs() < 0.01);
 
     // Per-surface totals, and the image in memory.
     for (surface, totals) in solver
@@ -64,7 +64,7 @@ fn main() -> isorad::Result<()> {
     {
         println!(
             "{:>6}: area {:.2} m², mean radiosity {:.3} W/m², received {:.3} W",
-            surface.name, totals.area, totals.mean_radiosity.x, totals.received_power.x
+            surface.name, totals.area, totals.mean_radiosity.r, totals.received_power.r
         );
     }
     let image = solution.render(&camera, &RenderSettings::default());
@@ -73,7 +73,7 @@ fn main() -> isorad::Result<()> {
         "rendered {}×{} pixels in memory, mean radiance {:.4} W/(m²·sr); write it with isorad::write_exr or write_png",
         image.width(),
         image.height(),
-        mean.x
+        mean.r
     );
     Ok(())
 }

@@ -50,11 +50,11 @@ fn main() -> isorad::Result<()> {
     assert!(imbalance < 1e-9);
 
     // The solution so far, with the ambient term for the light not yet shot.
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     let floor = solution.surface_totals()[0];
     println!(
         "floor: mean radiosity {:.2} W/m² (ambient term added)",
-        floor.mean_radiosity.x
+        floor.mean_radiosity.r
     );
 
     // Resume for another quarter of a second, then stop on the time budget.

@@ -38,7 +38,7 @@
 //! let stop = solver.run_until(&Until::default().tolerance(1e-3), |_progress| {});
 //! assert_eq!(stop, StopReason::Converged);
 //! for radiosity in solver.radiosity() {
-//!     assert!((radiosity.x / (2.0 * std::f64::consts::PI) - 1.0).abs() < 0.01);
+//!     assert!((radiosity.r / (2.0 * std::f64::consts::PI) - 1.0).abs() < 0.01);
 //! }
 //! # Ok::<(), isorad::Error>(())
 //! ```
@@ -71,8 +71,8 @@
 //!    or an `AtomicBool` set from another thread — calling back with
 //!    [`Progress`] after each shot, and says why it stopped ([`StopReason`]).
 //!    It stops only between shots, so the solution is always consistent.
-//! 4. **Query.** [`Solver::solution`] (with or without the ambient term for
-//!    the light not yet shot) gives a [`Solution`]: values at any point of a
+//! 4. **Query.** [`Solver::solution`] (or [`Solver::solution_with_ambient`],
+//!    with the ambient term for the light not yet shot) gives a [`Solution`]: values at any point of a
 //!    surface ([`Solution::probe`], by final gather or mesh interpolation),
 //!    per-surface totals ([`Solution::surface_totals`]), and the shaded
 //!    triangles for a viewer of your own ([`Solution::triangles`]).
@@ -121,7 +121,7 @@ pub mod view;
 pub use error::{Error, Result};
 pub use export::export_solution;
 pub use render::{Image, RenderSettings, ToneMap, write_exr, write_png};
-pub use scene::{Camera, LoadedScene, Material, Rgb, Scene, load_scene};
+pub use scene::{Camera, LoadedScene, Material, Rgb, Scene, SurfaceId, load_scene};
 pub use solver::{
     Length, MeshKind, MeshSettings, Probe, ProbeMode, Progress, Settings, Solution, Solver,
     SolverSettings, StopReason, Until,

@@ -6,7 +6,7 @@ mod support;
 
 use glam::DVec3;
 use isorad::{
-    Camera, RenderSettings, Rgb,
+    Camera, RenderSettings, Rgb, SurfaceId,
     mesh::{ElementHierarchy, Mesh, SquareMeshSettings, mesh_square},
     render::{ShadedTriangle, rasterize},
 };
@@ -130,7 +130,7 @@ fn a_refined_plane_renders_without_cracks() {
     let (mesh, _) = refine_randomly(&scene, 5, 11);
     let triangles: Vec<ShadedTriangle> = rendered_triangles(&mesh)
         .iter()
-        .filter(|t| mesh.vertices[t[0] as usize].surface == 0)
+        .filter(|t| mesh.vertices[t[0] as usize].surface == SurfaceId::new(0))
         .map(|t| ShadedTriangle {
             positions: t.map(|v| mesh.vertices[v as usize].position),
             radiance: [Rgb::ONE; 3],

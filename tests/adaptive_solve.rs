@@ -65,7 +65,7 @@ fn probe_points(scene: &Scene, names: &[&str], n: usize) -> Vec<ProbePoint> {
 /// The radiosity (sum of channels) at each point: the rendered mesh's, or
 /// a final gather's.
 fn radiosities(solver: &Solver, points: &[ProbePoint], mode: ProbeMode) -> Vec<f64> {
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     points
         .par_iter()
         .map(|p| {

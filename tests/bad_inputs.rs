@@ -9,7 +9,6 @@ use std::process::{Command, Stdio};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-use glam::DVec3;
 use serde::Deserialize;
 
 /// Longest a case may run before it counts as a hang (the machine may be
@@ -313,20 +312,11 @@ fn a_concave_face_is_meshed_inside_its_outline() {
         isorad::mesh::mesh_square(&scene, &isorad::mesh::SquareMeshSettings::for_scene(&scene));
     let areas: Vec<f64> = scene.surfaces.iter().map(|s| s.area()).collect();
     mesh.validate(&areas).unwrap();
-    let index = scene
-        .surfaces
-        .iter()
-        .position(|s| s.name == "floor")
-        .unwrap() as u32;
+    let index = scene.surface_named("floor").unwrap();
     let outline = floor.plane_vertices();
     let mut covered = 0.0;
     for element in mesh.elements.iter().filter(|e| e.surface == index) {
-        let centroid = element
-            .corners()
-            .iter()
-            .map(|&v| mesh.vertices[v as usize].position)
-            .sum::<DVec3>()
-            / element.corners().len() as f64;
+        let centroid = element.corner_mean(|v| mesh.vertices[v as usize].position);
         let p = floor.frame().to_plane(centroid);
         assert!(
             isorad::internals::polygon_contains(&outline, p),

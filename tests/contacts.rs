@@ -5,7 +5,7 @@ mod support;
 
 use glam::DVec3;
 use isorad::{
-    ProbeMode, Scene, Solver, SolverSettings,
+    ProbeMode, Scene, Solver, SolverSettings, SurfaceId,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
     scene::ProbePoint,
 };
@@ -56,7 +56,7 @@ fn the_floor_under_a_block_is_cut_out_along_the_contact_lines() {
     let floor: f64 = mesh
         .elements
         .iter()
-        .filter(|e| e.surface == 0)
+        .filter(|e| e.surface == SurfaceId::new(0))
         .map(|e| e.area)
         .sum();
     assert!(
@@ -65,7 +65,11 @@ fn the_floor_under_a_block_is_cut_out_along_the_contact_lines() {
     );
     // No floor vertex strictly inside the block's footprint (|rotated x|, |y| < 0.5).
     let turn = -20f64.to_radians();
-    for v in mesh.vertices.iter().filter(|v| v.surface == 0) {
+    for v in mesh
+        .vertices
+        .iter()
+        .filter(|v| v.surface == SurfaceId::new(0))
+    {
         let p = v.position;
         let (x, y) = (
             p.x * turn.cos() - p.y * turn.sin(),
@@ -80,7 +84,7 @@ fn the_floor_under_a_block_is_cut_out_along_the_contact_lines() {
     assert!(
         mesh.elements
             .iter()
-            .filter(|e| e.surface != 0)
+            .filter(|e| e.surface != SurfaceId::new(0))
             .all(|e| !e.is_triangle)
     );
 }
@@ -93,7 +97,7 @@ fn no_darkness_bleeds_out_from_under_a_block() {
     settings.tolerance = 1e-3;
     let mut solver = Solver::with_mesh(scene, mesh, settings).unwrap();
     solver.run();
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     // Just outside each side of the block, the rendered mesh agrees with an
     // exact gather: the dark floor under the block no longer exists.
     let mut worst: f64 = 0.0;
@@ -111,8 +115,8 @@ fn no_darkness_bleeds_out_from_under_a_block() {
                 .probe(&point, ProbeMode::Gather)
                 .unwrap()
                 .radiosity
-                .x;
-            let shown = solution.probe(&point, ProbeMode::Mesh).unwrap().radiosity.x;
+                .r;
+            let shown = solution.probe(&point, ProbeMode::Mesh).unwrap().radiosity.r;
             worst = worst.max((shown - exact).abs() / exact);
         }
     }

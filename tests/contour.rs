@@ -3,6 +3,7 @@
 
 use glam::{DVec2, DVec3};
 use isorad::{
+    SurfaceId,
     mesh::{ContourSettings, PlaneTriangulation, contour_layout, interpolation_error},
     radiometry::{DiscModel, ReceiverPlane, SmallDisc, polygon_form_factor_with_gradient},
 };
@@ -276,12 +277,15 @@ fn shadow_boundaries_get_vertices_on_the_shadow_line() {
     let visibility = Visibility::new(&scene);
     let lamps = luminaires(&scene);
     let analyses = analyse_receivers(&scene, &visibility, &lamps, &DominanceSettings::default());
-    let floor = analyses.iter().find(|a| a.receiver == 0).unwrap();
+    let floor = analyses
+        .iter()
+        .find(|a| a.receiver == SurfaceId::new(0))
+        .unwrap();
     assert!(floor.qualifies, "{floor:?}");
     let layout = receiver_layout(
         &scene,
         &visibility,
-        0,
+        SurfaceId::new(0),
         &lamps[floor.dominant.unwrap()],
         &ContourSettings::default(),
     )
@@ -319,7 +323,7 @@ fn a_contour_meshed_scene_solves_with_its_energy_balanced() {
     let meshed = mesh_scene(&scene, &visibility, &settings);
     assert_eq!(
         meshed.analysis.contour_surfaces,
-        vec![0],
+        vec![SurfaceId::new(0)],
         "the floor gets the contour mesher"
     );
     let areas: Vec<f64> = scene.surfaces.iter().map(|s| s.area()).collect();

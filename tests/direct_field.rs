@@ -8,7 +8,7 @@ mod support;
 
 use glam::{DVec2, DVec3};
 use isorad::{
-    Scene,
+    Scene, SurfaceId,
     lighting::{DirectField, Luminaire, luminaires},
     radiometry::tilt_line_maximum,
 };
@@ -35,7 +35,8 @@ fn field(receiver: Vec<DVec3>, lamp: Vec<DVec3>) -> (Scene, Luminaire, DirectFie
     b.polygon("lamp", light, lamp);
     let scene = b.scene;
     let luminaire = luminaires(&scene).remove(0);
-    let field = DirectField::new(&scene, 0, &luminaire).expect("the lamp lights the receiver");
+    let field = DirectField::new(&scene, SurfaceId::new(0), &luminaire)
+        .expect("the lamp lights the receiver");
     (scene, luminaire, field)
 }
 
@@ -256,27 +257,27 @@ fn lamps_that_cannot_light_the_receiver_give_no_field() {
     let scene = b.scene;
     let lamps = luminaires(&scene);
     assert_eq!(lamps.len(), 3);
-    assert!(DirectField::new(&scene, 0, &lamps[0]).is_none());
-    assert!(DirectField::new(&scene, 0, &lamps[1]).is_none());
+    assert!(DirectField::new(&scene, SurfaceId::new(0), &lamps[0]).is_none());
+    assert!(DirectField::new(&scene, SurfaceId::new(0), &lamps[1]).is_none());
     assert!(
-        DirectField::new(&scene, 7, &lamps[2]).is_none(),
+        DirectField::new(&scene, SurfaceId::new(7), &lamps[2]).is_none(),
         "no such receiver"
     );
     assert!(
-        DirectField::new(&scene, 3, &lamps[2]).is_none(),
+        DirectField::new(&scene, SurfaceId::new(3), &lamps[2]).is_none(),
         "the lamp itself"
     );
-    let field = DirectField::new(&scene, 0, &lamps[2]).unwrap();
+    let field = DirectField::new(&scene, SurfaceId::new(0), &lamps[2]).unwrap();
     // Non-finite points: zero, never NaN.
     for p in [DVec2::NAN, DVec2::new(f64::INFINITY, 0.0)] {
         assert_eq!(field.value_and_gradient(p), (0.0, DVec2::ZERO));
     }
     // A luminaire with nothing in it, or a surface index out of range.
     let mut broken = lamps[2].clone();
-    broken.surfaces = vec![99];
-    assert!(DirectField::new(&scene, 0, &broken).is_none());
+    broken.surfaces = vec![SurfaceId::new(99)];
+    assert!(DirectField::new(&scene, SurfaceId::new(0), &broken).is_none());
     broken.surfaces.clear();
-    assert!(DirectField::new(&scene, 0, &broken).is_none());
+    assert!(DirectField::new(&scene, SurfaceId::new(0), &broken).is_none());
 }
 
 #[test]
@@ -287,7 +288,7 @@ fn black_receiver_has_a_zero_field_but_a_peak() {
     b.polygon("floor", black, square_z(-1.0, 1.0, 0.0, true));
     b.polygon("lamp", light, square_z(-0.1, 0.1, 1.0, false));
     let scene = b.scene;
-    let field = DirectField::new(&scene, 0, &luminaires(&scene)[0]).unwrap();
+    let field = DirectField::new(&scene, SurfaceId::new(0), &luminaires(&scene)[0]).unwrap();
     assert_eq!(field.value(DVec2::ZERO), 0.0);
     let peak = field.frame().to_world(field.maximum().unwrap());
     assert!(peak.length() < 1e-9, "{peak}");

@@ -37,7 +37,7 @@ fn display_colour(radiosity: isorad::Rgb, tone_map: &ToneMap) -> [f32; 3] {
 #[test]
 fn glb_parses_back_with_the_solutions_vertices_and_colours() {
     let solver = solved_cornell();
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cornell.glb");
     export_glb(&solution, &tone_map(), &path).unwrap();
@@ -183,7 +183,7 @@ fn read_ply(bytes: &[u8]) -> Ply {
 #[test]
 fn ply_round_trips_positions_radiance_colours_and_faces() {
     let solver = solved_cornell();
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cornell.ply");
     let tone_map = tone_map();
@@ -205,7 +205,7 @@ fn ply_round_trips_positions_radiance_colours_and_faces() {
             vertex.position.as_vec3()
         );
         let radiance = solution.radiosity[k] / std::f64::consts::PI;
-        let expected = radiance.as_vec3();
+        let expected = glam::Vec3::from_array(radiance.to_f32_array());
         assert!(
             (glam::Vec3::from(ply.radiance[k]) - expected).length() <= 1e-6 * expected.length()
         );
@@ -226,8 +226,8 @@ fn ply_round_trips_positions_radiance_colours_and_faces() {
 #[test]
 fn non_finite_radiosity_is_refused_and_nothing_is_written() {
     let solver = solved_cornell();
-    let mut solution = solver.solution(true);
-    solution.radiosity[7].y = f64::NAN;
+    let mut solution = solver.solution_with_ambient();
+    solution.radiosity[7].g = f64::NAN;
     let dir = tempfile::tempdir().unwrap();
     for name in ["bad.glb", "bad.ply"] {
         let path = dir.path().join(name);
@@ -246,7 +246,7 @@ fn non_finite_radiosity_is_refused_and_nothing_is_written() {
 #[test]
 fn unknown_extension_is_refused() {
     let solver = solved_cornell();
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     let error = export_solution(&solution, &tone_map(), Path::new("out.obj")).unwrap_err();
     assert!(error.to_string().contains(".ply or .glb"), "{error}");
 }

@@ -72,15 +72,11 @@ fn the_office_meshes_with_its_contacts() {
     // The carpet loses the footprints of what stands on it: pedestals,
     // chair bases, desk legs and bookcases, to within 2e-3 m² (less than one
     // desk leg's octagon, 2.5e-3 m²; measured 1.4e-3 over 48 legs).
-    let floor = scene
-        .surfaces
-        .iter()
-        .position(|s| s.name == "floor")
-        .unwrap();
+    let floor = scene.surface_named("floor").unwrap();
     let covered: f64 = mesh
         .elements
         .iter()
-        .filter(|e| e.surface as usize == floor)
+        .filter(|e| e.surface == floor)
         .map(|e| e.area)
         .sum();
     let pedestals = 16.0 * 0.4 * 0.6;

@@ -4,7 +4,7 @@ mod support;
 
 use glam::DVec3;
 use isorad::{
-    ProbeMode, Scene, Solver, SolverSettings,
+    ProbeMode, Scene, Solver, SolverSettings, SurfaceId,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
     scene::ProbePoint,
 };
@@ -59,19 +59,19 @@ fn at(x: f64, y: f64) -> ProbePoint {
 fn gather_matches_the_exact_disc_formula() {
     let scene = disc_scene(false);
     solve(&scene, |solver| {
-        let solution = solver.solution(true);
+        let solution = solver.solution_with_ambient();
         for x in [0.0, 0.3, 0.77, 1.0, 1.9, 3.3, 5.0] {
             let probe = solution.probe(&at(x, 0.1), ProbeMode::Gather).unwrap();
             let r = (x * x + 0.01_f64).sqrt();
             let expected = PI * LIGHT_RADIANCE * coaxial_disc_form_factor(RADIUS, HEIGHT, r);
-            let error = (probe.irradiance.x - expected).abs() / expected;
+            let error = (probe.irradiance.r - expected).abs() / expected;
             assert!(
                 error < 0.005,
                 "x = {x}: irradiance {} vs {expected} ({error:e})",
-                probe.irradiance.x
+                probe.irradiance.r
             );
             let radiosity = FLOOR_REFLECTANCE * expected;
-            assert!((probe.radiosity.x - radiosity).abs() < 0.005 * radiosity);
+            assert!((probe.radiosity.r - radiosity).abs() < 0.005 * radiosity);
         }
     });
 }
@@ -80,13 +80,13 @@ fn gather_matches_the_exact_disc_formula() {
 fn gather_gradient_agrees_with_finite_differences() {
     let scene = disc_scene(false);
     solve(&scene, |solver| {
-        let solution = solver.solution(true);
+        let solution = solver.solution_with_ambient();
         let value = |x: f64, y: f64| {
             solution
                 .probe(&at(x, y), ProbeMode::Gather)
                 .unwrap()
                 .radiosity
-                .x
+                .r
         };
         for (x, y) in [(0.4, 0.2), (1.3, -0.7), (2.5, 1.5), (-3.0, 0.5)] {
             let probe = solution.probe(&at(x, y), ProbeMode::Gather).unwrap();
@@ -110,13 +110,13 @@ fn gather_gradient_agrees_with_finite_differences() {
 fn a_shadowed_point_gets_no_direct_light() {
     let scene = disc_scene(true);
     solve(&scene, |solver| {
-        let solution = solver.solution(false);
+        let solution = solver.solution();
         for mode in [ProbeMode::Gather, ProbeMode::Mesh] {
             let probe = solution.probe(&at(0.05, -0.1), mode).unwrap();
             assert_eq!(probe.irradiance, isorad::Rgb::ZERO, "{mode:?}");
         }
         let lit = solution.probe(&at(6.0, 0.0), ProbeMode::Gather).unwrap();
-        assert!(lit.irradiance.x > 0.0);
+        assert!(lit.irradiance.r > 0.0);
     });
 }
 
@@ -124,14 +124,16 @@ fn a_shadowed_point_gets_no_direct_light() {
 fn mesh_mode_interpolates_vertices_and_has_the_interpolant_gradient() {
     let scene = disc_scene(false);
     solve(&scene, |solver| {
-        let solution = solver.solution(true);
+        let solution = solver.solution_with_ambient();
         let mesh = solution.mesh;
         // At a vertex, the value is the vertex's.
         let (index, vertex) = mesh
             .vertices
             .iter()
             .enumerate()
-            .find(|(_, v)| v.surface == 0 && v.position.x > 1.0 && v.position.y > 1.0)
+            .find(|(_, v)| {
+                v.surface == SurfaceId::new(0) && v.position.x > 1.0 && v.position.y > 1.0
+            })
             .unwrap();
         let probe = solution
             .probe(
@@ -172,11 +174,11 @@ fn mesh_mode_interpolates_vertices_and_has_the_interpolant_gradient() {
                 ProbeMode::Mesh,
             )
             .unwrap();
-        let predicted = probe.radiosity.x + probe.gradient[0].dot(step);
+        let predicted = probe.radiosity.r + probe.gradient[0].dot(step);
         assert!(
-            (moved.radiosity.x - predicted).abs() < 1e-9 * probe.radiosity.x,
+            (moved.radiosity.r - predicted).abs() < 1e-9 * probe.radiosity.r,
             "{} vs {predicted}",
-            moved.radiosity.x
+            moved.radiosity.r
         );
     });
 }
@@ -185,7 +187,7 @@ fn mesh_mode_interpolates_vertices_and_has_the_interpolant_gradient() {
 fn a_point_on_no_surface_is_an_error_naming_its_line() {
     let scene = disc_scene(false);
     solve(&scene, |solver| {
-        let solution = solver.solution(true);
+        let solution = solver.solution_with_ambient();
         let point = ProbePoint {
             position: DVec3::new(0.0, 0.0, 0.5),
             normal: None,

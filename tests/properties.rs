@@ -326,7 +326,7 @@ proptest! {
         // Every vertex at E/(1 − ρ) (the unshot 0.1 % and form-factor error aside).
         let expected = std::f64::consts::PI * radiance / (1.0 - reflectance);
         for b in solver.radiosity() {
-            prop_assert!((b.x / expected - 1.0).abs() < 0.02, "B = {}, expected {expected}", b.x);
+            prop_assert!((b.r / expected - 1.0).abs() < 0.02, "B = {}, expected {expected}", b.r);
         }
         // The ledger closes, and a closed box lets (almost) nothing escape.
         let e = solver.energy_balance();

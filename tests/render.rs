@@ -216,7 +216,7 @@ fn linear_radiance_is_interpolated_perspective_correctly() {
             let outside = pixel_hit(&camera, &positions, i, j)
                 .is_none_or(|(_, b)| b.iter().any(|&b| b < -1e-9));
             if outside {
-                assert_eq!(as_rgb(image.pixel(i, j)), background.as_vec3().as_dvec3());
+                assert_eq!(image.pixel(i, j), background.to_f32_array());
             }
         }
     }
@@ -244,7 +244,8 @@ fn nearer_triangle_hides_farther_in_either_order() {
         ],
         eye,
     );
-    let near = flat(small, Rgb::new(1.0, 0.0, 0.0));
+    let red = Rgb::new(1.0, 0.0, 0.0);
+    let near = flat(small, red);
     let far = flat(big(4.0), Rgb::new(0.0, 1.0, 0.0));
     let settings = RenderSettings::preview();
     for triangles in [[near, far], [far, near]] {
@@ -255,7 +256,7 @@ fn nearer_triangle_hides_farther_in_either_order() {
         assert_eq!(image.pixel(2, 29), [0.0, 1.0, 0.0]);
     }
     // A near triangle that is large hides the far one entirely.
-    for triangles in [[flat(big(2.0), Rgb::X), far], [far, flat(big(2.0), Rgb::X)]] {
+    for triangles in [[flat(big(2.0), red), far], [far, flat(big(2.0), red)]] {
         let image = rasterize(&triangles, &camera, &settings);
         assert!(image.pixels().iter().all(|p| *p == [1.0, 0.0, 0.0]));
     }

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use isorad::{
-    Error, Length, MeshKind, Scene, Settings, internals::newell_normal, load_scene,
+    Error, Length, MeshKind, Rgb, Scene, Settings, internals::newell_normal, load_scene,
     scene::load_obj, solver::FormFactorKernel,
 };
 use tempfile::TempDir;
@@ -484,7 +484,7 @@ fn cornell_has_the_expected_surfaces_and_materials() {
         assert_eq!(m.name, name);
     }
     let red = &scene.materials[1].reflectance;
-    assert!((red.x - 0.63).abs() < 1e-6 && (red.y - 0.065).abs() < 1e-6);
+    assert!((red.r - 0.63).abs() < 1e-6 && (red.g - 0.065).abs() < 1e-6);
 }
 
 #[test]
@@ -524,7 +524,7 @@ fn cornell_light_area_and_power() {
     assert!((light.normal() - DVec3::NEG_Y).length() < 1e-9);
     assert!(light.vertices().iter().all(|v| (v.y - 548.7).abs() < 1e-4));
     // Φ = π L_e A per channel.
-    let expected = DVec3::new(17.0, 12.0, 4.0) * std::f64::consts::PI * 13650.0;
+    let expected = Rgb::new(17.0, 12.0, 4.0) * std::f64::consts::PI * 13650.0;
     let power = scene.emitted_power();
     assert!((power - expected).abs().max_element() < 1e-6 * expected.max_element());
 }

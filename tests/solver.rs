@@ -4,7 +4,7 @@ mod support;
 
 use glam::DVec3;
 use isorad::{
-    Scene, SolverSettings,
+    Scene, SolverSettings, SurfaceId,
     mesh::{SquareMeshSettings, mesh_square},
     solver::FormFactorKernel,
 };
@@ -44,7 +44,7 @@ fn closed_cube_worst_error(kernel: FormFactorKernel) -> f64 {
     solver
         .radiosity()
         .iter()
-        .map(|b| (b.x - expected).abs() / expected)
+        .map(|b| (b.r - expected).abs() / expected)
         .fold(0.0, f64::max)
 }
 
@@ -120,7 +120,7 @@ fn small_disc_over_a_floor(kernel: FormFactorKernel) {
     let peak = coaxial_disc_form_factor(radius, height, 0.0);
     let mut checked = 0;
     for (vertex, b) in solver.mesh().vertices.iter().zip(solver.radiosity()) {
-        if vertex.surface != 0 {
+        if vertex.surface != SurfaceId::new(0) {
             continue;
         }
         let x = vertex.position.truncate().length();
@@ -128,9 +128,9 @@ fn small_disc_over_a_floor(kernel: FormFactorKernel) {
         if f > 0.01 * peak {
             let expected = reflectance * emitted * f;
             assert!(
-                (b.x - expected).abs() < 0.02 * expected,
+                (b.r - expected).abs() < 0.02 * expected,
                 "x = {x}: {} vs {expected}",
-                b.x
+                b.r
             );
             checked += 1;
         }
@@ -156,12 +156,12 @@ fn a_blocker_casts_an_exactly_black_umbra() {
     let mut dark = 0;
     for (vertex, h) in solver.mesh().vertices.iter().zip(solver.irradiance()) {
         let p = vertex.position;
-        if vertex.surface == 0 && p.x.abs() < 2.5 && p.y.abs() < 2.5 {
-            assert_eq!(h.x, 0.0, "lit umbra vertex at {p}");
+        if vertex.surface == SurfaceId::new(0) && p.x.abs() < 2.5 && p.y.abs() < 2.5 {
+            assert_eq!(h.r, 0.0, "lit umbra vertex at {p}");
             dark += 1;
         }
-        if vertex.surface == 0 && p.x.abs() > 3.5 {
-            assert!(h.x > 0.0, "unlit vertex at {p}");
+        if vertex.surface == SurfaceId::new(0) && p.x.abs() > 3.5 {
+            assert!(h.r > 0.0, "unlit vertex at {p}");
         }
     }
     assert!(dark > 100);

@@ -8,7 +8,7 @@ mod support;
 
 use glam::DVec3;
 use isorad::{
-    Scene, Solver, SolverSettings,
+    Scene, Solver, SolverSettings, SurfaceId,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
     radiometry::polygon_form_factor,
 };
@@ -28,7 +28,7 @@ fn solve(scene: &Scene, max_edge: f64) -> (Mesh, Vec<f64>) {
     solver_settings.tolerance = 1e-4;
     let mut solver = Solver::with_mesh(scene.clone(), mesh, solver_settings).unwrap();
     solver.run();
-    let radiosity = solver.radiosity().iter().map(|b| b.x).collect();
+    let radiosity = solver.radiosity().iter().map(|b| b.r).collect();
     (solver.mesh().clone(), radiosity)
 }
 
@@ -38,7 +38,7 @@ fn solve(scene: &Scene, max_edge: f64) -> (Mesh, Vec<f64>) {
 fn worst_errors(
     mesh: &Mesh,
     radiosity: &[f64],
-    receiver: u32,
+    receiver: SurfaceId,
     exact: impl Fn(DVec3) -> f64,
 ) -> (f64, f64, usize) {
     let values: Vec<(f64, f64)> = mesh
@@ -99,13 +99,14 @@ fn a_lamp_two_centimetres_from_a_wall_leaves_no_blotches() {
         let exitance = PI * LAMP_RADIANCE;
         let lamp_normal = isorad::internals::newell_normal(&lamp);
         let lamp_centre = lamp.iter().copied().sum::<DVec3>() / lamp.len() as f64;
-        let (relative, absolute, checked) = worst_errors(&mesh, &radiosity, 0, |x| {
-            // The lamp emits from its front only.
-            if lamp_normal.dot(x - lamp_centre) <= 0.0 {
-                return 0.0;
-            }
-            WALL_REFLECTANCE * exitance * polygon_form_factor(x, DVec3::X, &lamp)
-        });
+        let (relative, absolute, checked) =
+            worst_errors(&mesh, &radiosity, SurfaceId::new(0), |x| {
+                // The lamp emits from its front only.
+                if lamp_normal.dot(x - lamp_centre) <= 0.0 {
+                    return 0.0;
+                }
+                WALL_REFLECTANCE * exitance * polygon_form_factor(x, DVec3::X, &lamp)
+            });
         println!(
             "lamp 2 cm from a wall, {}: worst vertex error {relative:.5} relative \
              ({checked} vertices), {absolute:.5} of the peak elsewhere",
@@ -169,7 +170,7 @@ fn floor_at_the_foot_of_a_block_matches_the_exact_factor() {
     let (mut worst, mut worst_near, mut checked) = (0.0f64, 0.0f64, 0);
     for (vertex, &b) in mesh.vertices.iter().zip(&radiosity) {
         let x = vertex.receiver_position;
-        if vertex.surface != 0 || x.x <= 0.5 || x.y.abs() >= 0.5 {
+        if vertex.surface != SurfaceId::new(0) || x.x <= 0.5 || x.y.abs() >= 0.5 {
             continue;
         }
         let exact = WALL_REFLECTANCE * exitance * polygon_form_factor(x, DVec3::Z, &lamp);

@@ -4,7 +4,7 @@
 //! be measured against obvhs called directly on the same rays.
 
 use glam::{DVec3, Vec3A};
-use isorad::Scene;
+use isorad::{Scene, SurfaceId};
 use obvhs::{
     BvhBuildParams, cwbvh::CwBvh, cwbvh::builder::build_cwbvh_from_tris, ray::Ray,
     rt_triangle::RtTriangle, triangle::Triangle,
@@ -36,7 +36,7 @@ impl SplitMix64 {
 pub struct Segment {
     pub from: DVec3,
     pub to: DVec3,
-    pub end_surfaces: [u32; 2],
+    pub end_surfaces: [SurfaceId; 2],
 }
 
 /// `count` segments between area-uniform random points on the scene's
@@ -51,7 +51,7 @@ pub fn random_segments(scene: &Scene, count: usize, seed: u64) -> Vec<Segment> {
     let mut triangles = Vec::new();
     let mut cumulative = Vec::new();
     let mut total = 0.0;
-    for (index, surface) in scene.surfaces.iter().enumerate() {
+    for (id, surface) in scene.surfaces_with_ids() {
         // The triangles the BVH holds: a face's original, slightly
         // non-planar vertices when the loader projected it.
         let points = surface.occluder_vertices();
@@ -59,7 +59,7 @@ pub fn random_segments(scene: &Scene, count: usize, seed: u64) -> Vec<Segment> {
             let (a, b, c) = (points[a], points[b], points[c]);
             let cross = (b - a).cross(c - a);
             total += 0.5 * cross.length();
-            triangles.push((index as u32, a, b, c, cross.normalize_or_zero()));
+            triangles.push((id, a, b, c, cross.normalize_or_zero()));
             cumulative.push(total);
         }
     }

@@ -222,7 +222,9 @@ fn contour(scene: &Scene) -> Mesh {
             Some(contour_layout(&outline, &field, centre, &settings, &[]))
         })
         .collect();
-    mesh_surfaces(scene, &coarse(scene), &|surface| layouts[surface].clone())
+    mesh_surfaces(scene, &coarse(scene), &|surface| {
+        layouts[surface.index()].clone()
+    })
 }
 
 /// The `meshers` target: `data` decodes to a floor polygon (concave, nearly
@@ -267,7 +269,7 @@ pub fn check_mesh(name: &str, scene: &Scene, mesh: &Mesh) {
     for vertex in &mesh.vertices {
         assert!(vertex.position.is_finite(), "{name}: {vertex:?}");
         assert!(vertex.receiver_position.is_finite(), "{name}: {vertex:?}");
-        let surface = &scene.surfaces[vertex.surface as usize];
+        let surface = scene.surface(vertex.surface);
         let size = surface
             .vertices()
             .iter()
@@ -283,11 +285,11 @@ pub fn check_mesh(name: &str, scene: &Scene, mesh: &Mesh) {
     let mut rendered = vec![0.0; scene.surfaces.len()];
     let mut triangles = Vec::new();
     for element in &mesh.elements {
-        covered[element.surface as usize] += element.area;
+        covered[element.surface.index()] += element.area;
         mesh.element_triangles(element, |_, _| 0.0, &mut triangles);
         for &[a, b, c] in &triangles {
             let [a, b, c] = [a, b, c].map(|v| mesh.vertices[v as usize].position);
-            rendered[element.surface as usize] += 0.5 * (b - a).cross(c - a).length();
+            rendered[element.surface.index()] += 0.5 * (b - a).cross(c - a).length();
         }
     }
     for (surface, &area) in areas.iter().enumerate() {

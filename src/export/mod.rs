@@ -36,6 +36,7 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::render::ToneMap;
+use crate::scene::Rgb;
 use crate::solver::Solution;
 
 pub use gltf::export_glb;
@@ -85,7 +86,7 @@ impl ExportFormat {
 ///
 /// let mut solver = Solver::new(load_scene("cornell")?.scene, Settings::preview())?;
 /// solver.run();
-/// let solution = solver.solution(true);
+/// let solution = solver.solution_with_ambient();
 /// // The PNG's exposure, so the exported colours look as the image does.
 /// let image = solution.render(&solver.scene().camera_or_default(), &Default::default());
 /// let tone_map = ToneMap::new(auto_exposure(&image));
@@ -150,7 +151,7 @@ impl BakedMesh {
         }
         let to_f32 = |v: glam::DVec3| v.as_vec3().to_array();
         let scale = tone_map.exposure.exp2();
-        let radiance: Vec<glam::DVec3> = radiosity
+        let radiance: Vec<Rgb> = radiosity
             .iter()
             .map(|b| *b / std::f64::consts::PI)
             .collect();
@@ -159,17 +160,17 @@ impl BakedMesh {
             normals: mesh
                 .vertices
                 .iter()
-                .map(|v| to_f32(scene.surfaces[v.surface as usize].normal()))
+                .map(|v| to_f32(scene.surface(v.surface).normal()))
                 .collect(),
             display: radiance
                 .iter()
-                .map(|l| to_f32((*l * scale).clamp(glam::DVec3::ZERO, glam::DVec3::ONE)))
+                .map(|l| (*l * scale).clamp(Rgb::ZERO, Rgb::ONE).to_f32_array())
                 .collect(),
             srgb: radiance
                 .iter()
                 .map(|l| l.to_array().map(|c| tone_map.map_channel(c)))
                 .collect(),
-            radiance: radiance.into_iter().map(to_f32).collect(),
+            radiance: radiance.into_iter().map(Rgb::to_f32_array).collect(),
             triangles,
         })
     }

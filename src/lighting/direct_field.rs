@@ -31,7 +31,7 @@ use super::luminaire::Luminaire;
 use super::sample_stream::SampleStream;
 use super::stratified::stratified_points;
 use crate::radiometry::{DiscModel, ReceiverPlane, SmallDisc, polygon_form_factor_with_gradient};
-use crate::scene::{PlaneFrame, Rgb, Scene, Visibility};
+use crate::scene::{PlaneFrame, Scene, SurfaceId, Visibility};
 
 /// Most iterations of the ascent in [`DirectField::maximum`].
 const MAX_ASCENT_STEPS: usize = 100;
@@ -39,22 +39,16 @@ const MAX_ASCENT_STEPS: usize = 100;
 /// Most step halvings per ascent step.
 const MAX_HALVINGS: usize = 60;
 
-/// Rec. 709 luminance Y of a linear RGB triple.
-#[must_use]
-fn luminance(rgb: Rgb) -> f64 {
-    0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z
-}
-
 /// One luminaire's direct radiosity on one receiver's plane, in the
 /// receiver's plane coordinates ([`crate::scene::Surface::frame`]).
 #[derive(Clone, Debug)]
 pub struct DirectField {
     /// The receiver's frame: plane coordinates and its front normal n.
     frame: PlaneFrame,
-    /// The receiver's surface index.
-    receiver: u32,
-    /// The luminaire's polygons (world) with their surface indices.
-    polygons: Vec<(u32, Vec<DVec3>)>,
+    /// The receiving surface.
+    receiver: SurfaceId,
+    /// The luminaire's polygons (world) with their surfaces.
+    polygons: Vec<(SurfaceId, Vec<DVec3>)>,
     /// The same polygons in `luminaire_frame`'s plane coordinates.
     plane_polygons: Vec<Vec<DVec2>>,
     /// The luminaire's plane: origin at its centre, normal m.
@@ -76,8 +70,8 @@ impl DirectField {
     /// range, a receiver that is part of the luminaire, a luminaire without
     /// valid surfaces, a zero normal or a non-finite scale.
     #[must_use]
-    pub fn new(scene: &Scene, receiver: usize, luminaire: &Luminaire) -> Option<DirectField> {
-        let surface = scene.surfaces.get(receiver)?;
+    pub fn new(scene: &Scene, receiver: SurfaceId, luminaire: &Luminaire) -> Option<DirectField> {
+        let surface = scene.surfaces.get(receiver.index())?;
         let frame = *surface.frame();
         let m = luminaire.normal.normalize_or_zero();
         let usable = !luminaire.surfaces.is_empty()
@@ -87,10 +81,10 @@ impl DirectField {
         if !usable {
             return None;
         }
-        let polygons: Vec<(u32, Vec<DVec3>)> = luminaire
+        let polygons: Vec<(SurfaceId, Vec<DVec3>)> = luminaire
             .surfaces
             .iter()
-            .map(|&i| Some((i as u32, scene.surfaces.get(i)?.vertices().to_vec())))
+            .map(|&id| Some((id, scene.surfaces.get(id.index())?.vertices().to_vec())))
             .collect::<Option<_>>()?;
         // Some of the luminaire in front of the receiver, some of the receiver in front of it.
         let length = frame.height(luminaire.centre).abs().max(luminaire.radius);
@@ -105,7 +99,7 @@ impl DirectField {
             .iter()
             .any(|&v| luminaire_frame.height(v) > tolerance);
         let material = scene.materials.get(surface.material)?;
-        let scale = luminance(material.reflectance * luminaire.exitance);
+        let scale = (material.reflectance * luminaire.exitance).luminance();
         if !(lights_plane && faces_receiver && scale.is_finite() && length > 0.0) {
             return None;
         }
@@ -115,7 +109,7 @@ impl DirectField {
             .collect();
         Some(DirectField {
             frame,
-            receiver: receiver as u32,
+            receiver,
             polygons,
             plane_polygons,
             luminaire_frame,

@@ -21,7 +21,7 @@ use super::luminaire::Luminaire;
 use super::sample_stream::SampleStream;
 use super::stratified::stratified_points;
 use crate::error::{Error, Result};
-use crate::scene::{Scene, Surface, Visibility, polygon_contains};
+use crate::scene::{Scene, Surface, SurfaceId, Visibility, polygon_contains};
 
 /// Receiver sample points are pulled this fraction of the way towards their
 /// triangle's centroid, keeping them off edges shared with walls.
@@ -102,8 +102,8 @@ impl DominanceSettings {
 /// What [`analyse_receivers`] found on one receiver.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReceiverAnalysis {
-    /// Index of the receiver in [`Scene::surfaces`].
-    pub receiver: usize,
+    /// The receiving surface.
+    pub receiver: SurfaceId,
     /// The luminaire (index into the slice analysed) giving at least
     /// `min_share` of the receiver's direct light, if any.
     pub dominant: Option<usize>,
@@ -141,14 +141,15 @@ pub fn analyse_receivers(
     luminaires: &[Luminaire],
     settings: &DominanceSettings,
 ) -> Vec<ReceiverAnalysis> {
-    let receivers: Vec<usize> = (0..scene.surfaces.len())
-        .filter(|&i| {
-            let material = scene.surfaces[i].material;
+    let receivers: Vec<SurfaceId> = scene
+        .surfaces_with_ids()
+        .filter(|(_, surface)| {
             !scene
                 .materials
-                .get(material)
+                .get(surface.material)
                 .is_some_and(|m| m.is_emitter())
         })
+        .map(|(id, _)| id)
         .collect();
     receivers
         .par_iter()
@@ -162,11 +163,11 @@ fn analyse_receiver(
     visibility: &Visibility,
     luminaires: &[Luminaire],
     settings: &DominanceSettings,
-    receiver: usize,
+    receiver: SurfaceId,
 ) -> ReceiverAnalysis {
-    let surface = &scene.surfaces[receiver];
+    let surface = scene.surface(receiver);
     // Stratified sample points, and each luminaire's direct light on them.
-    let mut random = SampleStream::new(receiver as u64, 0xD0_4A11);
+    let mut random = SampleStream::new(u64::from(receiver), 0xD0_4A11);
     let polygon = surface.plane_vertices();
     let points = stratified_points(
         &polygon,

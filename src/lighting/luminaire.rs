@@ -7,7 +7,7 @@
 
 use glam::DVec3;
 
-use crate::scene::{Rgb, Scene, Surface};
+use crate::scene::{Rgb, Scene, Surface, SurfaceId};
 
 /// Normals of one luminaire's surfaces differ by at most this (unit vectors).
 const NORMAL_TOLERANCE: f64 = 1e-6;
@@ -21,8 +21,8 @@ const DISTANCE_TOLERANCE: f64 = 1e-5;
 /// or a vertex.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Luminaire {
-    /// Indices of its surfaces in [`Scene::surfaces`], ascending.
-    pub surfaces: Vec<usize>,
+    /// Its surfaces, ascending.
+    pub surfaces: Vec<SurfaceId>,
     /// Unit normal of its emitting side.
     pub normal: DVec3,
     /// Centroid of its area, c = Σ A_i c_i / Σ A_i over its surfaces.
@@ -49,15 +49,17 @@ pub struct Luminaire {
 /// JACM 22 (1975) (the union–find that joins the groups).
 #[must_use]
 pub fn luminaires(scene: &Scene) -> Vec<Luminaire> {
-    let emitters: Vec<usize> = (0..scene.surfaces.len())
-        .filter(|&i| is_emitting(scene, i))
+    let emitters: Vec<SurfaceId> = scene
+        .surfaces_with_ids()
+        .filter(|(_, surface)| is_emitting(scene, surface))
+        .map(|(id, _)| id)
         .collect();
     let tolerance = DISTANCE_TOLERANCE * scene.diagonal();
     // Join every touching coplanar pair of one material.
     let mut parent: Vec<usize> = (0..emitters.len()).collect();
     for a in 0..emitters.len() {
         for b in a + 1..emitters.len() {
-            let (sa, sb) = (&scene.surfaces[emitters[a]], &scene.surfaces[emitters[b]]);
+            let (sa, sb) = (scene.surface(emitters[a]), scene.surface(emitters[b]));
             if same_luminaire(sa, sb, tolerance) {
                 let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
                 parent[ra.max(rb)] = ra.min(rb);
@@ -65,7 +67,7 @@ pub fn luminaires(scene: &Scene) -> Vec<Luminaire> {
         }
     }
     // Collect the groups in order of their first surface.
-    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut groups: Vec<Vec<SurfaceId>> = Vec::new();
     let mut group_of_root = vec![usize::MAX; emitters.len()];
     for (k, &surface) in emitters.iter().enumerate() {
         let r = root(&mut parent, k);
@@ -81,12 +83,11 @@ pub fn luminaires(scene: &Scene) -> Vec<Luminaire> {
         .collect()
 }
 
-/// True when surface `index` has a material that emits.
-fn is_emitting(scene: &Scene, index: usize) -> bool {
-    let material = scene.surfaces[index].material;
+/// True when `surface` has a material that emits.
+fn is_emitting(scene: &Scene, surface: &Surface) -> bool {
     scene
         .materials
-        .get(material)
+        .get(surface.material)
         .is_some_and(|m| m.is_emitter())
 }
 
@@ -125,13 +126,13 @@ fn distance_to_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
 }
 
 /// The luminaire made of the given (non-empty) surfaces.
-fn luminaire_of(scene: &Scene, surfaces: Vec<usize>) -> Luminaire {
+fn luminaire_of(scene: &Scene, surfaces: Vec<SurfaceId>) -> Luminaire {
     // Area-weighted normal and centroid.
     let mut area = 0.0;
     let mut weighted_normal = DVec3::ZERO;
     let mut weighted_centre = DVec3::ZERO;
-    for &i in &surfaces {
-        let surface = &scene.surfaces[i];
+    for &id in &surfaces {
+        let surface = scene.surface(id);
         area += surface.area();
         weighted_normal += surface.normal() * surface.area();
         weighted_centre += area_centroid(surface) * surface.area();
@@ -139,10 +140,10 @@ fn luminaire_of(scene: &Scene, surfaces: Vec<usize>) -> Luminaire {
     let centre = weighted_centre / area;
     let radius = surfaces
         .iter()
-        .flat_map(|&i| scene.surfaces[i].vertices())
+        .flat_map(|&id| scene.surface(id).vertices())
         .map(|v| v.distance(centre))
         .fold(0.0, f64::max);
-    let first = &scene.surfaces[surfaces[0]];
+    let first = scene.surface(surfaces[0]);
     Luminaire {
         normal: weighted_normal.normalize_or(first.normal()),
         centre,

@@ -10,7 +10,7 @@ use super::contacts::{contact_segments, remesh_surface, remove_hidden_elements};
 use super::contour::ContourLayout;
 use super::square::{SquareMeshSettings, square_grid};
 use super::topology::Mesh;
-use crate::scene::{Scene, Surface};
+use crate::scene::{Scene, Surface, SurfaceId};
 
 /// How close to a plane, as a fraction of the scene's diagonal, another
 /// surface's edge must lie to stand on it.
@@ -57,15 +57,15 @@ pub fn mesh_square(scene: &Scene, settings: &SquareMeshSettings) -> Mesh {
 pub fn mesh_surfaces(
     scene: &Scene,
     settings: &SquareMeshSettings,
-    layout: &dyn Fn(usize) -> Option<ContourLayout>,
+    layout: &dyn Fn(SurfaceId) -> Option<ContourLayout>,
 ) -> Mesh {
     let mut mesh = Mesh::default();
     let tolerance = CONTACT_TOLERANCE * scene.diagonal();
     let mut touched = Vec::new();
-    for (index, surface) in scene.surfaces.iter().enumerate() {
-        let grid = square_grid(surface, index as u32, settings);
-        let contacts = contact_segments(scene, index, tolerance);
-        let layout = layout(index);
+    for (id, surface) in scene.surfaces_with_ids() {
+        let grid = square_grid(surface, id, settings);
+        let contacts = contact_segments(scene, id, tolerance);
+        let layout = layout(id);
         if contacts.is_empty() && layout.is_none() {
             mesh.append(grid);
             continue;
@@ -78,7 +78,7 @@ pub fn mesh_surfaces(
             layout.as_ref(),
         ));
         if !contacts.is_empty() {
-            touched.push(index as u32);
+            touched.push(id);
         }
     }
     if !touched.is_empty() {

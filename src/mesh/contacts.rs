@@ -12,7 +12,7 @@ use super::contour::ContourLayout;
 use super::patch::Cell;
 use super::topology::Mesh;
 use crate::scene::{
-    PlaneFrame, Scene, Surface, Visibility, distance_to_boundary, distance_to_segment,
+    PlaneFrame, Scene, Surface, SurfaceId, Visibility, distance_to_boundary, distance_to_segment,
     polygon_contains,
 };
 
@@ -23,8 +23,8 @@ use crate::scene::{
 pub struct Contact {
     /// End points, in the receiver's plane coordinates.
     pub ends: [DVec2; 2],
-    /// Index of the touching surface.
-    pub surface: usize,
+    /// The touching surface.
+    pub surface: SurfaceId,
 }
 
 /// The contact segments on `receiver`'s front: for every other surface not
@@ -34,13 +34,13 @@ pub struct Contact {
 /// shorter than `tolerance`, or running along the polygon's boundary (a wall
 /// meeting a floor at its edge), are dropped.
 #[must_use]
-pub fn contact_segments(scene: &Scene, receiver: usize, tolerance: f64) -> Vec<Contact> {
-    let target = &scene.surfaces[receiver];
+pub fn contact_segments(scene: &Scene, receiver: SurfaceId, tolerance: f64) -> Vec<Contact> {
+    let target = scene.surface(receiver);
     let frame = target.frame();
     let outline = target.plane_vertices();
     let mut contacts = Vec::new();
-    for (index, other) in scene.surfaces.iter().enumerate() {
-        if index == receiver || other.normal().dot(target.normal()).abs() > 0.999 {
+    for (id, other) in scene.surfaces_with_ids() {
+        if id == receiver || other.normal().dot(target.normal()).abs() > 0.999 {
             continue;
         }
         let heights: Vec<f64> = other.vertices().iter().map(|&p| frame.height(p)).collect();
@@ -62,7 +62,7 @@ pub fn contact_segments(scene: &Scene, receiver: usize, tolerance: f64) -> Vec<C
             if clipped[0].distance(clipped[1]) > tolerance && !along_outline {
                 contacts.push(Contact {
                     ends: clipped,
-                    surface: index,
+                    surface: id,
                 });
             }
         }
@@ -202,9 +202,12 @@ pub fn remesh_surface(
     let triangulation = triangulate_constrained(&outline, &points, &constraints);
     // Rebuild the mesh: the grid's patches, each holding the triangles inside it.
     let mut mesh = Mesh::default();
-    let surface_index = grid.patches.first().map_or(0, |p| p.surface as u32);
+    let surface_id = grid
+        .patches
+        .first()
+        .map_or(SurfaceId::new(0), |p| p.surface);
     for patch in &grid.patches {
-        mesh.add_patch(surface_index, patch.cell);
+        mesh.add_patch(surface_id, patch.cell);
     }
     let mut ids = vec![u32::MAX; triangulation.points.len()];
     for triangle in &triangulation.triangles {
@@ -227,7 +230,7 @@ pub fn remesh_surface(
         }
         let corners = triangle.map(|k| {
             if ids[k] == u32::MAX {
-                ids[k] = mesh.add_vertex(frame.to_world(triangulation.points[k]), surface_index);
+                ids[k] = mesh.add_vertex(frame.to_world(triangulation.points[k]), surface_id);
             }
             ids[k]
         });
@@ -250,7 +253,7 @@ fn cell_distance(cell: &[DVec2], p: DVec2) -> f64 {
 /// viewer sees them. An element is enclosed when at least 6 of 7 rays from
 /// just above its centroid, spread over its hemisphere, hit the back of a
 /// surface (one-sided surfaces of a closed object face outwards).
-pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[u32]) {
+pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[SurfaceId]) {
     let visibility = Visibility::new(scene);
     let lift = 10.0 * visibility.surface_offset();
     let reach = scene.diagonal();
@@ -261,22 +264,15 @@ pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[u32]) 
             if !surfaces.contains(&element.surface) {
                 return false;
             }
-            let normal = scene.surfaces[element.surface as usize].normal();
-            let corners = element.corners();
-            let centroid = corners
-                .iter()
-                .map(|&v| mesh.vertices[v as usize].position)
-                .sum::<DVec3>()
-                / corners.len() as f64;
+            let normal = scene.surface(element.surface).normal();
+            let centroid = element.corner_mean(|v| mesh.vertices[v as usize].position);
             let origin = centroid + normal * lift;
             let backs = hemisphere_directions(normal)
                 .iter()
                 .filter(|&&direction| {
                     visibility
                         .first_hit(origin, direction, reach, element.surface)
-                        .is_some_and(|surface| {
-                            scene.surfaces[surface as usize].normal().dot(direction) > 0.0
-                        })
+                        .is_some_and(|surface| scene.surface(surface).normal().dot(direction) > 0.0)
                 })
                 .count();
             backs >= 6

@@ -2,6 +2,8 @@
 
 use glam::DVec3;
 
+use crate::scene::SurfaceId;
+
 /// A convex planar cell: a triangle or a quadrilateral, counter-clockwise.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cell {
@@ -118,8 +120,8 @@ impl Cell {
 /// receive on it. Patches shoot; elements receive (Cohen et al. 1986).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Patch {
-    /// Index of the surface it lies on.
-    pub surface: usize,
+    /// The surface it lies on.
+    pub surface: SurfaceId,
     /// Its shape, over which shots are sampled.
     pub cell: Cell,
     /// Indices of its elements in [`crate::mesh::Mesh::elements`].

@@ -17,7 +17,7 @@ use std::collections::HashMap;
 
 use super::patch::Cell;
 use super::topology::Mesh;
-use crate::scene::{Scene, Surface};
+use crate::scene::{Scene, Surface, SurfaceId};
 
 /// Settings of the square mesher.
 #[derive(Clone, Debug, PartialEq)]
@@ -47,9 +47,9 @@ impl SquareMeshSettings {
 }
 
 /// One surface's square grid of elements in patch blocks.
-pub(super) fn square_grid(surface: &Surface, index: u32, settings: &SquareMeshSettings) -> Mesh {
+pub(super) fn square_grid(surface: &Surface, id: SurfaceId, settings: &SquareMeshSettings) -> Mesh {
     let mut grid = Mesh::default();
-    let mut builder = SurfaceBuilder::new(&mut grid, index);
+    let mut builder = SurfaceBuilder::new(&mut grid, id);
     match convex_quad(surface) {
         Some(corners) => builder.quad_grid(corners, settings),
         None => builder.triangle_lattices(surface, settings),
@@ -171,11 +171,11 @@ enum LatticeKey {
 
 struct SurfaceBuilder<'a> {
     mesh: &'a mut Mesh,
-    surface: u32,
+    surface: SurfaceId,
 }
 
 impl<'a> SurfaceBuilder<'a> {
-    fn new(mesh: &'a mut Mesh, surface: u32) -> Self {
+    fn new(mesh: &'a mut Mesh, surface: SurfaceId) -> Self {
         SurfaceBuilder { mesh, surface }
     }
 

@@ -3,9 +3,12 @@
 
 use glam::DVec3;
 use std::collections::HashMap;
+use std::iter::Sum;
+use std::ops::Div;
 
 use super::constrained::CHAIN_DISTANCE;
 use super::patch::{Cell, Patch};
+use crate::scene::SurfaceId;
 
 /// A mesh vertex. It belongs to one surface; neighbouring surfaces do not
 /// share vertices (their normals and materials differ).
@@ -18,8 +21,8 @@ pub struct MeshVertex {
     /// on a boundary is the limit from inside the polygon; exactly on an edge
     /// shared with a perpendicular wall, that wall would be seen edge-on.
     pub receiver_position: DVec3,
-    /// Index of the surface.
-    pub surface: u32,
+    /// The surface it lies on.
+    pub surface: SurfaceId,
 }
 
 /// A mesh element: a triangle or a quadrilateral of vertices, counter-clockwise
@@ -30,8 +33,8 @@ pub struct Element {
     pub vertices: [u32; 4],
     /// True for a triangle.
     pub is_triangle: bool,
-    /// Index of the surface.
-    pub surface: u32,
+    /// The surface it lies on.
+    pub surface: SurfaceId,
     /// Index of the patch it belongs to.
     pub patch: u32,
     /// Area.
@@ -47,6 +50,18 @@ impl Element {
         } else {
             &self.vertices
         }
+    }
+
+    /// The mean of a per-vertex value over the element's corners,
+    /// (Σ value(v)) / n summed in corner order: element averages of vertex
+    /// radiosity, irradiance, form factors or positions.
+    #[must_use]
+    pub fn corner_mean<T>(&self, value: impl Fn(u32) -> T) -> T
+    where
+        T: Sum + Div<f64, Output = T>,
+    {
+        let corners = self.corners();
+        corners.iter().map(|&v| value(v)).sum::<T>() / corners.len() as f64
     }
 
     /// The element as triangles, counter-clockwise. A quad is split along
@@ -85,7 +100,7 @@ pub struct Mesh {
 impl Mesh {
     /// Adds a vertex on a surface; it gathers at its own position until
     /// [`Mesh::inset_boundary_receivers`] moves boundary vertices.
-    pub fn add_vertex(&mut self, position: DVec3, surface: u32) -> u32 {
+    pub fn add_vertex(&mut self, position: DVec3, surface: SurfaceId) -> u32 {
         self.vertices.push(MeshVertex {
             position,
             receiver_position: position,
@@ -95,9 +110,9 @@ impl Mesh {
     }
 
     /// Adds an empty patch of a surface.
-    pub fn add_patch(&mut self, surface: u32, cell: Cell) -> u32 {
+    pub fn add_patch(&mut self, surface: SurfaceId, cell: Cell) -> u32 {
         self.patches.push(Patch {
-            surface: surface as usize,
+            surface,
             cell,
             elements: Vec::new(),
             area: 0.0,
@@ -123,7 +138,7 @@ impl Mesh {
         self.elements.push(Element {
             vertices,
             is_triangle: corners.len() == 3,
-            surface: owner.surface as u32,
+            surface: owner.surface,
             patch,
             area: cell.area,
         });
@@ -257,13 +272,13 @@ impl Mesh {
                 return Err(format!("element {index}: its patch does not list it"));
             }
             *area_sum
-                .get_mut(element.surface as usize)
+                .get_mut(element.surface.index())
                 .ok_or(format!("element {index}: surface out of range"))? += element.area;
         }
         // Each surface's size: the diagonal of its vertices' bounding box.
         let mut bounds = vec![(DVec3::INFINITY, DVec3::NEG_INFINITY); surface_areas.len()];
         for vertex in &self.vertices {
-            if let Some((low, high)) = bounds.get_mut(vertex.surface as usize) {
+            if let Some((low, high)) = bounds.get_mut(vertex.surface.index()) {
                 (*low, *high) = (low.min(vertex.position), high.max(vertex.position));
             }
         }
@@ -305,7 +320,7 @@ impl Mesh {
             // A constrained triangulation's cell edges may bend by
             // CHAIN_DISTANCE of the surface's size (twice: unit coordinates).
             let cell = patch.cell.polygon();
-            let extent = extents.get(patch.surface).copied().unwrap_or(0.0);
+            let extent = extents.get(patch.surface.index()).copied().unwrap_or(0.0);
             let bend = 2.0 * CHAIN_DISTANCE * extent * perimeter(cell);
             let tolerance = area_tolerance(cell, patch.cell.area) + bend / patch.cell.area;
             if (covered - patch.area).abs() > tolerance * patch.area
@@ -344,7 +359,7 @@ impl Mesh {
             else {
                 continue;
             };
-            if let (1, Some(length)) = (count, lengths.get_mut(va.surface as usize)) {
+            if let (1, Some(length)) = (count, lengths.get_mut(va.surface.index())) {
                 *length += va.position.distance(vb.position);
             }
         }

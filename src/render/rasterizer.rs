@@ -250,7 +250,7 @@ impl SampleBuffer {
         let [l0, l1, l2] = setup.radiance;
         let radiance = (l0 * e[0] + l1 * e[1] + l2 * e[2]) / sum;
         self.depth[index] = depth;
-        self.radiance[index] = radiance.as_vec3().to_array();
+        self.radiance[index] = radiance.to_f32_array();
     }
 
     /// Box-filters the samples into `out`, the band's pixels (row-major).

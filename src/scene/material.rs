@@ -1,10 +1,6 @@
 //! Diffuse materials: reflectance and emitted radiance per RGB channel.
 
-use glam::DVec3;
-
-/// A linear RGB triple. Its unit depends on the quantity it holds
-/// (reflectance: none; radiance: W/(m²·sr); radiosity: W/m²).
-pub type Rgb = DVec3;
+use super::Rgb;
 
 /// A Lambertian material.
 ///
@@ -56,7 +52,7 @@ impl Material {
     /// finite and in [0, 1), `Ke` finite and ≥ 0), or `None`.
     #[must_use]
     pub fn problem(&self) -> Option<String> {
-        let shown = |keyword: &str, c: Rgb| format!("{keyword} = ({} {} {})", c.x, c.y, c.z);
+        let shown = |keyword: &str, c: Rgb| format!("{keyword} = ({} {} {})", c.r, c.g, c.b);
         if let Some(problem) = reflectance_problem(self.reflectance) {
             return Some(format!("{}: {problem}", shown("Kd", self.reflectance)));
         }

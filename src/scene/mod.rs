@@ -6,7 +6,9 @@ mod load;
 mod material;
 pub(crate) mod plane_polygon;
 pub(crate) mod polygon;
+mod rgb;
 pub(crate) mod surface;
+mod surface_id;
 pub(crate) mod triangulate;
 mod visibility;
 
@@ -16,10 +18,12 @@ pub use load::{
     LoadSettings, LoadedScene, MergeReport, ProbePoint, builtin_names, load_obj, load_probe_points,
     load_scene, load_scene_file, load_scene_with, merge_coplanar_faces, parse_probe_points,
 };
-pub use material::{Material, Rgb};
+pub use material::Material;
 pub(crate) use plane_polygon::{distance_to_boundary, distance_to_segment, polygon_contains};
 pub use polygon::PolygonPlane;
+pub use rgb::Rgb;
 pub use surface::{PlaneFrame, Surface};
+pub use surface_id::SurfaceId;
 pub(crate) use triangulate::triangulate_polygon;
 pub use visibility::Visibility;
 
@@ -78,6 +82,31 @@ impl Scene {
             let (min, max) = self.bounds();
             Camera::framing(min, max)
         })
+    }
+
+    /// The surface `id` names.
+    ///
+    /// # Panics
+    /// When `id` is not a surface of this scene.
+    #[must_use]
+    pub fn surface(&self, id: SurfaceId) -> &Surface {
+        &self.surfaces[id.index()]
+    }
+
+    /// Every surface with its id, in order.
+    pub fn surfaces_with_ids(&self) -> impl ExactSizeIterator<Item = (SurfaceId, &Surface)> {
+        self.surfaces
+            .iter()
+            .enumerate()
+            .map(|(index, surface)| (SurfaceId::new(index), surface))
+    }
+
+    /// The first surface called `name`, if any.
+    #[must_use]
+    pub fn surface_named(&self, name: &str) -> Option<SurfaceId> {
+        self.surfaces_with_ids()
+            .find(|(_, surface)| surface.name == name)
+            .map(|(id, _)| id)
     }
 
     /// The material of a surface.

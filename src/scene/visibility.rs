@@ -11,7 +11,7 @@ use obvhs::{
 };
 use std::time::Duration;
 
-use super::Scene;
+use super::{Scene, SurfaceId};
 
 /// Answers "is the open segment between two points unblocked?" for a scene.
 ///
@@ -35,7 +35,7 @@ pub struct Visibility {
     /// Triangles in the BVH's primitive order (`bvh.primitive_indices` applied).
     triangles: Vec<RtTriangle>,
     /// The surface of each triangle, in the same order.
-    triangle_surfaces: Vec<u32>,
+    triangle_surfaces: Vec<SurfaceId>,
     centre: DVec3,
     /// World length of one BVH unit: the power of two nearest the scene's
     /// half-diagonal.
@@ -56,7 +56,7 @@ impl Visibility {
         };
         let mut triangles = Vec::new();
         let mut surfaces = Vec::new();
-        for (index, surface) in scene.surfaces.iter().enumerate() {
+        for (id, surface) in scene.surfaces_with_ids() {
             let points = surface.occluder_vertices();
             for [a, b, c] in surface.triangles() {
                 triangles.push(Triangle {
@@ -64,7 +64,7 @@ impl Visibility {
                     v1: to_local(points[b]),
                     v2: to_local(points[c]),
                 });
-                surfaces.push(index as u32);
+                surfaces.push(id);
             }
         }
         let bvh = build_cwbvh_from_tris(
@@ -99,7 +99,7 @@ impl Visibility {
     /// True when no surface but the two given ones blocks the segment from
     /// `from` to `to`, end points excluded.
     #[must_use]
-    pub fn is_unblocked(&self, from: DVec3, to: DVec3, end_surfaces: [u32; 2]) -> bool {
+    pub fn is_unblocked(&self, from: DVec3, to: DVec3, end_surfaces: [SurfaceId; 2]) -> bool {
         let origin = (from - self.centre) / self.scale;
         let direction = (to - from) / self.scale;
         let ray = Ray::new(
@@ -125,8 +125,8 @@ impl Visibility {
         origin: DVec3,
         direction: DVec3,
         reach: f64,
-        ignore: u32,
-    ) -> Option<u32> {
+        ignore: SurfaceId,
+    ) -> Option<SurfaceId> {
         let origin = (origin - self.centre) / self.scale;
         let ray = Ray::new(
             Vec3A::new(origin.x as f32, origin.y as f32, origin.z as f32),

@@ -9,7 +9,7 @@ use super::settings::{Settings, SolverSettings};
 use super::shooter::{Receiver, Shooter};
 use super::solution::Solution;
 use crate::mesh::{ElementHierarchy, Mesh};
-use crate::scene::{Rgb, Scene, Visibility};
+use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 
 /// Where the emitted power has gone so far, per RGB channel, in watts (or
 /// the scene's length unit squared times W/m²).
@@ -115,16 +115,12 @@ impl Solver {
         analysis: MeshAnalysis,
         settings: SolverSettings,
     ) -> Self {
-        let emitted = |surface: usize| {
+        let emitted = |surface: SurfaceId| {
             scene
-                .material_of(&scene.surfaces[surface])
+                .material_of(scene.surface(surface))
                 .emitted_radiosity()
         };
-        let radiosity: Vec<Rgb> = mesh
-            .vertices
-            .iter()
-            .map(|v| emitted(v.surface as usize))
-            .collect();
+        let radiosity: Vec<Rgb> = mesh.vertices.iter().map(|v| emitted(v.surface)).collect();
         let unshot: Vec<Rgb> = mesh.patches.iter().map(|p| emitted(p.surface)).collect();
         let powers = mesh.patches.iter().zip(&unshot).map(|(p, b)| *b * p.area);
         let emitted_power = powers.clone().sum::<Rgb>();
@@ -174,7 +170,7 @@ impl Solver {
         self.shots += 1;
         // Shadow edges and highlights come from direct light: elements split
         // after the emitters' shots, and new vertices gather only those.
-        let surface = &self.scene.surfaces[self.mesh.patches[j].surface];
+        let surface = self.scene.surface(self.mesh.patches[j].surface);
         if self.scene.material_of(surface).is_emitter() {
             self.refine();
         }
@@ -196,12 +192,12 @@ impl Solver {
             .par_iter()
             .enumerate()
             .map(|(index, vertex)| {
-                if vertex.surface as usize == patch.surface {
+                if vertex.surface == patch.surface {
                     return Default::default();
                 }
                 let receiver = Receiver {
                     position: vertex.receiver_position,
-                    normal: scene.surfaces[vertex.surface as usize].normal(),
+                    normal: scene.surface(vertex.surface).normal(),
                     surface: vertex.surface,
                     key: index as u64,
                 };
@@ -216,7 +212,7 @@ impl Solver {
     /// from the shot's share of the strongest emitter's power.
     fn shooter(&self, j: usize, power: f64) -> Shooter {
         let patch = &self.mesh.patches[j];
-        let surface = &self.scene.surfaces[patch.surface];
+        let surface = self.scene.surface(patch.surface);
         let share = (power / self.reference_power.max(f64::MIN_POSITIVE)).min(1.0);
         let max_side = (self.settings.max_samples as f64).sqrt().floor().max(1.0) as usize;
         let min_side = ((self.settings.direct_samples as f64 * share).sqrt().round() as usize)
@@ -224,7 +220,7 @@ impl Solver {
         Shooter::new(
             patch.cell,
             surface.normal(),
-            patch.surface as u32,
+            patch.surface,
             min_side,
             max_side,
         )
@@ -242,12 +238,7 @@ impl Solver {
             }
         }
         for element in &self.mesh.elements {
-            let corners = element.corners();
-            let mean_factor = corners
-                .iter()
-                .map(|&v| form_factors[v as usize])
-                .sum::<f64>()
-                / corners.len() as f64;
+            let mean_factor = element.corner_mean(|v| form_factors[v as usize]);
             if mean_factor <= 0.0 {
                 continue;
             }
@@ -256,14 +247,14 @@ impl Solver {
             let patch = element.patch as usize;
             let reflectance = self
                 .scene
-                .material_of(&self.scene.surfaces[element.surface as usize])
+                .material_of(self.scene.surface(element.surface))
                 .reflectance;
             self.unshot[patch] += reflectance * incident_power / self.mesh.patches[patch].area;
         }
     }
 
     fn reflectance(&self, vertex: usize) -> Rgb {
-        let surface = &self.scene.surfaces[self.mesh.vertices[vertex].surface as usize];
+        let surface = self.scene.surface(self.mesh.vertices[vertex].surface);
         self.scene.material_of(surface).reflectance
     }
 
@@ -303,7 +294,7 @@ impl Solver {
     /// shot, spread evenly, B_v + ρ_v · A_mb. For intermediate images.
     #[must_use]
     pub fn radiosity_with_ambient(&self) -> Vec<Rgb> {
-        self.solution(true).radiosity
+        self.solution_with_ambient().radiosity
     }
 
     /// Cohen's ambient irradiance: A_mb = Σ_p ΔB_p A_p / Σ A_p · 1/(1 − ρ̄),
@@ -319,7 +310,7 @@ impl Solver {
             .iter()
             .map(|p| {
                 self.scene
-                    .material_of(&self.scene.surfaces[p.surface])
+                    .material_of(self.scene.surface(p.surface))
                     .reflectance
                     * p.area
             })
@@ -329,20 +320,27 @@ impl Solver {
         self.unshot_power() / total_area * interreflection
     }
 
-    /// The solution so far, with the ambient term for unshot light added
-    /// (`with_ambient`) or not.
+    /// The solution from the light shot so far, without the ambient term.
     #[must_use]
-    pub fn solution(&self, with_ambient: bool) -> Solution<'_> {
-        let (radiosity, irradiance) = if with_ambient {
-            let ambient = self.ambient_irradiance();
-            let irradiance: Vec<Rgb> = self.irradiance.iter().map(|h| *h + ambient).collect();
-            let radiosity = (0..self.radiosity.len())
-                .map(|v| self.radiosity[v] + self.reflectance(v) * ambient)
-                .collect();
-            (radiosity, irradiance)
-        } else {
-            (self.radiosity.clone(), self.irradiance.clone())
-        };
+    pub fn solution(&self) -> Solution<'_> {
+        self.solution_from(self.radiosity.clone(), self.irradiance.clone())
+    }
+
+    /// The solution with the ambient term for the light not yet shot added,
+    /// spread evenly (Cohen et al. 1988, §4): B_v + ρ_v · A_mb and H_v + A_mb.
+    /// For intermediate images.
+    #[must_use]
+    pub fn solution_with_ambient(&self) -> Solution<'_> {
+        let ambient = self.ambient_irradiance();
+        let irradiance = self.irradiance.iter().map(|h| *h + ambient).collect();
+        let radiosity = (0..self.radiosity.len())
+            .map(|v| self.radiosity[v] + self.reflectance(v) * ambient)
+            .collect();
+        self.solution_from(radiosity, irradiance)
+    }
+
+    /// A [`Solution`] of this solver's scene and mesh with the given values.
+    fn solution_from(&self, radiosity: Vec<Rgb>, irradiance: Vec<Rgb>) -> Solution<'_> {
         Solution {
             scene: &self.scene,
             mesh: &self.mesh,
@@ -360,15 +358,10 @@ impl Solver {
             .elements
             .iter()
             .map(|element| {
-                let corners = element.corners();
-                let mean = corners
-                    .iter()
-                    .map(|&v| self.irradiance[v as usize])
-                    .sum::<Rgb>()
-                    / corners.len() as f64;
+                let mean = element.corner_mean(|v| self.irradiance[v as usize]);
                 let reflectance = self
                     .scene
-                    .material_of(&self.scene.surfaces[element.surface as usize])
+                    .material_of(self.scene.surface(element.surface))
                     .reflectance;
                 (Rgb::ONE - reflectance) * mean * element.area
             })
@@ -463,7 +456,7 @@ impl Solver {
             let gathered = self.gather_shot_light(&added);
             for (&v, irradiance) in added.iter().zip(gathered) {
                 debug_assert_eq!(v as usize, self.radiosity.len());
-                let surface = &self.scene.surfaces[self.mesh.vertices[v as usize].surface as usize];
+                let surface = self.scene.surface(self.mesh.vertices[v as usize].surface);
                 let material = self.scene.material_of(surface);
                 self.irradiance.push(irradiance);
                 self.radiosity
@@ -476,7 +469,7 @@ impl Solver {
                 if patch.area > 0.0 {
                     let reflectance = self
                         .scene
-                        .material_of(&self.scene.surfaces[patch.surface])
+                        .material_of(self.scene.surface(patch.surface))
                         .reflectance;
                     self.unshot[p] += reflectance * change / patch.area;
                     self.received_power += change;
@@ -491,12 +484,7 @@ impl Solver {
     fn incident_power_per_patch(&self) -> Vec<Rgb> {
         let mut power = vec![Rgb::ZERO; self.mesh.patches.len()];
         for element in &self.mesh.elements {
-            let corners = element.corners();
-            let mean = corners
-                .iter()
-                .map(|&v| self.irradiance[v as usize])
-                .sum::<Rgb>()
-                / corners.len() as f64;
+            let mean = element.corner_mean(|v| self.irradiance[v as usize]);
             power[element.patch as usize] += mean * element.area;
         }
         power
@@ -528,7 +516,7 @@ impl Solver {
                 let vertex = &mesh.vertices[v as usize];
                 let receiver = Receiver {
                     position: vertex.receiver_position,
-                    normal: scene.surfaces[vertex.surface as usize].normal(),
+                    normal: scene.surface(vertex.surface).normal(),
                     surface: vertex.surface,
                     key: u64::from(v),
                 };

@@ -136,8 +136,7 @@ pub fn elements_to_split(
             recovered[v as usize] += *gradient * element.area;
             weights[v as usize] += element.area;
         }
-        let mean = corners.iter().map(|&v| brightness(v)).sum::<f64>() / corners.len() as f64;
-        weighted += mean * element.area;
+        weighted += element.corner_mean(brightness) * element.area;
         area += element.area;
     }
     for (g, w) in recovered.iter_mut().zip(&weights) {
@@ -165,7 +164,7 @@ pub fn elements_to_split(
                 .filter(|&&v| weights[v as usize] > 0.0)
                 .map(|&v| (gradients[index] - recovered[v as usize]).length())
                 .fold(0.0, f64::max);
-            let mean = corners.iter().map(|&v| brightness(v)).sum::<f64>() / corners.len() as f64;
+            let mean = element.corner_mean(brightness);
             longest * jump > settings.threshold * mean.max(floor)
         })
         .collect()

@@ -6,7 +6,7 @@ use glam::DVec2;
 use super::mesh_settings::{MeshKind, MeshSettings};
 use crate::lighting::{DirectField, Luminaire, ReceiverAnalysis, analyse_receivers, luminaires};
 use crate::mesh::{ContourLayout, ContourSettings, Mesh, contour_layout, mesh_surfaces};
-use crate::scene::{Scene, Visibility};
+use crate::scene::{Scene, SurfaceId, Visibility};
 
 /// What meshing found: the luminaires, each receiver's analysis, and where
 /// the contour mesher was used.
@@ -17,7 +17,7 @@ pub struct MeshAnalysis {
     /// The luminaires the analysis grouped.
     pub luminaires: Vec<Luminaire>,
     /// Surfaces meshed by the contour mesher.
-    pub contour_surfaces: Vec<usize>,
+    pub contour_surfaces: Vec<SurfaceId>,
     /// Newton iterations spent on contour vertices, over all receivers.
     pub newton_iterations: usize,
     /// Contour vertices placed by Newton's method.
@@ -47,8 +47,9 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
     analysis.luminaires = luminaires(scene);
     analysis.receivers =
         analyse_receivers(scene, visibility, &analysis.luminaires, &settings.dominance);
-    let layouts: Vec<Option<ContourLayout>> = (0..scene.surfaces.len())
-        .map(|surface| {
+    let layouts: Vec<Option<ContourLayout>> = scene
+        .surfaces_with_ids()
+        .map(|(surface, _)| {
             let found = analysis
                 .receivers
                 .iter()
@@ -57,14 +58,14 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
             receiver_layout(scene, visibility, surface, luminaire, &settings.contour)
         })
         .collect();
-    for (surface, layout) in layouts.iter().enumerate() {
+    for ((surface, _), layout) in scene.surfaces_with_ids().zip(&layouts) {
         if let Some(layout) = layout {
             analysis.contour_surfaces.push(surface);
             analysis.newton_iterations += layout.newton_iterations;
             analysis.newton_solves += layout.newton_solves;
         }
     }
-    let mesh = mesh_surfaces(scene, &square, &|surface| layouts[surface].clone());
+    let mesh = mesh_surfaces(scene, &square, &|surface| layouts[surface.index()].clone());
     SceneMesh { mesh, analysis }
 }
 
@@ -79,13 +80,13 @@ const SHADOW_RAYS: usize = 16;
 pub fn receiver_layout(
     scene: &Scene,
     visibility: &Visibility,
-    receiver: usize,
+    receiver: SurfaceId,
     luminaire: &Luminaire,
     settings: &ContourSettings,
 ) -> Option<ContourLayout> {
     let field = DirectField::new(scene, receiver, luminaire)?;
     let centre = field.maximum()?;
-    let outline = scene.surfaces[receiver].plane_vertices();
+    let outline = scene.surface(receiver).plane_vertices();
     let mut settings = settings.clone();
     settings.orientation = tilt_angle(&field, luminaire, centre);
     let diameter = outline

@@ -8,7 +8,7 @@ use super::settings::FormFactorKernel;
 use crate::lighting::SampleStream;
 use crate::mesh::Cell;
 use crate::radiometry::{disc_form_factor, polygon_form_factor};
-use crate::scene::Visibility;
+use crate::scene::{SurfaceId, Visibility};
 
 /// Strata closer than ten stratum sizes (r² < NEAR_FIELD · A) use Lambert's
 /// exact polygon factor instead of Wallace's disc term. The disc term's
@@ -30,8 +30,8 @@ pub struct Shooter {
     pub cell: Cell,
     /// Unit normal of its front.
     pub normal: DVec3,
-    /// Index of its surface.
-    pub surface: u32,
+    /// Its surface.
+    pub surface: SurfaceId,
     /// Stratified subdivisions: `strata[m]` holds the m² cells for m samples
     /// per side, made when a receiver first needs them.
     strata: Vec<OnceLock<Vec<Cell>>>,
@@ -46,8 +46,8 @@ pub struct Receiver {
     pub position: DVec3,
     /// Unit normal of the front.
     pub normal: DVec3,
-    /// Index of its surface.
-    pub surface: u32,
+    /// Its surface.
+    pub surface: SurfaceId,
     /// Identifies the receiver in the random streams.
     pub key: u64,
 }
@@ -67,7 +67,7 @@ impl Shooter {
     pub fn new(
         cell: Cell,
         normal: DVec3,
-        surface: u32,
+        surface: SurfaceId,
         min_side: usize,
         max_side: usize,
     ) -> Shooter {

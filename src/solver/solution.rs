@@ -5,7 +5,9 @@ use glam::{DVec2, DVec3};
 use crate::error::{Error, Result};
 use crate::mesh::{Cell, Mesh, receiver_inset};
 use crate::radiometry::{polygon_form_factor, polygon_form_factor_gradient};
-use crate::scene::{ProbePoint, Rgb, Scene, Visibility, distance_to_boundary, polygon_contains};
+use crate::scene::{
+    ProbePoint, Rgb, Scene, SurfaceId, Visibility, distance_to_boundary, polygon_contains,
+};
 
 /// How a probe reads the solution.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -23,8 +25,8 @@ pub enum ProbeMode {
 pub struct Probe {
     /// The point.
     pub position: DVec3,
-    /// Index of the surface it lies on.
-    pub surface: usize,
+    /// The surface it lies on.
+    pub surface: SurfaceId,
     /// Irradiance H, W/m²: light arriving on the surface's front.
     pub irradiance: Rgb,
     /// Radiosity B = E + ρ H, W/m².
@@ -80,11 +82,8 @@ impl Solution<'_> {
             self.scene.surfaces.len()
         ];
         for element in &self.mesh.elements {
-            let corners = element.corners();
-            let mean = |values: &[Rgb]| {
-                corners.iter().map(|&v| values[v as usize]).sum::<Rgb>() / corners.len() as f64
-            };
-            let total = &mut totals[element.surface as usize];
+            let mean = |values: &[Rgb]| element.corner_mean(|v| values[v as usize]);
+            let total = &mut totals[element.surface.index()];
             total.area += element.area;
             total.mean_radiosity += mean(&self.radiosity) * element.area;
             total.received_power += mean(&self.irradiance) * element.area;
@@ -127,10 +126,10 @@ impl Solution<'_> {
     /// The surface a point lies on: within 10⁻⁴ of the scene's diagonal of
     /// its plane and inside (or on the edge of) its polygon, facing along
     /// the point's normal if it has one; the nearest plane wins.
-    fn locate(&self, point: &ProbePoint) -> Option<usize> {
+    fn locate(&self, point: &ProbePoint) -> Option<SurfaceId> {
         let tolerance = 1e-4 * self.scene.diagonal();
-        let mut best: Option<(usize, f64)> = None;
-        for (index, surface) in self.scene.surfaces.iter().enumerate() {
+        let mut best: Option<(SurfaceId, f64)> = None;
+        for (id, surface) in self.scene.surfaces_with_ids() {
             if point.normal.is_some_and(|n| n.dot(surface.normal()) < 0.99) {
                 continue;
             }
@@ -140,22 +139,22 @@ impl Solution<'_> {
             }
             let plane_point = surface.frame().to_plane(point.position);
             if distance_outside_polygon(plane_point, &surface.plane_vertices()) <= tolerance {
-                best = Some((index, height));
+                best = Some((id, height));
             }
         }
-        best.map(|(index, _)| index)
+        best.map(|(id, _)| id)
     }
 
     /// The final gather at a point of a surface.
-    fn gather(&self, position: DVec3, surface: usize) -> Probe {
-        let s = &self.scene.surfaces[surface];
+    fn gather(&self, position: DVec3, surface: SurfaceId) -> Probe {
+        let s = self.scene.surface(surface);
         let material = self.scene.material_of(s);
         let normal = s.normal();
         let x = self.gather_point(position, surface);
         let mut irradiance = Rgb::ZERO;
         let mut gradient = [DVec3::ZERO; 3];
         for (index, element) in self.mesh.elements.iter().enumerate() {
-            if element.surface as usize == surface {
+            if element.surface == surface {
                 continue;
             }
             let corners: Vec<DVec3> = element
@@ -163,7 +162,7 @@ impl Solution<'_> {
                 .iter()
                 .map(|&v| self.mesh.vertices[v as usize].position)
                 .collect();
-            let source_normal = self.scene.surfaces[element.surface as usize].normal();
+            let source_normal = self.scene.surface(element.surface).normal();
             // One-sided: the element must face the point.
             if source_normal.dot(x - corners[0]) <= 0.0 {
                 continue;
@@ -176,18 +175,14 @@ impl Solution<'_> {
             if visible <= 0.0 {
                 continue;
             }
-            let mean_radiosity = element
-                .corners()
-                .iter()
-                .map(|&v| self.radiosity[v as usize])
-                .sum::<Rgb>()
-                / corners.len() as f64;
+            let mean_radiosity = element.corner_mean(|v| self.radiosity[v as usize]);
             irradiance += mean_radiosity * factor * visible;
             let factor_gradient = polygon_form_factor_gradient(x, normal, &corners);
             let in_plane = factor_gradient - normal * factor_gradient.dot(normal);
+            let (radiosity, reflectance) =
+                (mean_radiosity.to_array(), material.reflectance.to_array());
             for (channel, g) in gradient.iter_mut().enumerate() {
-                *g +=
-                    in_plane * (mean_radiosity[channel] * visible * material.reflectance[channel]);
+                *g += in_plane * (radiosity[channel] * visible * reflectance[channel]);
             }
         }
         Probe {
@@ -202,8 +197,8 @@ impl Solution<'_> {
     /// Where a probe on a surface gathers: the point itself, moved inside its
     /// polygon when it is on (or within the inset of) the polygon's edge, as
     /// mesh vertices are.
-    fn gather_point(&self, position: DVec3, surface: usize) -> DVec3 {
-        let s = &self.scene.surfaces[surface];
+    fn gather_point(&self, position: DVec3, surface: SurfaceId) -> DVec3 {
+        let s = self.scene.surface(surface);
         let inset = receiver_inset(self.scene);
         let plane_vertices = s.plane_vertices();
         let p = s.frame().to_plane(position);
@@ -218,15 +213,21 @@ impl Solution<'_> {
 
     /// The fraction of stratified shadow rays from `x` to an element that are
     /// unblocked: m × m rays, m growing with the element's apparent size.
-    fn visible_fraction(&self, x: DVec3, surface: usize, element: usize, corners: &[DVec3]) -> f64 {
+    fn visible_fraction(
+        &self,
+        x: DVec3,
+        surface: SurfaceId,
+        element: usize,
+        corners: &[DVec3],
+    ) -> f64 {
         let e = &self.mesh.elements[element];
         let cell = if corners.len() == 3 {
             Cell::triangle(corners[0], corners[1], corners[2])
         } else {
             Cell::quad(corners[0], corners[1], corners[2], corners[3])
         };
-        let normal = self.scene.surfaces[surface].normal();
-        let source_normal = self.scene.surfaces[e.surface as usize].normal();
+        let normal = self.scene.surface(surface).normal();
+        let source_normal = self.scene.surface(e.surface).normal();
         let distance = (cell.centre() - x).length().max(f64::MIN_POSITIVE);
         let m = ((3.0 * cell.area.sqrt() / distance).ceil() as usize).clamp(2, 8);
         let offset = self.visibility.surface_offset();
@@ -241,7 +242,7 @@ impl Solution<'_> {
                 if self.visibility.is_unblocked(
                     x + normal * offset,
                     y + source_normal * offset,
-                    [surface as u32, e.surface],
+                    [surface, e.surface],
                 ) {
                     unblocked += 1;
                 }
@@ -256,8 +257,8 @@ impl Solution<'_> {
 
     /// The mesh's piecewise-linear value at a point of a surface, split into
     /// triangles as the renderer splits it.
-    fn interpolate(&self, position: DVec3, surface: usize) -> Probe {
-        let normal = self.scene.surfaces[surface].normal();
+    fn interpolate(&self, position: DVec3, surface: SurfaceId) -> Probe {
+        let normal = self.scene.surface(surface).normal();
         let gap = |p: u32, q: u32| {
             (self.radiosity[p as usize] - self.radiosity[q as usize])
                 .abs()
@@ -265,12 +266,7 @@ impl Solution<'_> {
         };
         let mut best: Option<(f64, [u32; 3], [f64; 3])> = None;
         let mut split = Vec::new();
-        for element in self
-            .mesh
-            .elements
-            .iter()
-            .filter(|e| e.surface as usize == surface)
-        {
+        for element in self.mesh.elements.iter().filter(|e| e.surface == surface) {
             self.mesh.element_triangles(element, gap, &mut split);
             for &triangle in &split {
                 let [a, b, c] = triangle.map(|v| self.mesh.vertices[v as usize].position);
@@ -302,7 +298,7 @@ impl Solution<'_> {
         let gradients = barycentric_gradients(a, b, c, normal);
         let gradient = [0, 1, 2].map(|channel| {
             (0..3)
-                .map(|k| gradients[k] * self.radiosity[triangle[k] as usize][channel])
+                .map(|k| gradients[k] * self.radiosity[triangle[k] as usize].to_array()[channel])
                 .sum()
         });
         Probe {

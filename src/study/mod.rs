@@ -30,7 +30,7 @@ use crate::lighting::{DirectField, Luminaire};
 use crate::mesh::{
     ContourSettings, ErrorGrid, PlaneTriangulation, SquareMeshSettings, mesh_square,
 };
-use crate::scene::{Scene, Visibility};
+use crate::scene::{Scene, SurfaceId, Visibility};
 use crate::solver::receiver_layout;
 
 /// What a comparison meshes and how finely it measures.
@@ -76,12 +76,12 @@ impl Default for CompareSettings {
 pub fn compare_receiver(
     scene: &Scene,
     visibility: &Visibility,
-    receiver: usize,
+    receiver: SurfaceId,
     luminaire: &Luminaire,
     settings: &CompareSettings,
 ) -> Option<ReceiverComparison> {
     let field = DirectField::new(scene, receiver, luminaire)?;
-    let surface = &scene.surfaces[receiver];
+    let surface = scene.surface(receiver);
     let outline = surface.plane_vertices();
     let exact =
         |p: DVec2| field.value(p) * field.visible_fraction(visibility, p, settings.shadow_rays);
@@ -131,11 +131,11 @@ pub fn compare_receiver(
 /// not a quad), split into triangles along the diagonals the renderer picks.
 fn square_triangulation(
     scene: &Scene,
-    receiver: usize,
+    receiver: SurfaceId,
     n: usize,
     exact: &dyn Fn(DVec2) -> f64,
 ) -> PlaneTriangulation {
-    let surface = &scene.surfaces[receiver];
+    let surface = scene.surface(receiver);
     let alone = Scene {
         surfaces: vec![surface.clone()],
         materials: scene.materials.clone(),

@@ -7,6 +7,7 @@ use std::path::Path;
 use super::plot::Series;
 use crate::error::{Error, Result};
 use crate::mesh::{ErrorGrid, PlaneTriangulation};
+use crate::scene::SurfaceId;
 
 /// Which mesh of a receiver: the mesher and its size.
 ///
@@ -179,8 +180,8 @@ impl serde::Serialize for MeshRecord {
 pub struct ReceiverComparison {
     /// The receiver's name.
     pub receiver: String,
-    /// Its index in the scene.
-    pub surface: usize,
+    /// Its id in the scene.
+    pub surface: SurfaceId,
     /// Its polygon, in plane coordinates.
     pub outline: Vec<DVec2>,
     /// One record per mesh, in the order measured.
@@ -372,7 +373,7 @@ mod tests {
         };
         let comparison = ReceiverComparison {
             receiver: "floor".into(),
-            surface: 3,
+            surface: SurfaceId::new(3),
             outline: Vec::new(),
             records: vec![
                 record(MeshSpec::Square { n: 1 }, 0, 0),
@@ -414,7 +415,7 @@ mod tests {
         bad.rms_rel_error = f64::NAN;
         let comparison = ReceiverComparison {
             receiver: "floor".into(),
-            surface: 0,
+            surface: SurfaceId::new(0),
             outline: Vec::new(),
             records: vec![bad],
         };

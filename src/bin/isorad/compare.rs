@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use isorad::{
+    SurfaceId,
     lighting::{DominanceSettings, analyse_receivers, luminaires},
     load_scene,
     scene::Visibility,
@@ -47,9 +48,9 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     let lamps = luminaires(scene);
     let analyses = analyse_receivers(scene, &visibility, &lamps, &DominanceSettings::default());
     // The receivers to compare, each with the luminaire to mesh for.
-    let mut chosen: Vec<(usize, usize)> = Vec::new();
+    let mut chosen: Vec<(SurfaceId, usize)> = Vec::new();
     for analysis in &analyses {
-        let name = &scene.surfaces[analysis.receiver].name;
+        let name = &scene.surface(analysis.receiver).name;
         let wanted = match &args.receiver {
             Some(only) => only == name,
             None => analysis.qualifies,

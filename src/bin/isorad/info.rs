@@ -5,7 +5,7 @@ use std::io::Write;
 
 use clap::Args;
 use isorad::{
-    Scene, Settings,
+    Scene, Settings, SurfaceId,
     lighting::{Luminaire, ReceiverAnalysis, analyse_receivers, luminaires},
     load_scene,
     scene::Visibility,
@@ -88,14 +88,14 @@ fn luminaire_rows(lights: &[Luminaire]) -> Vec<Vec<String>> {
         .iter()
         .enumerate()
         .map(|(index, light)| {
-            let surfaces: Vec<String> = light.surfaces.iter().map(usize::to_string).collect();
+            let surfaces: Vec<String> = light.surfaces.iter().map(SurfaceId::to_string).collect();
             let e = light.exitance;
             vec![
                 index.to_string(),
                 surfaces.join(","),
                 significant(light.area),
                 significant(light.radius),
-                format!("{:.3} {:.3} {:.3}", e.x, e.y, e.z),
+                format!("{:.3} {:.3} {:.3}", e.r, e.g, e.b),
             ]
         })
         .collect()
@@ -107,7 +107,7 @@ fn receiver_rows(scene: &Scene, analyses: &[ReceiverAnalysis]) -> Vec<Vec<String
     analyses
         .iter()
         .map(|analysis| {
-            let surface = &scene.surfaces[analysis.receiver];
+            let surface = scene.surface(analysis.receiver);
             let ratio = if analysis.size_ratio.is_finite() {
                 format!("{:.3}", analysis.size_ratio)
             } else {

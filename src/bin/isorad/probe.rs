@@ -35,7 +35,7 @@ pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
         None,
         no_previews,
     )?;
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     let mode = args.mode.into();
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     let mut header = String::from(
@@ -57,7 +57,7 @@ pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
         let (h, b) = (probe.irradiance, probe.radiosity);
         let mut row = format!(
             "{},{},{},{},{},{},{},{},{}",
-            p.x, p.y, p.z, h.x, h.y, h.z, b.x, b.y, b.z
+            p.x, p.y, p.z, h.r, h.g, h.b, b.r, b.g, b.b
         );
         if args.gradient {
             for g in probe.gradient {

@@ -91,7 +91,9 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     render_settings.supersampling = args.supersampling.clamp(1, 16);
     // Intermediate and final images add the ambient term for the light not yet shot.
     let write_images = |solver: &Solver| -> anyhow::Result<f64> {
-        let image = solver.solution(true).render(&camera, &render_settings);
+        let image = solver
+            .solution_with_ambient()
+            .render(&camera, &render_settings);
         write_exr(&image, &args.output)?;
         let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
         write_png(&image, &ToneMap { exposure }, &args.png)?;
@@ -107,7 +109,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     )?;
     let exposure = write_images(&solver)?;
     // Exports (final only, not at previews) take the PNG's exposure.
-    let solution = solver.solution(true);
+    let solution = solver.solution_with_ambient();
     for path in &args.export {
         export_solution(&solution, &ToneMap { exposure }, path)?;
     }

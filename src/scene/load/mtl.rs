@@ -9,9 +9,8 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 
-use crate::scene::material::{
-    Material, NOT_FINITE, Rgb, emitted_radiance_problem, reflectance_problem,
-};
+use crate::scene::Rgb;
+use crate::scene::material::{Material, NOT_FINITE, emitted_radiance_problem, reflectance_problem};
 
 /// Checks an MTL text before tobj parses it, so that errors carry a line
 /// number and out-of-range colours are caught (tobj itself would panic on a
@@ -138,7 +137,7 @@ mod tests {
         assert!(check(text).is_ok());
         let (m, _) = parse_mtl(Path::new("t.mtl"), text).unwrap().unwrap();
         let (material, warning) = to_material(&m[0]);
-        assert!((material.reflectance.x - 0.7).abs() < 1e-6);
+        assert!((material.reflectance.r - 0.7).abs() < 1e-6);
         assert!(warning.is_none());
     }
 
