@@ -21,7 +21,7 @@ use crate::scene::{SurfaceId, Visibility};
 /// (a lamp hung 2 cm from a wall) or a receiver as close to the source's
 /// plane sees a cosine that varies across the stratum by more than a tenth,
 /// and the disc term at one jittered point would leave blotches
-/// (`tests/source_refinement.rs`).
+/// (`tests/it/source_refinement.rs`).
 const NEAR_FIELD: f64 = 100.0;
 
 /// A shooting patch, prepared once per shot.

@@ -4,15 +4,13 @@
 //!
 //! Run with `--nocapture` to see the worst agreement of each check.
 
-mod support;
-
+use crate::support::{Rng, SceneBuilder, coaxial_disc_form_factor, disc_facing_down, square_z};
 use glam::{DVec2, DVec3};
 use isorad::{
     Scene, SurfaceId,
     lighting::{DirectField, Luminaire, luminaires},
     radiometry::tilt_line_maximum,
 };
-use support::{Rng, SceneBuilder, coaxial_disc_form_factor, disc_facing_down, square_z};
 
 /// A square of side `side` centred at `centre`, facing along the unit `normal`.
 fn square_facing(centre: DVec3, normal: DVec3, side: f64) -> Vec<DVec3> {

@@ -13,10 +13,9 @@
 //!
 //! Case counts are modest so that the file runs in seconds.
 
-mod support;
-
 use std::collections::HashMap;
 
+use crate::support::box_faces;
 use glam::{DVec2, DVec3};
 use isorad::{
     Material, Rgb, Scene, SolverSettings,
@@ -26,7 +25,6 @@ use isorad::{
     scene::Surface,
 };
 use proptest::prelude::*;
-use support::box_faces;
 
 // ---- Random polygons --------------------------------------------------------
 

@@ -1,15 +1,13 @@
 //! Luminaire grouping and the dominant-small-emitter analysis on scenes
 //! whose answer is known.
 
-mod support;
-
+use crate::support::{SceneBuilder, square_z};
 use glam::DVec3;
 use isorad::{
     Rgb, Scene, SurfaceId,
     lighting::{DominanceSettings, analyse_receivers, luminaires},
     scene::Visibility,
 };
-use support::{SceneBuilder, square_z};
 
 /// A rectangle [x0, x1] × [y0, y1] at height z, facing up or down.
 fn rectangle(x0: f64, x1: f64, y0: f64, y1: f64, z: f64, facing_up: bool) -> Vec<DVec3> {

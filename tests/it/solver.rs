@@ -1,7 +1,6 @@
 //! The progressive solver against analytic references.
 
-mod support;
-
+use crate::support::*;
 use glam::DVec3;
 use isorad::{
     Scene, SolverSettings, SurfaceId,
@@ -9,7 +8,6 @@ use isorad::{
     solver::FormFactorKernel,
 };
 use std::f64::consts::PI;
-use support::*;
 
 fn settings(tolerance: f64) -> SolverSettings {
     let mut settings = SolverSettings::default();

@@ -1,14 +1,12 @@
 //! The square mesher: conforming, covering, and N × N on quads.
 
-mod support;
-
+use crate::support::SceneBuilder;
 use glam::DVec3;
 use isorad::{
     Scene,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
 };
 use std::collections::HashMap;
-use support::SceneBuilder;
 
 fn single(vertices: Vec<DVec3>) -> Scene {
     let mut b = SceneBuilder::default();

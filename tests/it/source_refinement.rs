@@ -4,8 +4,7 @@
 //! block, shows no blotches: every receiving vertex matches the exact,
 //! unoccluded point-to-polygon form factor.
 
-mod support;
-
+use crate::support::*;
 use glam::DVec3;
 use isorad::{
     Scene, Solver, SolverSettings, SurfaceId,
@@ -13,7 +12,6 @@ use isorad::{
     radiometry::polygon_form_factor,
 };
 use std::f64::consts::PI;
-use support::*;
 
 const WALL_REFLECTANCE: f64 = 0.5;
 /// Emitted radiance of the lamps: exitance E = π.

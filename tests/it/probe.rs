@@ -1,7 +1,6 @@
 //! Probes: the solution read at points, against analytic references.
 
-mod support;
-
+use crate::support::*;
 use glam::DVec3;
 use isorad::{
     ProbeMode, Scene, Solver, SolverSettings, SurfaceId,
@@ -9,7 +8,6 @@ use isorad::{
     scene::ProbePoint,
 };
 use std::f64::consts::PI;
-use support::*;
 
 const RADIUS: f64 = 1.0;
 const HEIGHT: f64 = 2.0;

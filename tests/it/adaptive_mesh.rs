@@ -2,8 +2,7 @@
 //! and the rendered triangulation through hanging vertices is conforming and
 //! crack-free.
 
-mod support;
-
+use crate::support::{Rng, SceneBuilder};
 use glam::DVec3;
 use isorad::{
     Camera, RenderSettings, Rgb, SurfaceId,
@@ -11,7 +10,6 @@ use isorad::{
     render::{ShadedTriangle, rasterize},
 };
 use std::collections::HashMap;
-use support::{Rng, SceneBuilder};
 
 /// A 1 × 1 square facing +z, and a triangle facing +z beside it, meshed coarsely.
 fn plane_scene() -> isorad::Scene {

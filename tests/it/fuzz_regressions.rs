@@ -3,7 +3,7 @@
 //! stays fixed. A new crash file from `fuzz/artifacts/<target>/` goes into
 //! `tests/fuzz_regressions/<target>/`.
 
-#[path = "../fuzz/src/lib.rs"]
+#[path = "../../fuzz/src/lib.rs"]
 #[allow(dead_code)]
 mod fuzz_support;
 

@@ -1,15 +1,13 @@
 //! Objects standing on surfaces: contact lines in the mesh, nothing hidden
 //! kept, no darkness bleeding out from under a block.
 
-mod support;
-
+use crate::support::*;
 use glam::DVec3;
 use isorad::{
     ProbeMode, Scene, Solver, SolverSettings, SurfaceId,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
     scene::ProbePoint,
 };
-use support::*;
 
 /// A 4 × 4 floor (z = 0) with a unit cube standing on it, centred at the
 /// origin and turned by 20°, open at the bottom like the Cornell box's

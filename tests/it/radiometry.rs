@@ -3,15 +3,13 @@
 //!
 //! Run with `--nocapture` to see the worst agreement of each check.
 
-mod support;
-
+use crate::support::Rng;
 use glam::DVec3;
 use isorad::radiometry::{
     DiscModel, ReceiverPlane, SmallDisc, polygon_form_factor, polygon_form_factor_gradient,
     polygon_form_factor_with_gradient, tilt_line_maximum,
 };
 use std::f64::consts::PI;
-use support::Rng;
 
 /// A star-shaped polygon (3 to 8 vertices, not always convex) of size about
 /// `size` around `centre`, in a random plane.

@@ -1,0 +1,28 @@
+//! isorad's integration tests, one module per subject, compiled as one
+//! crate so that the suite links once. Shared scene builders and references
+//! are in `support`.
+
+mod support;
+
+mod adaptive_mesh;
+mod adaptive_solve;
+mod api;
+mod bad_inputs;
+mod cli;
+mod contacts;
+mod contour;
+mod coplanar_merge;
+mod direct_field;
+mod dominance;
+mod export;
+mod fuzz_regressions;
+mod office;
+mod plots;
+mod probe;
+mod properties;
+mod radiometry;
+mod render;
+mod scene_loading;
+mod solver;
+mod source_refinement;
+mod square_mesh;
