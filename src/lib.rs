@@ -134,7 +134,7 @@ pub use solver::{
 pub mod internals {
     pub use crate::mesh::budget::estimate_square_elements;
     pub use crate::scene::plane_polygon::{distance_to_boundary, polygon_contains};
-    pub use crate::scene::polygon::best_fit_plane;
+    pub use crate::scene::polygon::{PolygonPlane, best_fit_plane};
     pub use crate::scene::surface::newell_normal;
     pub use crate::scene::triangulate::triangulate_polygon;
 }

@@ -23,9 +23,9 @@ fuzz_target!(|data: &[u8]| {
             let frame = camera.frame();
             assert!(frame.right.is_finite() && frame.up.is_finite() && frame.forward.is_finite());
         }
-        let options = &loaded.options;
-        assert!(options.tolerance.is_none_or(|t| t > 0.0 && t < 1.0));
-        assert!(options.max_edge.is_none_or(|e| e > 0.0 && e.is_finite()));
-        assert!(options.elements_per_side != Some(0));
+        // The file's [mesh] and [solver] tables: valid settings or an error.
+        if let Ok(settings) = isorad::Settings::from_scene_options(&loaded.options) {
+            settings.validate().expect("settings read from a file are valid");
+        }
     }
 });

@@ -16,7 +16,7 @@ mod topology;
 pub(crate) use assembly::receiver_inset;
 pub use assembly::{mesh_square, mesh_surfaces};
 pub(crate) use budget::estimate_square_elements;
-pub use budget::{check_element_budget, estimate_contour_elements};
+pub(crate) use budget::{check_element_budget, estimate_contour_elements};
 pub use constrained::PlaneTriangulation;
 pub use contour::{ContourLayout, ContourSettings, ScalarField, contour_layout};
 pub use hierarchy::{ElementHierarchy, ElementKey, ElementNode};

@@ -1,6 +1,6 @@
 //! Image files: linear EXR (written and read back) and tone-mapped PNG.
 //!
-//! Every writer is atomic ([`crate::fs::write_atomically`]): an existing file
+//! Every writer is atomic (`fs.rs`, `write_atomically`): an existing file
 //! is either left as it was or replaced whole, and errors name the target
 //! path.
 

@@ -20,7 +20,7 @@ pub use load::{
 };
 pub use material::Material;
 pub(crate) use plane_polygon::{distance_to_boundary, distance_to_segment, polygon_contains};
-pub use polygon::PolygonPlane;
+
 pub use rgb::Rgb;
 pub use surface::{PlaneFrame, Surface};
 pub use surface_id::SurfaceId;

@@ -215,18 +215,16 @@ impl MeshSettings {
     }
 
     /// Checks every field is in range; returns the first problem, an
-    /// [`crate::Error::InvalidSetting`] named by its field path
-    /// (`mesh.max_edge`, `mesh.refinement.threshold`).
+    /// [`crate::Error::InvalidSetting`] named by its field path below the
+    /// mesh settings (`max_edge`, `refinement.threshold`;
+    /// [`crate::Settings::validate`] puts it under `mesh.`).
     pub fn validate(&self) -> crate::Result<()> {
-        self.max_edge.validate("mesh.max_edge")?;
-        self.patch_max_edge.validate("mesh.patch_max_edge")?;
+        self.max_edge.validate("max_edge")?;
+        self.patch_max_edge.validate("patch_max_edge")?;
         let counts = [
-            (
-                "mesh.elements_per_side",
-                self.elements_per_side.unwrap_or(1),
-            ),
-            ("mesh.contour.directions", self.contour.directions),
-            ("mesh.contour.levels", self.contour.levels),
+            ("elements_per_side", self.elements_per_side.unwrap_or(1)),
+            ("contour.directions", self.contour.directions),
+            ("contour.levels", self.contour.levels),
         ];
         for (name, value) in counts {
             if !(1..=1000).contains(&value) {
@@ -238,10 +236,10 @@ impl MeshSettings {
         }
         self.dominance
             .validate()
-            .map_err(|e| e.within("mesh.dominance"))?;
+            .map_err(|e| e.within("dominance"))?;
         self.refinement
             .validate()
-            .map_err(|e| e.within("mesh.refinement"))
+            .map_err(|e| e.within("refinement"))
     }
 }
 

@@ -88,8 +88,8 @@ impl SolverSettings {
     }
 
     /// Checks every field is in range; returns the first problem, an
-    /// [`crate::Error::InvalidSetting`] named by its field path
-    /// (`solver.tolerance`).
+    /// [`crate::Error::InvalidSetting`] named by its field (`tolerance`;
+    /// [`Settings::validate`] puts it under `solver.`).
     pub fn validate(&self) -> crate::Result<()> {
         let invalid = |name: &str, message: String| crate::Error::InvalidSetting {
             name: name.into(),
@@ -97,23 +97,20 @@ impl SolverSettings {
         };
         if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
             return Err(invalid(
-                "solver.tolerance",
+                "tolerance",
                 format!("{} is not in (0, 1)", self.tolerance),
             ));
         }
         if self.direct_samples == 0 {
-            return Err(invalid(
-                "solver.direct_samples",
-                "0 is not at least 1".into(),
-            ));
+            return Err(invalid("direct_samples", "0 is not at least 1".into()));
         }
         if !(1..=65_536).contains(&self.max_samples) {
             let message = format!("{} is not in 1..=65536", self.max_samples);
-            return Err(invalid("solver.max_samples", message));
+            return Err(invalid("max_samples", message));
         }
         if !(self.sample_density > 0.0 && self.sample_density.is_finite()) {
             return Err(invalid(
-                "solver.sample_density",
+                "sample_density",
                 format!("{} is not positive", self.sample_density),
             ));
         }
@@ -163,9 +160,11 @@ impl Settings {
         }
     }
 
-    /// Checks every field is in range; returns the first problem.
+    /// Checks every field is in range; returns the first problem, an
+    /// [`crate::Error::InvalidSetting`] named by its field path
+    /// (`mesh.max_edge`, `solver.tolerance`, `mesh.refinement.threshold`).
     pub fn validate(&self) -> crate::Result<()> {
-        self.mesh.validate()?;
-        self.solver.validate()
+        self.mesh.validate().map_err(|e| e.within("mesh"))?;
+        self.solver.validate().map_err(|e| e.within("solver"))
     }
 }

@@ -5,13 +5,13 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use isorad::{
-    SurfaceId,
-    lighting::{DominanceSettings, analyse_receivers, luminaires},
+    Scene, Settings, SurfaceId,
+    lighting::{ReceiverAnalysis, analyse_receivers, luminaires},
     load_scene,
     scene::Visibility,
     study::{
-        CompareSettings, MeshSpec, compare_receiver, panels_for_figure, write_json,
-        write_loglog_plot, write_mesh_panels,
+        CompareSettings, MeshSpec, ReceiverComparison, compare_receiver, panels_for_figure,
+        write_json, write_loglog_plot, write_mesh_panels,
     },
 };
 
@@ -43,22 +43,16 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
         ensure_directory_exists(path)?;
     }
     let loaded = load_scene(&args.scene)?;
+    // The scene file's [mesh.dominance] decides which receivers qualify, as
+    // for `isorad info` and `render --mesh contour`.
+    let dominance = Settings::from_scene_options(&loaded.options)?
+        .mesh
+        .dominance;
     let scene = &loaded.scene;
     let visibility = Visibility::new(scene);
     let lamps = luminaires(scene);
-    let analyses = analyse_receivers(scene, &visibility, &lamps, &DominanceSettings::default());
-    // The receivers to compare, each with the luminaire to mesh for.
-    let mut chosen: Vec<(SurfaceId, usize)> = Vec::new();
-    for analysis in &analyses {
-        let name = &scene.surface(analysis.receiver).name;
-        let wanted = match &args.receiver {
-            Some(only) => only == name,
-            None => analysis.qualifies,
-        };
-        if let (true, Some(lamp)) = (wanted, analysis.dominant) {
-            chosen.push((analysis.receiver, lamp));
-        }
-    }
+    let analyses = analyse_receivers(scene, &visibility, &lamps, &dominance);
+    let chosen = receivers_to_compare(scene, &analyses, args.receiver.as_deref());
     if chosen.is_empty() {
         anyhow::bail!(
             "{}: no receiver {}",
@@ -83,7 +77,31 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     if let Some(path) = &args.json {
         write_json(&comparisons, path)?;
     }
-    for comparison in &comparisons {
+    write_pictures(args, &comparisons)
+}
+
+/// The receivers to compare, each with the luminaire to mesh for: the one
+/// named `only` (if it is lit), or every receiver a dominant small luminaire
+/// lights.
+fn receivers_to_compare(
+    scene: &Scene,
+    analyses: &[ReceiverAnalysis],
+    only: Option<&str>,
+) -> Vec<(SurfaceId, usize)> {
+    analyses
+        .iter()
+        .filter(|analysis| match only {
+            Some(name) => scene.surface(analysis.receiver).name == name,
+            None => analysis.qualifies,
+        })
+        .filter_map(|analysis| Some((analysis.receiver, analysis.dominant?)))
+        .collect()
+}
+
+/// The `--image` and `--plot` pictures of every comparison, one file per
+/// receiver when there are several.
+fn write_pictures(args: &CompareArgs, comparisons: &[ReceiverComparison]) -> anyhow::Result<()> {
+    for comparison in comparisons {
         let several = comparisons.len() > 1;
         if let Some(path) = &args.image {
             write_mesh_panels(
@@ -137,7 +155,7 @@ fn per_receiver(path: &Path, receiver: &str, several: bool) -> PathBuf {
 }
 
 /// A table of the records, and the vertex ratio at equal error.
-fn print_comparison(comparison: &isorad::study::ReceiverComparison) {
+fn print_comparison(comparison: &ReceiverComparison) {
     println!("receiver {}:", comparison.receiver);
     println!(
         "  {:<8} {:>7} {:>9} {:>10} {:>12} {:>12} {:>9}",

@@ -8,8 +8,9 @@ use crate::scene::{Scene, SceneOptions};
 pub struct LoadedScene {
     /// The scene.
     pub scene: Scene,
-    /// The scene file's `[solver]` and `[mesh]` settings (all `None` for an
-    /// OBJ file).
+    /// The scene file's `[solver]` and `[mesh]` settings as written, for
+    /// [`crate::Settings::from_scene_options`] to read (none for an OBJ file
+    /// or a scene built in code).
     pub options: SceneOptions,
     /// Where the scene came from, for messages: the path as given, or the
     /// built-in scene's name.
