@@ -135,15 +135,15 @@ impl Scene {
 /// `[solver]` are tables.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SceneOptions {
-    /// The scene file and its text; `None` for an OBJ file or a built-in
-    /// scene, which carry no settings.
+    /// The scene file and its text (a built-in scene's embedded file);
+    /// `None` for an OBJ file, which carries no settings.
     file: Option<(PathBuf, String)>,
 }
 
 impl SceneOptions {
     /// The options of the scene file at `path`, whose text is `text`.
     #[must_use]
-    pub fn from_scene_file(path: PathBuf, text: String) -> SceneOptions {
+    pub(crate) fn from_scene_file(path: PathBuf, text: String) -> SceneOptions {
         SceneOptions {
             file: Some((path, text)),
         }

@@ -48,35 +48,7 @@ pub struct RenderArgs {
 pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     // Outputs are checked first, so that a typo costs no solve.
-    for path in [&args.output, &args.png].into_iter().chain(&args.export) {
-        ensure_directory_exists(path)?;
-    }
-    if let Some(exposure) = args.exposure {
-        anyhow::ensure!(
-            exposure.is_finite(),
-            "--exposure {exposure} is not a number of stops"
-        );
-    }
-    for path in &args.export {
-        ExportFormat::from_path(path)?;
-    }
-    // `-o` is the OpenEXR image; a PNG name there is a mistake worth a word.
-    let extension = |path: &Path| {
-        path.extension()
-            .map(|e| e.to_string_lossy().to_ascii_lowercase())
-    };
-    anyhow::ensure!(
-        extension(&args.output).as_deref() != Some("png"),
-        "-o {} would be an OpenEXR image under a .png name: give the EXR path to -o \
-         (e.g. -o out.exr) and the PNG path to --png (e.g. --png out.png)",
-        args.output.display()
-    );
-    anyhow::ensure!(
-        extension(&args.png).as_deref() != Some("exr"),
-        "--png {} would be a PNG under an .exr name: give the PNG path to --png \
-         (e.g. --png out.png) and the EXR path to -o (e.g. -o out.exr)",
-        args.png.display()
-    );
+    check_outputs(args)?;
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed))
         .context("cannot install the Ctrl-C handler")?;
     let Prepared { mut solver, source } = prepare(&args.solve)?;
@@ -153,4 +125,40 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
         rays as f64 / solve_seconds.max(1e-9) / 1e6,
         100.0 * solver.unshot_fraction()
     );
+}
+
+/// Refuses, before any solving, outputs that cannot be written: a missing
+/// directory, an export format no extension names, a non-finite exposure,
+/// and a PNG name given to `-o` (or an EXR name to `--png`).
+fn check_outputs(args: &RenderArgs) -> anyhow::Result<()> {
+    for path in [&args.output, &args.png].into_iter().chain(&args.export) {
+        ensure_directory_exists(path)?;
+    }
+    if let Some(exposure) = args.exposure {
+        anyhow::ensure!(
+            exposure.is_finite(),
+            "--exposure {exposure} is not a number of stops"
+        );
+    }
+    for path in &args.export {
+        ExportFormat::from_path(path)?;
+    }
+    // `-o` is the OpenEXR image; a PNG name there is a mistake worth a word.
+    let extension = |path: &Path| {
+        path.extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+    };
+    anyhow::ensure!(
+        extension(&args.output).as_deref() != Some("png"),
+        "-o {} would be an OpenEXR image under a .png name: give the EXR path to -o \
+         (e.g. -o out.exr) and the PNG path to --png (e.g. --png out.png)",
+        args.output.display()
+    );
+    anyhow::ensure!(
+        extension(&args.png).as_deref() != Some("exr"),
+        "--png {} would be a PNG under an .exr name: give the PNG path to --png \
+         (e.g. --png out.png) and the EXR path to -o (e.g. -o out.exr)",
+        args.png.display()
+    );
+    Ok(())
 }
