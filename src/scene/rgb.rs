@@ -10,7 +10,8 @@ use std::ops::{Add, AddAssign, Div, DivAssign, Mul, Sub};
 
 /// A linear RGB triple. Its unit depends on the quantity it holds
 /// (reflectance: none; radiance: W/(m²·sr); radiosity: W/m²; power: W).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// The default is black, [`Rgb::ZERO`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Rgb {
     /// Red.
     pub r: f64,

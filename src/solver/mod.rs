@@ -3,6 +3,7 @@
 //! settings of a whole solve, and the plan of which mesher each receiver
 //! gets (`scene_mesh.rs`, where lighting's fields meet the meshers).
 
+mod ambient;
 mod mesh_settings;
 mod progressive;
 mod refinement;

@@ -2,6 +2,7 @@
 
 use rayon::prelude::*;
 
+use super::ambient::{LandingLedger, ambient_irradiance};
 use super::mesh_settings::MeshKind;
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene};
@@ -60,6 +61,8 @@ pub struct Solver {
     emitted_power: Rgb,
     shot_power: Rgb,
     received_power: Rgb,
+    /// How much of the shot power landed, for the ambient term.
+    landing: LandingLedger,
     /// The largest power a single patch emits (sum of channels): the scale
     /// for the number of samples a shot gets.
     reference_power: f64,
@@ -138,6 +141,7 @@ impl Solver {
             emitted_power,
             shot_power: Rgb::ZERO,
             received_power: Rgb::ZERO,
+            landing: LandingLedger::default(),
             reference_power,
             shots: 0,
             rays: 0,
@@ -164,14 +168,22 @@ impl Solver {
         }
         let delta = std::mem::replace(&mut self.unshot[j], Rgb::ZERO);
         let form_factors = self.form_factors_to(j, power);
+        let received_before = self.received_power;
         self.receive(delta, &form_factors);
-        self.shot_power += delta * self.mesh.patches[j].area;
+        let shot_power = delta * self.mesh.patches[j].area;
+        let surface = self.scene.surface(self.mesh.patches[j].surface);
+        let is_emitter = self.scene.material_of(surface).is_emitter();
+        // An emitter patch's first shot is its emission; every other shot is
+        // reflected light, like the unshot power the ambient term stands for.
+        let emitted = is_emitter && self.shot[j] == Rgb::ZERO;
+        self.landing
+            .record(emitted, shot_power, self.received_power - received_before);
+        self.shot_power += shot_power;
         self.shot[j] += delta;
         self.shots += 1;
         // Shadow edges and highlights come from direct light: elements split
         // after the emitters' shots, and new vertices gather only those.
-        let surface = self.scene.surface(self.mesh.patches[j].surface);
-        if self.scene.material_of(surface).is_emitter() {
+        if is_emitter {
             self.refine();
         }
         true
@@ -297,8 +309,10 @@ impl Solver {
         self.solution_with_ambient().radiosity
     }
 
-    /// Cohen's ambient irradiance: A_mb = Σ_p ΔB_p A_p / Σ A_p · 1/(1 − ρ̄),
-    /// with ρ̄ the area-weighted mean reflectance (Cohen et al. 1988, §4).
+    /// The ambient irradiance for the light not yet shot,
+    /// A_mb = f · U / A / (1 − f ρ̄): Cohen's term (U the unshot power, A the
+    /// patches' area, ρ̄ their area-weighted mean reflectance) scaled by the
+    /// measured share f of shot light that lands (see `solver/ambient.rs`).
     fn ambient_irradiance(&self) -> Rgb {
         let total_area: f64 = self.mesh.patches.iter().map(|p| p.area).sum();
         if total_area <= 0.0 {
@@ -316,8 +330,12 @@ impl Solver {
             })
             .sum::<Rgb>()
             / total_area;
-        let interreflection = (Rgb::ONE - mean_reflectance).max(Rgb::splat(1e-6)).recip();
-        self.unshot_power() / total_area * interreflection
+        ambient_irradiance(
+            self.unshot_power(),
+            total_area,
+            mean_reflectance,
+            self.landing.landing_fraction(),
+        )
     }
 
     /// The solution from the light shot so far, without the ambient term.

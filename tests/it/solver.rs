@@ -136,6 +136,70 @@ fn small_disc_over_a_floor(kernel: FormFactorKernel) {
     assert!(checked > 100, "{checked} vertices checked");
 }
 
+/// Floor vertices of the disc-over-a-floor scene whose exact direct
+/// radiosity is above 1 % of the peak, each with |B − B_exact| / B_exact.
+fn disc_over_floor_errors(radiosity: &[isorad::Rgb], mesh: &isorad::mesh::Mesh) -> Vec<f64> {
+    let (radius, height, reflectance) = (1.0, 2.0, 0.5);
+    let peak = coaxial_disc_form_factor(radius, height, 0.0);
+    mesh.vertices
+        .iter()
+        .zip(radiosity)
+        .filter(|(vertex, _)| vertex.surface == SurfaceId::new(0))
+        .filter_map(|(vertex, b)| {
+            let f = coaxial_disc_form_factor(radius, height, vertex.position.truncate().length());
+            let expected = reflectance * PI * 10.0 * f;
+            (f > 0.01 * peak).then(|| (b.r - expected).abs() / expected)
+        })
+        .collect()
+}
+
+/// The disc over a floor is open: the floor's reflected light leaves the
+/// scene, so the ambient term for it must add (almost) nothing. Cohen's
+/// closed-scene term added +20 % at the periphery at the default tolerance.
+#[test]
+fn the_ambient_term_of_an_open_scene_adds_only_light_that_lands() {
+    let mut b = SceneBuilder::default();
+    let floor = b.material("floor", 0.5, 0.0);
+    let light = b.material("light", 0.0, 10.0);
+    b.polygon("floor", floor, square_z(-10.0, 10.0, 0.0, true));
+    b.polygon(
+        "light",
+        light,
+        disc_facing_down(64, 1.0, DVec3::new(0.0, 0.0, 2.0)),
+    );
+    let scene = b.scene;
+    let mesh = mesh(&scene, 0.4, 2.0);
+    let mut solver = isorad::Solver::with_mesh(scene, mesh, settings(0.01)).unwrap();
+    solver.run();
+    assert!(solver.unshot_fraction() > 1e-3, "light is left unshot");
+    let errors = disc_over_floor_errors(&solver.radiosity_with_ambient(), solver.mesh());
+    let worst = errors.iter().copied().fold(0.0, f64::max);
+    let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+    println!("open scene with ambient: mean {mean:.2e}, worst {worst:.2e}");
+    assert!(errors.len() > 100 && worst < 0.02, "worst {worst}");
+}
+
+/// A closed cube lets nothing escape: the ambient term is Cohen's, and an
+/// early solution with it is close to B = E / (1 − ρ) on average.
+#[test]
+fn the_ambient_term_of_a_closed_scene_is_cohens() {
+    let scene = closed_cube(0.5, 1.0);
+    let mesh = mesh(&scene, 0.1, 0.25);
+    let mut solver = isorad::Solver::with_mesh(scene, mesh, settings(0.3)).unwrap();
+    solver.run();
+    assert!(solver.unshot_fraction() > 0.05, "much light is left unshot");
+    let expected = PI / (1.0 - 0.5);
+    let with_ambient = solver.radiosity_with_ambient();
+    let mean = with_ambient.iter().map(|b| b.r).sum::<f64>() / with_ambient.len() as f64;
+    let without = solver.radiosity().iter().map(|b| b.r).sum::<f64>() / with_ambient.len() as f64;
+    println!("closed cube: mean {mean:.4} with ambient, {without:.4} without, exact {expected:.4}");
+    assert!(
+        (mean - expected).abs() < 0.01 * expected,
+        "{mean} vs {expected}"
+    );
+    assert!((without - expected).abs() > 0.05 * expected);
+}
+
 #[test]
 fn a_blocker_casts_an_exactly_black_umbra() {
     let mut b = SceneBuilder::default();
