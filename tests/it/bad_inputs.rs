@@ -329,3 +329,18 @@ fn a_concave_face_is_meshed_inside_its_outline() {
         "{covered}"
     );
 }
+
+/// Blanks and tabs around and between tokens change nothing: the indented
+/// and tab-separated copies of `fine_basic.obj` (and of its MTL) load as the
+/// same surfaces, vertices and materials.
+#[test]
+fn indented_and_tabbed_files_give_the_plain_scene() {
+    let load = |name: &str| isorad::scene::load_obj(&catalogue_dir().join(name)).unwrap();
+    let plain = load("fine_basic.obj");
+    for name in ["whitespace_indented.obj", "whitespace_tabs.obj"] {
+        let scene = load(name);
+        assert_eq!(scene.surfaces, plain.surfaces, "{name}");
+        assert_eq!(scene.materials, plain.materials, "{name}");
+        assert!(scene.warnings.is_empty(), "{name}: {:?}", scene.warnings);
+    }
+}

@@ -12,6 +12,7 @@ mod probe_points;
 mod scene_file;
 mod source;
 mod spec;
+mod statement;
 
 pub use builtin::builtin_names;
 pub use coplanar_merge::{MergeReport, merge_coplanar_faces};

@@ -3,12 +3,14 @@
 //!
 //! Only `Kd` (diffuse reflectance ρ, 0 ≤ ρ < 1 per channel) and `Ke`
 //! (emitted radiance L_e ≥ 0) matter to isorad; other statements are checked
-//! only as far as tobj needs them to be well formed.
+//! only as far as tobj needs them to be well formed. Blanks and tabs may
+//! stand anywhere between tokens (see [`super::statement`]).
 
 use std::path::Path;
 
 use crate::error::{Error, Result};
 
+use super::statement::{canonical_line, canonical_text, split_statement};
 use crate::scene::Rgb;
 use crate::scene::material::{Material, NOT_FINITE, emitted_radiance_problem, reflectance_problem};
 
@@ -19,10 +21,10 @@ pub(crate) fn check_mtl(path: &Path, text: &str) -> Result<()> {
     let mut material = String::new();
     for (index, line) in text.lines().enumerate() {
         let number = index + 1;
-        let mut words = line.split_whitespace();
-        let Some(keyword) = words.next() else {
+        let Some((keyword, rest)) = split_statement(line) else {
             continue;
         };
+        let mut words = rest.split_whitespace();
         let parse_error = |message: String| Error::MtlParse {
             path: path.to_path_buf(),
             line: Some(number),
@@ -30,7 +32,7 @@ pub(crate) fn check_mtl(path: &Path, text: &str) -> Result<()> {
         };
         match keyword {
             "newmtl" => {
-                material = line.trim()["newmtl".len()..].trim().to_owned();
+                rest.clone_into(&mut material);
                 if material.is_empty() {
                     return Err(parse_error("`newmtl` without a material name".into()));
                 }
@@ -90,10 +92,12 @@ fn check_colour(keyword: &str, rgb: [f32; 3]) -> Result<(), String> {
     }
 }
 
-/// Checks an MTL text, then parses it with tobj. The result is tobj's
-/// (always `Ok` here), ready to hand back to tobj's OBJ loader.
+/// Checks an MTL text, then parses it with tobj, in canonical form as the
+/// OBJ loader hands tobj its text. The result is tobj's (always `Ok` here),
+/// ready to hand back to tobj's OBJ loader.
 pub(crate) fn parse_mtl(path: &Path, text: &str) -> Result<tobj::MTLLoadResult> {
     check_mtl(path, text)?;
+    let text = canonical_text(text, canonical_line);
     let parsed = tobj::load_mtl_buf(&mut text.as_bytes());
     if let Err(e) = &parsed {
         return Err(Error::MtlParse {
@@ -139,6 +143,28 @@ mod tests {
         let (material, warning) = to_material(&m[0]);
         assert!((material.reflectance.r - 0.7).abs() < 1e-6);
         assert!(warning.is_none());
+    }
+
+    /// Blanks and tabs around and between tokens change nothing.
+    #[test]
+    fn indented_library_reads_as_the_plain_one() {
+        let plain = "newmtl white\nKd 0.7 0.7 0.7\nnewmtl lamp\nKe 1 2 3\nmap_Kd a b.png\n";
+        let indented = "\t newmtl\twhite \n  Kd\t0.7 \t0.7 0.7\t\n\tnewmtl lamp\r\n \tKe 1\t2 3 \n\tmap_Kd\t a b.png \n";
+        let read = |text| parse_mtl(Path::new("t.mtl"), text).unwrap().unwrap().0;
+        // tobj's materials compare by their debug form (no unknown
+        // parameters here, whose map would print in any order).
+        assert_eq!(
+            format!("{:?}", read(indented)),
+            format!("{:?}", read(plain))
+        );
+        assert_eq!(
+            read(indented)[1].diffuse_texture.as_deref(),
+            Some("a b.png")
+        );
+        let e = check("\tnewmtl\t wall \n  Kd 1 0.5 0.5\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("t.mtl:2") && e.contains("`wall`"), "{e}");
     }
 
     #[test]

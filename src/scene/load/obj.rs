@@ -15,6 +15,7 @@
 //! face without a known material, and a scene without surfaces or without
 //! an emitter.
 
+use std::borrow::Cow;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::path::Path;
@@ -27,6 +28,7 @@ use super::coplanar_merge::merge_scene_faces;
 use super::mtl::{parse_mtl, to_material};
 use super::obj_scan::{ObjScan, scan_obj};
 use super::source::{Disk, SourceFiles};
+use super::statement::{canonical_line, canonical_text, split_statement};
 use crate::scene::build::check_not_empty;
 use crate::scene::material::Material;
 use crate::scene::polygon::clean_polygon;
@@ -54,7 +56,7 @@ pub(crate) fn load_obj_from(
     let text = files.read_to_string(path)?;
     let scan = scan_obj(path, &text)?;
     // Parse with tobj, loading each MTL through our checks.
-    let parsed = parse_with_tobj(path, &text, &scan, files)?;
+    let parsed = parse_with_tobj(path, &text, files)?;
     let mut scene = Scene {
         materials: parsed.materials,
         warnings: parsed.warnings,
@@ -86,14 +88,9 @@ struct Parsed {
     warnings: Vec<Warning>,
 }
 
-/// Runs tobj on the text (polylines blanked out), with a material loader
-/// that reads MTL files through `files` and checks them.
-fn parse_with_tobj(
-    path: &Path,
-    text: &str,
-    scan: &ObjScan,
-    files: &dyn SourceFiles,
-) -> Result<Parsed> {
+/// Runs tobj on the text (see [`for_tobj`]), with a material loader that
+/// reads MTL files through `files` and checks them.
+fn parse_with_tobj(path: &Path, text: &str, files: &dyn SourceFiles) -> Result<Parsed> {
     let dir = path.parent().unwrap_or(Path::new(""));
     let failure: RefCell<Option<Error>> = RefCell::new(None);
     let warnings: RefCell<Vec<Warning>> = RefCell::new(Vec::new());
@@ -115,7 +112,7 @@ fn parse_with_tobj(
         triangulate: false,
         ..Default::default()
     };
-    let source = for_tobj(text, scan);
+    let source = for_tobj(text);
     let result = tobj::load_obj_buf(&mut source.as_bytes(), &options, loader);
     // A failed MTL is the first thing to report.
     if let Some(e) = failure.into_inner() {
@@ -135,29 +132,22 @@ fn parse_with_tobj(
     })
 }
 
-/// The OBJ text as tobj should read it, line numbers kept: polyline
-/// statements commented out (tobj would read an `l` of three or more points
-/// as a face) and vertex colours dropped (tobj fails on a file where only
-/// some vertices have one; isorad does not use them).
-fn for_tobj<'a>(text: &'a str, scan: &ObjScan) -> std::borrow::Cow<'a, str> {
-    if scan.polyline_lines.is_empty() && !scan.vertex_colours {
-        return text.into();
-    }
-    text.lines()
-        .map(|line| {
-            let mut words = line.split_whitespace();
-            match words.next() {
-                Some("l") => "# polyline ignored".into(),
-                Some("v") if line.split_whitespace().count() == 7 => {
-                    let xyz: Vec<&str> = words.take(3).collect();
-                    format!("v {}", xyz.join(" ")).into()
-                }
-                _ => std::borrow::Cow::Borrowed(line),
-            }
-        })
-        .collect::<Vec<std::borrow::Cow<str>>>()
-        .join("\n")
-        .into()
+/// The OBJ text as tobj should read it, line numbers kept: every statement
+/// in canonical form (tobj reads `o`, `g`, `usemtl` and `mtllib` names
+/// after the line's first character or first space, so leading blanks or a
+/// tab after the keyword would end up in the name), polyline statements
+/// commented out (tobj would read an `l` of three or more points as a face)
+/// and vertex colours dropped (tobj fails on a file where only some vertices
+/// have one; isorad does not use them).
+fn for_tobj(text: &str) -> Cow<'_, str> {
+    canonical_text(text, |line| match split_statement(line) {
+        Some(("l", _)) => "# polyline ignored".into(),
+        Some(("v", rest)) if rest.split_whitespace().count() == 6 => {
+            let xyz: Vec<&str> = rest.split_whitespace().take(3).collect();
+            format!("v {}", xyz.join(" ")).into()
+        }
+        _ => canonical_line(line),
+    })
 }
 
 /// Reads, checks and parses one MTL library named `mtl` by the OBJ at `obj`.
@@ -307,5 +297,75 @@ fn summarise_warnings(path: &Path, warned: &HashMap<&str, usize>, warnings: &mut
                 path.display()
             ),
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MTL: &str = "newmtl white\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 1 1 1\n";
+
+    /// Files held in memory: (path, text).
+    struct Memory(Vec<(&'static str, String)>);
+
+    impl SourceFiles for Memory {
+        fn read_to_string(&self, path: &Path) -> Result<String> {
+            let file = self.0.iter().find(|(p, _)| Path::new(p) == path);
+            Ok(file.map(|(_, text)| text.clone()).unwrap_or_default())
+        }
+    }
+
+    /// Loads `s.obj` with text `obj` and the library `mtl` holding [`MTL`].
+    fn load(obj: String, mtl: &'static str) -> Scene {
+        let files = Memory(vec![("s.obj", obj), (mtl, MTL.to_owned())]);
+        load_obj_from(Path::new("s.obj"), &files, false).unwrap()
+    }
+
+    /// A lamp over a floor, its MTL library named `mtl`.
+    fn lamp_and_floor(mtl: &str) -> String {
+        format!(
+            "mtllib {mtl}\no lamp\nv 0 1 0\nv 0 1 1\nv 1 1 1\nv 1 1 0\nusemtl lamp\nf 1 2 3 4\n\
+             o floor\nv 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nusemtl white\nf 5 6 7 8\n"
+        )
+    }
+
+    /// Every line indented, blanks after it and tabs between its tokens.
+    fn indented(text: &str) -> String {
+        text.lines()
+            .enumerate()
+            .map(|(i, line)| {
+                let (keyword, rest) = line.split_once(' ').unwrap();
+                let lead = [" \t", "\t", "   "][i % 3];
+                format!("{lead}{keyword}\t \t{} \t\n", rest.replace(' ', "\t "))
+            })
+            .collect()
+    }
+
+    /// Regression: tobj read an indented `mtllib base.mtl` as the file name
+    /// `mtllib base.mtl` (and `o`, `usemtl` likewise).
+    #[test]
+    fn tobj_reads_indented_statements() {
+        let canonical = for_tobj("  mtllib base.mtl\n\to\tlamp \n\n usemtl\t lamp\r\nl 1 2\n");
+        assert_eq!(
+            canonical,
+            "mtllib base.mtl\no lamp\n\nusemtl lamp\n# polyline ignored"
+        );
+        let plain = load(lamp_and_floor("m.mtl"), "m.mtl");
+        let indented = load(indented(&lamp_and_floor("m.mtl")), "m.mtl");
+        assert_eq!(indented.surfaces, plain.surfaces);
+        assert_eq!(indented.materials, plain.materials);
+        assert!(indented.warnings.is_empty());
+    }
+
+    /// A library name with spaces inside stays one name, whatever stands
+    /// around it.
+    #[test]
+    fn mtllib_names_keep_their_spaces() {
+        let scene = load(
+            format!("\t{}", lamp_and_floor("\t my  room.mtl ")),
+            "my  room.mtl",
+        );
+        assert_eq!(scene.materials.len(), 2);
     }
 }

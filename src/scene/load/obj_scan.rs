@@ -3,11 +3,15 @@
 //! tobj reports errors without line numbers and accepts `nan` and `inf` as
 //! coordinates. This pass checks what isorad relies on, with line numbers,
 //! and records where faces and `usemtl` statements are so that later
-//! messages can point at them.
+//! messages can point at them. Statements are read as tobj reads their
+//! canonical form (see [`super::statement`]): blanks and tabs may stand
+//! anywhere between tokens.
 
 use std::path::Path;
 
 use crate::error::{Error, Result};
+
+use super::statement::split_statement;
 
 /// What the scan learned about an OBJ text.
 #[derive(Debug, Default)]
@@ -19,9 +23,6 @@ pub(crate) struct ObjScan {
     pub usemtl: Vec<(usize, String)>,
     /// Lines holding polylines (`l`), which isorad ignores.
     pub polyline_lines: Vec<usize>,
-    /// Whether a `v` statement carries a colour (x y z r g b), which
-    /// isorad ignores (tobj fails when only some vertices have one).
-    pub vertex_colours: bool,
 }
 
 impl ObjScan {
@@ -47,15 +48,17 @@ pub(crate) fn scan_obj(path: &Path, text: &str) -> Result<ObjScan> {
     let mut object = String::from("unnamed_object");
     for (index, line) in text.lines().enumerate() {
         let number = index + 1;
-        let mut words = line.split_whitespace();
+        let Some((keyword, rest)) = split_statement(line) else {
+            continue;
+        };
+        let words = rest.split_whitespace();
         let bad = |message: String| Error::ObjParse {
             path: path.to_path_buf(),
             line: Some(number),
             message,
         };
-        match words.next() {
-            Some("v") => {
-                scan.vertex_colours |= line.split_whitespace().count() == 7;
+        match keyword {
+            "v" => {
                 let p = check_position(words).map_err(bad)?;
                 if p.iter().any(|c| !c.is_finite()) {
                     return Err(Error::NonFiniteCoordinate {
@@ -66,27 +69,26 @@ pub(crate) fn scan_obj(path: &Path, text: &str) -> Result<ObjScan> {
                 }
                 counts.positions += 1;
             }
-            Some("vt") => {
+            "vt" => {
                 check_numbers(words, 2, "`vt` needs two numbers").map_err(bad)?;
                 counts.texcoords += 1;
             }
-            Some("vn") => {
+            "vn" => {
                 check_numbers(words, 3, "`vn` needs three numbers").map_err(bad)?;
                 counts.normals += 1;
             }
-            Some("f") => {
+            "f" => {
                 check_face(words, &counts).map_err(bad)?;
                 scan.face_lines.push(number);
             }
-            Some("l") => scan.polyline_lines.push(number),
-            Some("o" | "g") => object = object_name(line),
-            Some("usemtl") => {
-                // The name is read as tobj reads it: everything after the first space.
-                let name = line.split_once(' ').unwrap_or_default().1.trim();
-                if name.is_empty() {
+            "l" => scan.polyline_lines.push(number),
+            "o" | "g" => object = object_name(rest),
+            "usemtl" => {
+                // The name is the rest of the line, spaces inside it kept.
+                if rest.is_empty() {
                     return Err(bad("`usemtl` without a material name".into()));
                 }
-                scan.usemtl.push((number, name.to_owned()));
+                scan.usemtl.push((number, rest.to_owned()));
             }
             _ => {}
         }
@@ -94,13 +96,13 @@ pub(crate) fn scan_obj(path: &Path, text: &str) -> Result<ObjScan> {
     Ok(scan)
 }
 
-/// An object or group name, as tobj reads it.
-fn object_name(line: &str) -> String {
-    let name = line.get(1..).unwrap_or_default().trim();
-    if name.is_empty() {
+/// An object or group name (the rest of an `o` or `g` line), as tobj reads
+/// it.
+fn object_name(rest: &str) -> String {
+    if rest.is_empty() {
         "unnamed_object".to_owned()
     } else {
-        name.to_owned()
+        rest.to_owned()
     }
 }
 
@@ -203,6 +205,25 @@ mod tests {
         assert_eq!(s.polyline_lines, vec![7]);
         assert_eq!(s.material_at(5).map(|m| m.0), Some(4));
         assert!(s.material_at(3).is_none());
+    }
+
+    /// Regression: an indented `usemtl` or `o` (or a tab after the keyword)
+    /// gave the name with the keyword in it, `usemtl white`.
+    #[test]
+    fn indented_statements_read_as_plain_ones() {
+        let plain = scan("o box\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl white\nf 1 2 3\n").unwrap();
+        let indented = scan(
+            "\t o\tbox \n  v 0 0 0\t\n\tv\t1 0 0\n v 0\t 1 0 \n \tusemtl\t white \t\n\t\tf 1\t2 3  \n",
+        )
+        .unwrap();
+        assert_eq!(indented.usemtl, vec![(5, "white".to_owned())]);
+        assert_eq!(indented.usemtl, plain.usemtl);
+        assert_eq!(indented.face_lines, plain.face_lines);
+        let message = scan("  o\tbox\n\tv 0 nan 0\n").unwrap_err().to_string();
+        assert!(message.starts_with("t.obj:2: object `box`"), "{message}");
+        // A name with spaces inside keeps them.
+        let spaced = scan(" usemtl\tcold  white \n").unwrap();
+        assert_eq!(spaced.usemtl, vec![(1, "cold  white".to_owned())]);
     }
 
     #[test]
