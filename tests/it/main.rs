@@ -16,6 +16,7 @@ mod direct_field;
 mod dominance;
 mod export;
 mod fuzz_regressions;
+mod golden;
 mod office;
 mod plots;
 mod probe;
