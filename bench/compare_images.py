@@ -12,8 +12,9 @@ Reports
 * relative RMS error  sqrt(mean((a-b)^2)) / sqrt(mean(b^2))  over all
   channels (error energy over signal energy): over all pixels, without
   emitter pixels, and without emitter and edge pixels;
-* the per-pixel relative error of luminance |a-b| / max(b, eps): its median,
-  90th percentile and signed median (bias), over non-emitter pixels whose
+* the per-pixel relative error of luminance |a-b| / max(b, eps): its mean
+  (what a viewer of the tone-mapped image sees on average: RMS hides dark
+  regions and shadows), median, 90th percentile and signed median (bias), over non-emitter pixels whose
   reference luminance is above eps = 1 % of B's maximum over non-emitter
   pixels (--threshold-of max: of B's plain maximum);
 * the same statistics excluding pixels near strong edges of the reference:
@@ -116,6 +117,7 @@ def rel_stats(la: np.ndarray, lb: np.ndarray, sel: np.ndarray, eps: float) -> di
     rel = np.abs(signed)
     return {
         "pixels": int(sel.sum()),
+        "mean": float(rel.mean()),
         "median": float(np.median(rel)),
         "p90": float(np.percentile(rel, 90)),
         "signed_median": float(np.median(signed)),
@@ -224,7 +226,8 @@ def main() -> None:
         if s["pixels"] == 0:
             print(f"  {label}: no pixels")
             continue
-        print(f"  {label:15s} {s['pixels']:6d} px  median {s['median']:.5f}  p90 {s['p90']:.5f}"
+        print(f"  {label:15s} {s['pixels']:6d} px  mean {s['mean']:.5f}  median {s['median']:.5f}"
+              f"  p90 {s['p90']:.5f}"
               f"  signed median {s['signed_median']:+.5f}")
 
     if args.diff:
