@@ -209,9 +209,11 @@ impl Shooter {
     /// are needed that way, as F_patch less the far and the hidden near
     /// strata's factors. A fully visible patch seen from nearby then costs
     /// one polygon factor instead of one per stratum; the result is the same
-    /// sum, up to rounding. That holds for a uniform shot; when the strata
-    /// shoot different radiosities ([`ShotRadiosity::Field`]) the visible
-    /// near strata's W_k F_k are summed one by one.
+    /// sum, up to rounding. When the strata shoot different radiosities W_k
+    /// ([`ShotRadiosity::Field`]), the complement gives the visible near
+    /// strata's total factor F, which is shared among them in proportion to
+    /// their disc terms g_k: H_near = F · Σ W_k g_k / Σ g_k (exact for a
+    /// uniform shot; the direct sum Σ W_k F_k when that is cheaper).
     fn gather_mixed(
         &self,
         receiver: &Receiver,
@@ -225,6 +227,9 @@ impl Shooter {
         // Which strata were near and visible, near and hidden, far.
         let mut kinds = [(); 3].map(|()| StrataSet::new(strata.cells.len()));
         let (mut near_visible, mut near_hidden, mut far) = (0, 0, 0);
+        // The visible near strata's Σ W_k g_k and Σ g_k, g_k their disc terms:
+        // how W varies over them, to share out their exact total factor.
+        let (mut near_shape, mut near_weight, mut near_radiosity) = (Rgb::ZERO, 0.0, Rgb::ZERO);
         // The receiver's height above the source's plane, the same for every stratum.
         let receiver_height = self.normal.dot(x - self.cell.corners[0]);
         for (k, stratum) in strata.cells.iter().enumerate() {
@@ -244,6 +249,15 @@ impl Shooter {
                 if self.is_visible(receiver, target, visibility) {
                     kinds[NEAR_VISIBLE].insert(k);
                     near_visible += 1;
+                    let d = target - x;
+                    let (r2, w) = (d.length_squared(), strata.radiosity[k]);
+                    let r = r2.sqrt();
+                    let g =
+                        disc_form_factor(stratum.area, n.dot(d) / r, -self.normal.dot(d) / r, r2)
+                            .max(0.0);
+                    near_shape += w * g;
+                    near_weight += g;
+                    near_radiosity += w;
                 } else {
                     kinds[NEAR_HIDDEN].insert(k);
                     near_hidden += 1;
@@ -277,15 +291,12 @@ impl Shooter {
         };
         let near_visible_irradiance = if near_visible == 0 {
             Rgb::ZERO
-        } else if let ShotRadiosity::Field(_) = self.radiosity {
-            // Strata shoot different radiosities: each visible one's own factor.
+        } else if near_visible <= 1 + far + near_hidden {
             in_set(NEAR_VISIBLE)
                 .map(|(k, stratum)| {
                     strata.radiosity[k] * polygon_form_factor(x, n, stratum.polygon())
                 })
                 .sum()
-        } else if near_visible <= 1 + far + near_hidden {
-            strata.radiosity[0] * lambert(NEAR_VISIBLE)
         } else {
             let far_factor = if far > 0 { lambert(FAR) } else { 0.0 };
             let hidden_factor = if near_hidden > 0 {
@@ -293,9 +304,15 @@ impl Shooter {
             } else {
                 0.0
             };
-            strata.radiosity[0]
-                * (polygon_form_factor(x, n, self.cell.polygon()) - far_factor - hidden_factor)
-                    .max(0.0)
+            let total =
+                (polygon_form_factor(x, n, self.cell.polygon()) - far_factor - hidden_factor)
+                    .max(0.0);
+            let mean_radiosity = if near_weight > 0.0 {
+                near_shape / near_weight
+            } else {
+                near_radiosity / f64::from(near_visible)
+            };
+            mean_radiosity * total
         };
         gathered.irradiance = near_visible_irradiance + far_visible;
         gathered

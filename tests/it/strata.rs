@@ -69,11 +69,21 @@ fn umbra_is_lit_from_where_the_light_is() {
     let [(mean_8, strata_8), (mean_1, strata_1)] = excesses[..] else {
         unreachable!()
     };
-    // The patch-mean umbra is too bright; shooting from the elements
-    // removes most of that.
-    assert!(mean_8 > 0.06 && mean_1 > 0.06, "{excesses:?}");
-    assert!(strata_8.abs() < 0.04, "patches of 1/8: {strata_8:+.4}");
-    assert!(strata_1.abs() < 0.04, "one floor patch: {strata_1:+.4}");
+    // Where the rest comes from: the elements' size (shooting from elements
+    // of 1/80), against the issue's patches as small as the elements.
+    let fine = umbra(1.0 / 80.0, 1.0 / 8.0, ShootFrom::default()).0 / reference - 1.0;
+    let small = excess(1.0 / 40.0, ShootFrom::PatchMean);
+    println!(
+        "umbra: element shooting on elements of 1/80 {:+.2} %; patch-mean shooting with \
+         patches of 1/40 {:+.2} %",
+        100.0 * fine,
+        100.0 * small
+    );
+    // The patch-mean umbra is too bright (+26 % with patches of 1/8, +93 %
+    // with one floor patch); shooting from the elements removes most of that.
+    assert!(mean_8 > 0.2 && mean_1 > 0.5, "{excesses:?}");
+    assert!(strata_8.abs() < 0.12, "patches of 1/8: {strata_8:+.4}");
+    assert!(strata_1.abs() < 0.12, "one floor patch: {strata_1:+.4}");
 }
 
 #[test]
@@ -81,7 +91,6 @@ fn ledger_closes_with_a_sharp_shadow_on_one_big_patch() {
     let mut settings = Settings::default();
     settings.mesh.kind = MeshKind::Square;
     settings.mesh.patch_max_edge = Length::OfDiagonal(1.0);
-    settings.solver.tolerance = 1e-4;
     let mut solver = Solver::new(table_scene(), settings).unwrap();
     let floor_patches = solver
         .mesh()
@@ -91,7 +100,7 @@ fn ledger_closes_with_a_sharp_shadow_on_one_big_patch() {
         .count();
     assert_eq!(floor_patches, 1);
     let mut worst: f64 = 0.0;
-    while solver.step() && solver.unshot_fraction() > 1e-4 {
+    while solver.shots() < 300 && solver.step() {
         let e = solver.energy_balance();
         let sum = e.absorbed + e.unshot + e.escaped;
         worst = worst.max((sum - e.emitted).abs().max_element() / e.emitted.max_element());
