@@ -13,11 +13,12 @@ mod settings;
 mod settings_file;
 mod shooter;
 mod solution;
+mod unshot;
 
 pub use mesh_settings::{Length, MeshKind, MeshSettings};
 pub use progressive::{EnergyBalance, Solver};
 pub use refinement::RefinementSettings;
 pub use run::{Progress, StopReason, Until};
 pub use scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene, receiver_layout};
-pub use settings::{FormFactorKernel, Settings, SolverSettings};
+pub use settings::{FormFactorKernel, Settings, ShootFrom, SolverSettings};
 pub use solution::{Probe, ProbeMode, Solution, SurfaceTotals};

@@ -6,9 +6,10 @@ use super::ambient::{LandingLedger, ambient_irradiance};
 use super::mesh_settings::MeshKind;
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene};
-use super::settings::{Settings, SolverSettings};
-use super::shooter::{Receiver, Shooter};
+use super::settings::{Settings, ShootFrom, SolverSettings};
+use super::shooter::{Receiver, Shooter, ShotRadiosity};
 use super::solution::Solution;
+use super::unshot::UnshotCorners;
 use crate::mesh::{ElementHierarchy, Mesh};
 use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 
@@ -34,9 +35,15 @@ pub struct EnergyBalance {
 /// with the most unshot power shoots it to every receiving vertex, until the
 /// unshot power falls below the tolerance.
 ///
-/// For every vertex v receiving from patch j: B_v += ρ_v ΔB_j F_{v→j}; each
-/// patch's unshot radiosity then grows by the area-weighted mean of what its
-/// elements' vertices reflected.
+/// For every vertex v receiving from patch j: B_v += ρ_v Σ_k ΔB_j(x_k) F_{v→k},
+/// the sum over the shooter's strata k of the unshot radiosity where each
+/// lies (interpolated from the corners of the elements under it, scaled so
+/// the strata carry the patch's unshot power Σ_e A_e ΔB̄_e exactly) times the
+/// vertex's form factor to it; with [`ShootFrom::PatchMean`], or for an
+/// emitter, ΔB_j(x_k) is the patch's mean ΔB_j and the sum is ΔB_j F_{v→j}.
+/// Each element's corners then gain what their vertices reflected, ρ_v H_v,
+/// and each patch's unshot radiosity the area-weighted mean of that over its
+/// elements; a patch that shoots clears both.
 ///
 /// The solver owns its scene, mesh and shadow-ray structure; drive it with
 /// [`Solver::step`] or [`Solver::run_until`], and read it at any moment with
@@ -56,8 +63,12 @@ pub struct Solver {
     radiosity: Vec<Rgb>,
     /// Irradiance H per vertex (light received), W/m².
     irradiance: Vec<Rgb>,
-    /// Unshot radiosity ΔB per patch.
+    /// Unshot radiosity ΔB per patch: the area-weighted mean of its
+    /// elements' corner means, the ledger's and the shooter choice's measure.
     unshot: Vec<Rgb>,
+    /// Unshot radiosity at every element's corners: where on each patch the
+    /// unshot light lies.
+    unshot_corners: UnshotCorners,
     emitted_power: Rgb,
     shot_power: Rgb,
     received_power: Rgb,
@@ -129,6 +140,7 @@ impl Solver {
         let emitted_power = powers.clone().sum::<Rgb>();
         let reference_power = powers.map(|p| p.element_sum()).fold(0.0, f64::max);
         let unshot_len = unshot.len();
+        let unshot_corners = UnshotCorners::new(&mesh, &unshot);
         Solver {
             scene,
             mesh,
@@ -138,6 +150,7 @@ impl Solver {
             irradiance: vec![Rgb::ZERO; radiosity.len()],
             radiosity,
             unshot,
+            unshot_corners,
             emitted_power,
             shot_power: Rgb::ZERO,
             received_power: Rgb::ZERO,
@@ -167,12 +180,19 @@ impl Solver {
             return false;
         }
         let delta = std::mem::replace(&mut self.unshot[j], Rgb::ZERO);
-        let form_factors = self.form_factors_to(j, power);
-        let received_before = self.received_power;
-        self.receive(delta, &form_factors);
         let shot_power = delta * self.mesh.patches[j].area;
         let surface = self.scene.surface(self.mesh.patches[j].surface);
         let is_emitter = self.scene.material_of(surface).is_emitter();
+        let radiosity = if is_emitter || self.settings.shoot_from == ShootFrom::PatchMean {
+            ShotRadiosity::Uniform(delta)
+        } else {
+            let patch = &self.mesh.patches[j];
+            ShotRadiosity::Field(self.unshot_corners.field(&self.mesh, patch, shot_power))
+        };
+        self.unshot_corners.clear(&self.mesh.patches[j]);
+        let incident = self.incident_from(j, power, radiosity);
+        let received_before = self.received_power;
+        self.receive(&incident);
         // An emitter patch's first shot is its emission; every other shot is
         // reflected light, like the unshot power the ambient term stands for.
         let emitted = is_emitter && self.shot[j] == Rgb::ZERO;
@@ -189,10 +209,11 @@ impl Solver {
         true
     }
 
-    /// Form factor from every vertex to patch j, computed in parallel.
-    fn form_factors_to(&mut self, j: usize, power: f64) -> Vec<f64> {
+    /// Irradiance at every vertex from patch j shooting `radiosity`,
+    /// computed in parallel.
+    fn incident_from(&mut self, j: usize, power: f64, radiosity: ShotRadiosity) -> Vec<Rgb> {
         let patch = &self.mesh.patches[j];
-        let shooter = self.shooter(j, power);
+        let shooter = self.shooter(j, power, radiosity);
         let (scene, mesh, visibility) = (&self.scene, &self.mesh, &self.visibility);
         let (density, shot, kernel) = (
             self.settings.sample_density,
@@ -217,12 +238,13 @@ impl Solver {
             })
             .collect();
         self.rays += gathered.iter().map(|g| u64::from(g.rays)).sum::<u64>();
-        gathered.into_iter().map(|g| g.form_factor).collect()
+        gathered.into_iter().map(|g| g.irradiance).collect()
     }
 
-    /// Patch j prepared to shoot `power` (sum of channels): samples per side
-    /// from the shot's share of the strongest emitter's power.
-    fn shooter(&self, j: usize, power: f64) -> Shooter {
+    /// Patch j prepared to shoot `radiosity`, of `power` in all (sum of
+    /// channels): samples per side from the shot's share of the strongest
+    /// emitter's power.
+    fn shooter(&self, j: usize, power: f64, radiosity: ShotRadiosity) -> Shooter {
         let patch = &self.mesh.patches[j];
         let surface = self.scene.surface(patch.surface);
         let share = (power / self.reference_power.max(f64::MIN_POSITIVE)).min(1.0);
@@ -233,28 +255,27 @@ impl Solver {
             patch.cell,
             surface.normal(),
             patch.surface,
-            min_side,
-            max_side,
+            (min_side, max_side),
+            radiosity,
         )
     }
 
-    /// Adds a shot's light to vertices, and what elements reflect to their
-    /// patches' unshot radiosity.
-    fn receive(&mut self, delta: Rgb, form_factors: &[f64]) {
-        for (v, &f) in form_factors.iter().enumerate() {
-            if f > 0.0 {
-                let incident = delta * f;
-                self.irradiance[v] += incident;
-                let reflected = self.reflectance(v) * incident;
+    /// Adds a shot's irradiance to vertices, and what elements reflect to
+    /// their corners' and their patches' unshot radiosity.
+    fn receive(&mut self, incident: &[Rgb]) {
+        for (v, &h) in incident.iter().enumerate() {
+            if h != Rgb::ZERO {
+                self.irradiance[v] += h;
+                let reflected = self.reflectance(v) * h;
                 self.radiosity[v] += reflected;
             }
         }
-        for element in &self.mesh.elements {
-            let mean_factor = element.corner_mean(|v| form_factors[v as usize]);
-            if mean_factor <= 0.0 {
+        for (e, element) in self.mesh.elements.iter().enumerate() {
+            let mean = element.corner_mean(|v| incident[v as usize]);
+            if mean == Rgb::ZERO {
                 continue;
             }
-            let incident_power = delta * mean_factor * element.area;
+            let incident_power = mean * element.area;
             self.received_power += incident_power;
             let patch = element.patch as usize;
             let reflectance = self
@@ -262,6 +283,8 @@ impl Solver {
                 .material_of(self.scene.surface(element.surface))
                 .reflectance;
             self.unshot[patch] += reflectance * incident_power / self.mesh.patches[patch].area;
+            self.unshot_corners
+                .add(e, element, |v| reflectance * incident[v as usize]);
         }
     }
 
@@ -451,7 +474,8 @@ impl Solver {
     /// The energy ledger stays closed: where the finer elements estimate a
     /// patch's incident power differently, the difference ΔP moves from the
     /// escaped power to the received power, and ρ ΔP to the patch's unshot
-    /// power.
+    /// power. The new elements' unshot corners carry that ρ ΔP where it was
+    /// found (see [`UnshotCorners::after_split`]).
     pub(crate) fn refine(&mut self) {
         let Some(mut refiner) = self.refiner.take() else {
             return;
@@ -470,6 +494,7 @@ impl Solver {
                 break;
             }
             let before = self.incident_power_per_patch();
+            let corners_before = self.unshot_corners.by_vertices(&self.mesh);
             let added = refiner.hierarchy.split(&mut self.mesh, &split);
             let gathered = self.gather_shot_light(&added);
             for (&v, irradiance) in added.iter().zip(gathered) {
@@ -480,6 +505,7 @@ impl Solver {
                 self.radiosity
                     .push(material.emitted_radiosity() + material.reflectance * irradiance);
             }
+            self.carry_unshot_corners(&refiner.hierarchy, &corners_before);
             let after = self.incident_power_per_patch();
             for (p, (old, new)) in before.into_iter().zip(after).enumerate() {
                 let change = new - old;
@@ -497,6 +523,28 @@ impl Solver {
         self.refiner = Some(refiner);
     }
 
+    /// The unshot corners of the mesh's new elements after a split (see
+    /// [`UnshotCorners::after_split`]), from `before`, the corners of the
+    /// elements before it by their vertex arrays.
+    fn carry_unshot_corners(
+        &mut self,
+        hierarchy: &ElementHierarchy,
+        before: &std::collections::HashMap<[u32; 4], [Rgb; 4]>,
+    ) {
+        let (scene, mesh) = (&self.scene, &self.mesh);
+        let parent_of = |e: usize| {
+            let parent = hierarchy.leaf(e).parent?;
+            hierarchy.node(parent).map(|node| node.element)
+        };
+        let reflectance = |element: &crate::mesh::Element| {
+            scene
+                .material_of(scene.surface(element.surface))
+                .reflectance
+        };
+        self.unshot_corners
+            .after_split(mesh, parent_of, before, &self.irradiance, reflectance);
+    }
+
     /// Σ over each patch's elements of the mean irradiance of the element's
     /// corners times its area: the incident power the ledger counts.
     fn incident_power_per_patch(&self) -> Vec<Rgb> {
@@ -512,14 +560,14 @@ impl Solver {
     /// p that has shot radiosity S_p in all, H_v = Σ_p S_p F_{v→p}, with the
     /// form factors of the solver's kernel and sampling. Parallel over vertices.
     fn gather_shot_light(&mut self, vertices: &[u32]) -> Vec<Rgb> {
-        let shooters: Vec<(Rgb, Shooter)> = self
+        let shooters: Vec<Shooter> = self
             .shot
             .iter()
             .enumerate()
             .filter(|(_, s)| s.element_sum() > 0.0)
             .map(|(p, &s)| {
                 let power = s.element_sum() * self.mesh.patches[p].area;
-                (s, self.shooter(p, power))
+                self.shooter(p, power, ShotRadiosity::Uniform(s))
             })
             .collect();
         let (scene, mesh, visibility) = (&self.scene, &self.mesh, &self.visibility);
@@ -540,12 +588,12 @@ impl Solver {
                 };
                 let mut irradiance = Rgb::ZERO;
                 let mut rays = 0;
-                for (shot_radiosity, shooter) in &shooters {
+                for shooter in &shooters {
                     if shooter.surface == vertex.surface {
                         continue;
                     }
                     let g = shooter.gather(&receiver, density, shot, kernel, visibility);
-                    irradiance += *shot_radiosity * g.form_factor;
+                    irradiance += g.irradiance;
                     rays += u64::from(g.rays);
                 }
                 (irradiance, rays)

@@ -24,6 +24,22 @@ pub enum FormFactorKernel {
     Exact,
 }
 
+/// Where on a shooting patch its unshot light leaves from. In a scene
+/// file: `shoot_from = "elements"` or `"patch_mean"`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ShootFrom {
+    /// Each stratum shoots the unshot radiosity of the elements under it,
+    /// interpolated from their corners and scaled so the patch shoots its
+    /// unshot power exactly: a floor patch half in a table's shadow shoots
+    /// from its lit half, not into the table's underside from its dark one.
+    #[default]
+    Elements,
+    /// Every stratum shoots the patch's mean unshot radiosity (Cohen et al.
+    /// 1988 as first published). Kept for comparison.
+    PatchMean,
+}
+
 /// Settings of [`crate::Solver`]. Plain data: set the fields you need and
 /// keep the defaults for the rest. A scene file's `[solver]` table is read
 /// into this struct, field by field.
@@ -49,6 +65,9 @@ pub struct SolverSettings {
     pub sample_density: f64,
     /// How each vertex-to-patch form factor is estimated.
     pub kernel: FormFactorKernel,
+    /// Where on a patch its unshot light leaves from (emitters always shoot
+    /// uniformly).
+    pub shoot_from: ShootFrom,
 }
 
 impl Default for SolverSettings {
@@ -60,6 +79,7 @@ impl Default for SolverSettings {
             max_samples: 256,
             sample_density: 3.0,
             kernel: FormFactorKernel::default(),
+            shoot_from: ShootFrom::default(),
         }
     }
 }

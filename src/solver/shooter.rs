@@ -5,10 +5,11 @@ use std::sync::OnceLock;
 use glam::DVec3;
 
 use super::settings::FormFactorKernel;
+use super::unshot::PatchField;
 use crate::lighting::SampleStream;
 use crate::mesh::Cell;
 use crate::radiometry::{disc_form_factor, polygon_form_factor};
-use crate::scene::{SurfaceId, Visibility};
+use crate::scene::{Rgb, SurfaceId, Visibility};
 
 /// Strata closer than ten stratum sizes (r² < NEAR_FIELD · A) use Lambert's
 /// exact polygon factor instead of Wallace's disc term. The disc term's
@@ -33,10 +34,32 @@ pub struct Shooter {
     /// Its surface.
     pub surface: SurfaceId,
     /// Stratified subdivisions: `strata[m]` holds the m² cells for m samples
-    /// per side, made when a receiver first needs them.
-    strata: Vec<OnceLock<Vec<Cell>>>,
+    /// per side and the radiosity each shoots, made when a receiver first
+    /// needs them.
+    strata: Vec<OnceLock<Strata>>,
     /// Fewest samples per side, from the shot's power.
     min_side: usize,
+    /// What the patch shoots.
+    radiosity: ShotRadiosity,
+}
+
+/// The radiosity a shooter sends from each point of itself.
+#[derive(Clone, Debug)]
+pub enum ShotRadiosity {
+    /// The same radiosity from every stratum: an emitter's emission, or the
+    /// light a patch has shot in all (what new vertices of an adaptive mesh
+    /// gather).
+    Uniform(Rgb),
+    /// The unshot radiosity of the elements under each stratum, scaled so
+    /// the strata carry the patch's unshot power (see
+    /// `PatchField::strata_radiosity`).
+    Field(PatchField),
+}
+
+/// One subdivision of a shooter: its cells and the radiosity each shoots.
+struct Strata {
+    cells: Vec<Cell>,
+    radiosity: Vec<Rgb>,
 }
 
 /// A receiving point: where it gathers, its normal, and a key for its jitter.
@@ -52,24 +75,27 @@ pub struct Receiver {
     pub key: u64,
 }
 
-/// The form factor to a shooter and the number of shadow rays it took.
+/// The irradiance from a shooter and the number of shadow rays it took.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Gathered {
-    /// Point-to-patch form factor, visibility included.
-    pub form_factor: f64,
+    /// Irradiance at the receiver from the shot, Σ_k W_k F_k: each stratum's
+    /// radiosity times its point-to-stratum form factor, visibility included
+    /// (W/m²).
+    pub irradiance: Rgb,
     /// Shadow rays cast.
     pub rays: u32,
 }
 
 impl Shooter {
-    /// Prepares a patch to shoot with between `min_side²` and `max_side²` samples.
+    /// Prepares a patch to shoot `radiosity` with between `min_side²` and
+    /// `max_side²` samples.
     #[must_use]
     pub fn new(
         cell: Cell,
         normal: DVec3,
         surface: SurfaceId,
-        min_side: usize,
-        max_side: usize,
+        (min_side, max_side): (usize, usize),
+        radiosity: ShotRadiosity,
     ) -> Shooter {
         let max_side = max_side.max(1);
         let min_side = min_side.clamp(1, max_side);
@@ -80,22 +106,29 @@ impl Shooter {
             surface,
             strata,
             min_side,
+            radiosity,
         }
     }
 
-    /// Form factor F from a receiver to this patch (Wallace, Elmquist, Haines
+    /// Irradiance from this patch at a receiver (Wallace, Elmquist, Haines
     /// 1989): the patch is split into m × m strata, m growing with the
-    /// patch's apparent size (`density · √A / r`); each stratum contributes
-    /// its disc-kernel factor (or, when near, its exact polygon factor) if a
-    /// shadow ray to a jittered point in it is unblocked:
+    /// patch's apparent size (`density · √A / r`); each stratum k contributes
+    /// its radiosity W_k times its disc-kernel factor (or, when near, its
+    /// exact polygon factor) if a shadow ray to a jittered point in it is
+    /// unblocked:
     ///
     /// ```text
-    ///   F ≈ Σ_k δ_k · A_k cosθ_r cosθ_s / (π r_k² + A_k)
+    ///   H ≈ Σ_k W_k δ_k · A_k cosθ_r cosθ_s / (π r_k² + A_k)
     /// ```
+    ///
+    /// W_k is the patch's unshot radiosity where stratum k lies (see
+    /// [`ShotRadiosity`]), so a patch half in shadow shoots from its lit half.
     ///
     /// # References
     /// J. R. Wallace, K. A. Elmquist, E. A. Haines, "A Ray Tracing Algorithm
-    /// for Progressive Radiosity", SIGGRAPH 1989.
+    /// for Progressive Radiosity", SIGGRAPH 1989; M. F. Cohen, S. E. Chen,
+    /// J. R. Wallace, D. P. Greenberg, "A Progressive Refinement Approach to
+    /// Fast Radiosity Image Generation", SIGGRAPH 1988.
     #[must_use]
     pub fn gather(
         &self,
@@ -121,11 +154,7 @@ impl Shooter {
         } else {
             self.strata.len() - 1
         };
-        let strata = self.strata[side].get_or_init(|| {
-            let mut cells = Vec::with_capacity(side * side);
-            self.cell.subdivide(side, &mut cells);
-            cells
-        });
+        let strata = self.strata[side].get_or_init(|| self.stratify(side));
         let mut random = SampleStream::new(receiver.key, shot);
         if kernel == FormFactorKernel::Mixed {
             return self.gather_mixed(receiver, strata, &mut random, visibility);
@@ -133,30 +162,42 @@ impl Shooter {
         let mut gathered = Gathered::default();
         // Each stratum: an unoccluded factor (or, for `Exact`, a weight), and
         // a shadow ray to a jittered point of it.
-        let mut visible_weight = 0.0;
-        for stratum in strata {
+        let mut total_weight = 0.0;
+        let mut visible = Rgb::ZERO;
+        for (stratum, &radiosity) in strata.cells.iter().zip(&strata.radiosity) {
             let y = stratum.point(random.next_f64(), random.next_f64());
             let Some((factor, target)) = self.stratum_factor(x, n, stratum, y, kernel) else {
                 continue;
             };
             gathered.rays += 1;
-            gathered.form_factor += factor;
+            total_weight += factor;
             if self.is_visible(receiver, target, visibility) {
-                visible_weight += factor;
+                visible += radiosity * factor;
             }
         }
-        if kernel == FormFactorKernel::Exact {
-            // Lambert's factor of the whole patch times the unoccluded fraction.
-            let fraction = if gathered.form_factor > 0.0 {
-                visible_weight / gathered.form_factor
+        gathered.irradiance = if kernel == FormFactorKernel::Exact {
+            // Lambert's factor of the whole patch times the unoccluded,
+            // radiosity-weighted fraction.
+            if total_weight > 0.0 {
+                visible * (polygon_form_factor(x, n, self.cell.polygon()) / total_weight)
             } else {
-                0.0
-            };
-            gathered.form_factor = fraction * polygon_form_factor(x, n, self.cell.polygon());
+                Rgb::ZERO
+            }
         } else {
-            gathered.form_factor = visible_weight;
-        }
+            visible
+        };
         gathered
+    }
+
+    /// The m × m strata of the patch and the radiosity each shoots.
+    fn stratify(&self, side: usize) -> Strata {
+        let mut cells = Vec::with_capacity(side * side);
+        self.cell.subdivide(side, &mut cells);
+        let radiosity = match &self.radiosity {
+            ShotRadiosity::Uniform(b) => vec![*b; cells.len()],
+            ShotRadiosity::Field(field) => field.strata_radiosity(&cells),
+        };
+        Strata { cells, radiosity }
     }
 
     /// The `Mixed` kernel: Wallace's disc term on far strata, Lambert's exact
@@ -168,23 +209,30 @@ impl Shooter {
     /// are needed that way, as F_patch less the far and the hidden near
     /// strata's factors. A fully visible patch seen from nearby then costs
     /// one polygon factor instead of one per stratum; the result is the same
-    /// sum, up to rounding.
+    /// sum, up to rounding. When the strata shoot different radiosities W_k
+    /// ([`ShotRadiosity::Field`]), the complement gives the visible near
+    /// strata's total factor F, which is shared among them in proportion to
+    /// their disc terms g_k: H_near = F · Σ W_k g_k / Σ g_k (exact for a
+    /// uniform shot; the direct sum Σ W_k F_k when that is cheaper).
     fn gather_mixed(
         &self,
         receiver: &Receiver,
-        strata: &[Cell],
+        strata: &Strata,
         random: &mut SampleStream,
         visibility: &Visibility,
     ) -> Gathered {
         let (x, n) = (receiver.position, receiver.normal);
         let mut gathered = Gathered::default();
-        let mut far_visible = 0.0;
+        let mut far_visible = Rgb::ZERO;
         // Which strata were near and visible, near and hidden, far.
-        let mut kinds = [(); 3].map(|()| StrataSet::new(strata.len()));
+        let mut kinds = [(); 3].map(|()| StrataSet::new(strata.cells.len()));
         let (mut near_visible, mut near_hidden, mut far) = (0, 0, 0);
+        // The visible near strata's Σ W_k g_k and Σ g_k, g_k their disc terms:
+        // how W varies over them, to share out their exact total factor.
+        let (mut near_shape, mut near_weight, mut near_radiosity) = (Rgb::ZERO, 0.0, Rgb::ZERO);
         // The receiver's height above the source's plane, the same for every stratum.
         let receiver_height = self.normal.dot(x - self.cell.corners[0]);
-        for (k, stratum) in strata.iter().enumerate() {
+        for (k, stratum) in strata.cells.iter().enumerate() {
             // The random numbers are drawn for every stratum, in order.
             let y = stratum.point(random.next_f64(), random.next_f64());
             let d = y - x;
@@ -201,6 +249,15 @@ impl Shooter {
                 if self.is_visible(receiver, target, visibility) {
                     kinds[NEAR_VISIBLE].insert(k);
                     near_visible += 1;
+                    let d = target - x;
+                    let (r2, w) = (d.length_squared(), strata.radiosity[k]);
+                    let r = r2.sqrt();
+                    let g =
+                        disc_form_factor(stratum.area, n.dot(d) / r, -self.normal.dot(d) / r, r2)
+                            .max(0.0);
+                    near_shape += w * g;
+                    near_weight += g;
+                    near_radiosity += w;
                 } else {
                     kinds[NEAR_HIDDEN].insert(k);
                     near_hidden += 1;
@@ -214,23 +271,32 @@ impl Shooter {
                 if factor > 0.0 {
                     gathered.rays += 1;
                     if self.is_visible(receiver, y, visibility) {
-                        far_visible += factor;
+                        far_visible += strata.radiosity[k] * factor;
                     }
                 }
             }
         }
-        let lambert = |set: usize| -> f64 {
+        let in_set = |set: usize| {
+            let kinds = &kinds;
             strata
+                .cells
                 .iter()
                 .enumerate()
-                .filter(|(k, _)| kinds[set].contains(*k))
+                .filter(move |(k, _)| kinds[set].contains(*k))
+        };
+        let lambert = |set: usize| -> f64 {
+            in_set(set)
                 .map(|(_, stratum)| polygon_form_factor(x, n, stratum.polygon()))
                 .sum()
         };
-        let near_visible_factor = if near_visible == 0 {
-            0.0
+        let near_visible_irradiance = if near_visible == 0 {
+            Rgb::ZERO
         } else if near_visible <= 1 + far + near_hidden {
-            lambert(NEAR_VISIBLE)
+            in_set(NEAR_VISIBLE)
+                .map(|(k, stratum)| {
+                    strata.radiosity[k] * polygon_form_factor(x, n, stratum.polygon())
+                })
+                .sum()
         } else {
             let far_factor = if far > 0 { lambert(FAR) } else { 0.0 };
             let hidden_factor = if near_hidden > 0 {
@@ -238,9 +304,17 @@ impl Shooter {
             } else {
                 0.0
             };
-            (polygon_form_factor(x, n, self.cell.polygon()) - far_factor - hidden_factor).max(0.0)
+            let total =
+                (polygon_form_factor(x, n, self.cell.polygon()) - far_factor - hidden_factor)
+                    .max(0.0);
+            let mean_radiosity = if near_weight > 0.0 {
+                near_shape / near_weight
+            } else {
+                near_radiosity / f64::from(near_visible)
+            };
+            mean_radiosity * total
         };
-        gathered.form_factor = near_visible_factor + far_visible;
+        gathered.irradiance = near_visible_irradiance + far_visible;
         gathered
     }
 

@@ -27,3 +27,4 @@ mod scene_loading;
 mod solver;
 mod source_refinement;
 mod square_mesh;
+mod strata;

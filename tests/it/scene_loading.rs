@@ -5,8 +5,11 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use isorad::{
-    Error, Length, MeshKind, Rgb, Scene, Settings, internals::newell_normal, load_scene,
-    scene::load_obj, solver::FormFactorKernel,
+    Error, Length, MeshKind, Rgb, Scene, Settings,
+    internals::newell_normal,
+    load_scene,
+    scene::load_obj,
+    solver::{FormFactorKernel, ShootFrom},
 };
 use tempfile::TempDir;
 
@@ -294,12 +297,14 @@ fn toml_bad_settings_are_named_with_line_and_field() {
 #[test]
 fn toml_settings_reach_every_field() {
     let toml = "obj = \"scene.obj\"\n[solver]\nkernel = \"exact\"\nmax_samples = 32\n\
+                shoot_from = \"patch_mean\"\n\
                 [mesh]\nkind = \"adaptive\"\nmax_edge = 2\n\
                 patch_max_edge = { of_diagonal = 0.5 }\nrefinement.threshold = 0.25\n\
                 [mesh.contour]\nlevels = 5\n[mesh.dominance]\nmin_share = 0.7\n";
     let settings = file_settings(toml).unwrap();
     assert_eq!(settings.solver.kernel, FormFactorKernel::Exact);
     assert_eq!(settings.solver.max_samples, 32);
+    assert_eq!(settings.solver.shoot_from, ShootFrom::PatchMean);
     assert_eq!(settings.mesh.kind, MeshKind::Adaptive);
     assert_eq!(settings.mesh.max_edge, Length::Absolute(2.0));
     assert_eq!(settings.mesh.patch_max_edge, Length::OfDiagonal(0.5));
@@ -310,6 +315,7 @@ fn toml_settings_reach_every_field() {
     let mut expected = Settings::default();
     expected.solver.kernel = FormFactorKernel::Exact;
     expected.solver.max_samples = 32;
+    expected.solver.shoot_from = ShootFrom::PatchMean;
     expected.mesh.kind = MeshKind::Adaptive;
     expected.mesh.max_edge = Length::Absolute(2.0);
     expected.mesh.patch_max_edge = Length::OfDiagonal(0.5);

@@ -1,0 +1,338 @@
+//! Where on a patch its unshot light lies: unshot radiosity ΔB at every
+//! element's corners, the field a patch's strata shoot from.
+//!
+//! Each element keeps its own copy of ΔB at its corners rather than one
+//! value per vertex: a vertex on the border of two patches of one surface
+//! then carries each patch's share separately, and a patch that shoots
+//! clears its own elements' copies without touching its neighbour's. Within
+//! a patch the copies agree (the elements receive the same light at a shared
+//! vertex and are cleared together), so the field is continuous over the
+//! patch and the interpolation the renderer would draw.
+
+use glam::DVec3;
+
+use crate::mesh::{Cell, Element, Mesh, Patch};
+use crate::scene::Rgb;
+
+/// Unshot radiosity ΔB_v (W/m²) at the corners of every element of a mesh,
+/// by element index (a triangle's fourth entry is unused).
+///
+/// The solver's per-patch totals stay the ledger's: a patch's unshot power
+/// is Σ_e A_e · mean_corners(ΔB), and every change to the corners here is
+/// matched by that change to the total, up to rounding. The corners give the
+/// shape of the light over the patch; a shot scales its strata to the total
+/// (see [`PatchField::strata_radiosity`]).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct UnshotCorners {
+    corners: Vec<[Rgb; 4]>,
+}
+
+impl UnshotCorners {
+    /// Every element's corners at its patch's unshot radiosity.
+    pub(crate) fn new(mesh: &Mesh, per_patch: &[Rgb]) -> UnshotCorners {
+        let corners = mesh
+            .elements
+            .iter()
+            .map(|e| [per_patch[e.patch as usize]; 4])
+            .collect();
+        UnshotCorners { corners }
+    }
+
+    /// Adds a per-vertex value (reflected irradiance) at element `e`'s corners.
+    pub(crate) fn add(&mut self, e: usize, element: &Element, value: impl Fn(u32) -> Rgb) {
+        for (slot, &v) in self.corners[e].iter_mut().zip(element.corners()) {
+            *slot += value(v);
+        }
+    }
+
+    /// Clears a patch's share: it has shot it.
+    pub(crate) fn clear(&mut self, patch: &Patch) {
+        for &e in &patch.elements {
+            self.corners[e as usize] = [Rgb::ZERO; 4];
+        }
+    }
+
+    /// A patch's field, to shoot `power` (W) from.
+    pub(crate) fn field(&self, mesh: &Mesh, patch: &Patch, power: Rgb) -> PatchField {
+        let elements = patch
+            .elements
+            .iter()
+            .map(|&e| {
+                let element = &mesh.elements[e as usize];
+                let p = |k: usize| mesh.vertices[element.vertices[k] as usize].position;
+                let cell = if element.is_triangle {
+                    Cell::triangle(p(0), p(1), p(2))
+                } else {
+                    Cell::quad(p(0), p(1), p(2), p(3))
+                };
+                FieldElement::new(cell, self.corners[e as usize])
+            })
+            .collect();
+        PatchField { elements, power }
+    }
+
+    /// Carries the corners over an adaptive split: `old` holds the corners
+    /// of the elements before it, by their corner indices (an element's
+    /// vertex array identifies it). A leaf that was not split keeps its
+    /// corners; a new child takes ΔB interpolated from its parent at its
+    /// corners (a parent corner, an edge's midpoint, a quad's centre), plus
+    /// ρ (H_v − H̃_v), what the vertex reflects beyond the irradiance H̃_v
+    /// interpolated the same way: the light refinement found there, which
+    /// is the change ΔP in incident power that [`crate::Solver`]'s refine
+    /// moves into the patch's unshot power (its ρ ΔP). For children that
+    /// tile their parent as the parent's bilinear map does (parallelograms
+    /// and triangles), the corner integral then changes by exactly ρ ΔP.
+    pub(crate) fn after_split(
+        &mut self,
+        mesh: &Mesh,
+        parent_of: impl Fn(usize) -> Option<Element>,
+        old: &std::collections::HashMap<[u32; 4], [Rgb; 4]>,
+        irradiance: &[Rgb],
+        reflectance: impl Fn(&Element) -> Rgb,
+    ) {
+        self.corners = mesh
+            .elements
+            .iter()
+            .enumerate()
+            .map(|(i, element)| {
+                if let Some(kept) = old.get(&element.vertices) {
+                    return *kept;
+                }
+                let Some(parent) = parent_of(i) else {
+                    return [Rgb::ZERO; 4];
+                };
+                let Some(parent_corners) = old.get(&parent.vertices) else {
+                    return [Rgb::ZERO; 4];
+                };
+                let rho = reflectance(element);
+                let mut corners = [Rgb::ZERO; 4];
+                for (slot, &v) in corners.iter_mut().zip(element.corners()) {
+                    let unshot = interpolate_in_parent(mesh, &parent, v, |k| parent_corners[k]);
+                    let expected = interpolate_in_parent(mesh, &parent, v, |k| {
+                        irradiance[parent.vertices[k] as usize]
+                    });
+                    *slot = unshot + rho * (irradiance[v as usize] - expected);
+                }
+                corners
+            })
+            .collect();
+    }
+
+    /// The corners of every element, by their vertex arrays: what
+    /// [`UnshotCorners::after_split`] reads.
+    pub(crate) fn by_vertices(&self, mesh: &Mesh) -> std::collections::HashMap<[u32; 4], [Rgb; 4]> {
+        mesh.elements
+            .iter()
+            .zip(&self.corners)
+            .map(|(e, c)| (e.vertices, *c))
+            .collect()
+    }
+}
+
+/// A per-corner value of `parent` at vertex `v` of one of its children: the
+/// corner's own value, the mean of an edge's ends at its midpoint, the mean
+/// of all corners at a quad's centre.
+fn interpolate_in_parent(
+    mesh: &Mesh,
+    parent: &Element,
+    v: u32,
+    value: impl Fn(usize) -> Rgb,
+) -> Rgb {
+    let corners = parent.corners();
+    if let Some(k) = corners.iter().position(|&c| c == v) {
+        return value(k);
+    }
+    let n = corners.len();
+    for k in 0..n {
+        let (a, b) = (corners[k], corners[(k + 1) % n]);
+        if mesh.edge_midpoints.get(&(a.min(b), a.max(b))) == Some(&v) {
+            return (value(k) + value((k + 1) % n)) * 0.5;
+        }
+    }
+    (0..n).map(value).sum::<Rgb>() / n as f64
+}
+
+/// One element of a shooting patch: its shape, bounding box and ΔB at its corners.
+#[derive(Clone, Debug)]
+struct FieldElement {
+    cell: Cell,
+    min: DVec3,
+    max: DVec3,
+    corners: [Rgb; 4],
+}
+
+impl FieldElement {
+    fn new(cell: Cell, corners: [Rgb; 4]) -> FieldElement {
+        let polygon = cell.polygon();
+        let min = polygon.iter().copied().fold(DVec3::INFINITY, DVec3::min);
+        let max = polygon
+            .iter()
+            .copied()
+            .fold(DVec3::NEG_INFINITY, DVec3::max);
+        let pad = (max - min).max_element() * 1e-9;
+        FieldElement {
+            cell,
+            min: min - pad,
+            max: max + pad,
+            corners,
+        }
+    }
+
+    /// ΔB at point y, linear over a triangle and bilinear over a quad (the
+    /// parametrisation of [`Cell::point`]); `None` when y is outside.
+    fn at(&self, y: DVec3) -> Option<Rgb> {
+        if y.cmplt(self.min).any() || y.cmpgt(self.max).any() {
+            return None;
+        }
+        let (s, t) = cell_coordinates(&self.cell, y)?;
+        let [a, b, c, d] = self.corners;
+        Some(if self.cell.is_triangle {
+            a * (1.0 - s - t) + b * s + c * t
+        } else {
+            a * ((1.0 - s) * (1.0 - t)) + b * (s * (1.0 - t)) + c * (s * t) + d * ((1.0 - s) * t)
+        })
+    }
+}
+
+/// The coordinates (s, t) of y in a cell, inverting [`Cell::point`]
+/// (Gauss–Newton on the bilinear map; one step is exact for a triangle);
+/// `None` when y lies outside.
+fn cell_coordinates(cell: &Cell, y: DVec3) -> Option<(f64, f64)> {
+    const INSIDE: f64 = 1e-9;
+    let [a, b, c, d] = cell.corners;
+    let (mut s, mut t) = if cell.is_triangle {
+        (0.0, 0.0)
+    } else {
+        (0.5, 0.5)
+    };
+    let steps = if cell.is_triangle { 1 } else { 8 };
+    for _ in 0..steps {
+        let (du, dv) = if cell.is_triangle {
+            (b - a, c - a)
+        } else {
+            (
+                (b - a) * (1.0 - t) + (c - d) * t,
+                (d - a) * (1.0 - s) + (c - b) * s,
+            )
+        };
+        let r = y - cell.point(s, t);
+        let (uu, uv, vv) = (du.dot(du), du.dot(dv), dv.dot(dv));
+        let det = uu * vv - uv * uv;
+        if det.abs() <= f64::MIN_POSITIVE {
+            return None;
+        }
+        let (ru, rv) = (du.dot(r), dv.dot(r));
+        s += (vv * ru - uv * rv) / det;
+        t += (uu * rv - uv * ru) / det;
+    }
+    let inside = if cell.is_triangle {
+        s >= -INSIDE && t >= -INSIDE && s + t <= 1.0 + INSIDE
+    } else {
+        (-INSIDE..=1.0 + INSIDE).contains(&s) && (-INSIDE..=1.0 + INSIDE).contains(&t)
+    };
+    inside.then_some((s.clamp(0.0, 1.0), t.clamp(0.0, 1.0)))
+}
+
+/// A shooting patch's unshot radiosity over its elements and the power it
+/// shoots.
+#[derive(Clone, Debug)]
+pub struct PatchField {
+    elements: Vec<FieldElement>,
+    /// Σ_e A_e mean_corners(ΔB): the patch's unshot power (W).
+    power: Rgb,
+}
+
+impl PatchField {
+    /// The radiosity each stratum shoots: ΔB at its centre, interpolated
+    /// from the element under it (zero where no element is, as under an
+    /// object standing on the patch), then scaled channel by channel so that
+    /// the strata carry exactly the patch's unshot power,
+    ///
+    /// ```text
+    ///   W_k = ΔB(c_k) · P / Σ_i ΔB(c_i) A_i,   Σ_k W_k A_k = P = Σ_e A_e ΔB̄_e,
+    /// ```
+    ///
+    /// (uniform P / Σ A_i for a channel whose raw sum is not positive).
+    ///
+    /// # References
+    /// M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive
+    /// Refinement Approach to Fast Radiosity Image Generation", SIGGRAPH 1988;
+    /// J. R. Wallace, K. A. Elmquist, E. A. Haines, "A Ray Tracing Algorithm
+    /// for Progressive Radiosity", SIGGRAPH 1989.
+    pub(crate) fn strata_radiosity(&self, strata: &[Cell]) -> Vec<Rgb> {
+        let raw: Vec<Rgb> = strata
+            .iter()
+            .map(|stratum| {
+                let centre = stratum.point(0.5, 0.5);
+                self.elements
+                    .iter()
+                    .find_map(|e| e.at(centre))
+                    .unwrap_or(Rgb::ZERO)
+            })
+            .collect();
+        let total_area: f64 = strata.iter().map(|s| s.area).sum();
+        let sum = raw
+            .iter()
+            .zip(strata)
+            .map(|(w, s)| *w * s.area)
+            .sum::<Rgb>()
+            .to_array();
+        let target = self.power.to_array();
+        let channel = |w: f64, c: usize| {
+            if sum[c] > 0.0 {
+                w * (target[c] / sum[c])
+            } else {
+                target[c] / total_area
+            }
+        };
+        raw.into_iter()
+            .map(|w| {
+                let w = w.to_array();
+                Rgb::new(channel(w[0], 0), channel(w[1], 1), channel(w[2], 2))
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn coordinates_invert_the_cell_map() {
+        let quad = Cell::quad(
+            DVec3::ZERO,
+            DVec3::new(4.0, 0.0, 0.0),
+            DVec3::new(3.0, 2.0, 0.0),
+            DVec3::new(0.5, 1.5, 0.0),
+        );
+        let tri = Cell::triangle(
+            DVec3::ZERO,
+            DVec3::new(3.0, 0.0, 0.0),
+            DVec3::new(1.0, 2.0, 0.0),
+        );
+        for (cell, s, t) in [(quad, 0.3, 0.8), (tri, 0.2, 0.5)] {
+            let (s2, t2) = cell_coordinates(&cell, cell.point(s, t)).unwrap();
+            assert!((s2 - s).abs() < 1e-12 && (t2 - t).abs() < 1e-12);
+        }
+        assert!(cell_coordinates(&quad, DVec3::new(5.0, 1.0, 0.0)).is_none());
+    }
+
+    #[test]
+    fn strata_carry_the_patch_power_where_the_light_is() {
+        // A unit square, lit on its left edge only.
+        let cell = Cell::quad(DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y);
+        let (lit, dark) = (Rgb::splat(2.0), Rgb::ZERO);
+        let field = PatchField {
+            elements: vec![FieldElement::new(cell, [lit, dark, dark, lit])],
+            power: Rgb::splat(1.0),
+        };
+        let mut strata = Vec::new();
+        cell.subdivide(4, &mut strata);
+        let w = field.strata_radiosity(&strata);
+        let power: Rgb = w.iter().zip(&strata).map(|(w, s)| *w * s.area).sum();
+        assert!((power.r - 1.0).abs() < 1e-12);
+        // Column 0 (x = 1/8) shoots 7 times what column 3 (x = 7/8) does.
+        assert!((w[0].r / w[3].r - 7.0).abs() < 1e-9);
+    }
+}
