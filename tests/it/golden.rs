@@ -63,5 +63,5 @@ fn the_cornell_box_matches_the_path_tracer() {
         (mean_ratio - 1.0).abs() < 0.015,
         "mean radiance ×{mean_ratio}"
     );
-    assert!(per_pixel < 0.065, "per-pixel error {per_pixel}");
+    assert!(per_pixel < 0.045, "per-pixel error {per_pixel}");
 }
