@@ -4,6 +4,7 @@
 //! gets (`scene_mesh.rs`, where lighting's fields meet the meshers).
 
 mod ambient;
+mod energy_balance;
 mod mesh_settings;
 mod progressive;
 mod refinement;
@@ -15,8 +16,9 @@ mod shooter;
 mod solution;
 mod unshot;
 
+pub use energy_balance::EnergyBalance;
 pub use mesh_settings::{Length, MeshKind, MeshSettings};
-pub use progressive::{EnergyBalance, Solver};
+pub use progressive::Solver;
 pub use refinement::RefinementSettings;
 pub use run::{Progress, StopReason, Until};
 pub use scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene, receiver_layout};

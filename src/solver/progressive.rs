@@ -3,6 +3,7 @@
 use rayon::prelude::*;
 
 use super::ambient::{LandingLedger, ambient_irradiance};
+use super::energy_balance::EnergyBalance;
 use super::mesh_settings::MeshKind;
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene};
@@ -12,24 +13,6 @@ use super::solution::Solution;
 use super::unshot::UnshotCorners;
 use crate::mesh::{ElementHierarchy, Mesh};
 use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
-
-/// Where the emitted power has gone so far, per RGB channel, in watts (or
-/// the scene's length unit squared times W/m²).
-///
-/// `absorbed + unshot + escaped = emitted` holds at every step.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EnergyBalance {
-    /// Power emitted by all emitters: Σ E·A.
-    pub emitted: Rgb,
-    /// Power absorbed by surfaces: Σ_e A_e (1 − ρ_e) H_e, with H_e the mean
-    /// irradiance of element e's vertices.
-    pub absorbed: Rgb,
-    /// Power waiting to be shot: Σ_p ΔB_p A_p.
-    pub unshot: Rgb,
-    /// Power shot that no surface received: it left an open scene (or is the
-    /// discretisation error of a closed one).
-    pub escaped: Rgb,
-}
 
 /// Radiosity at mesh vertices, solved by progressive refinement: the patch
 /// with the most unshot power shoots it to every receiving vertex, until the

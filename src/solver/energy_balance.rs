@@ -1,0 +1,21 @@
+//! The energy ledger of a solve: where the emitted power has gone.
+
+use crate::scene::Rgb;
+
+/// Where the emitted power has gone so far, per RGB channel, in watts (or
+/// the scene's length unit squared times W/m²).
+///
+/// `absorbed + unshot + escaped = emitted` holds at every step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnergyBalance {
+    /// Power emitted by all emitters: Σ E·A.
+    pub emitted: Rgb,
+    /// Power absorbed by surfaces: Σ_e A_e (1 − ρ_e) H_e, with H_e the mean
+    /// irradiance of element e's vertices.
+    pub absorbed: Rgb,
+    /// Power waiting to be shot: Σ_p ΔB_p A_p.
+    pub unshot: Rgb,
+    /// Power shot that no surface received: it left an open scene (or is the
+    /// discretisation error of a closed one).
+    pub escaped: Rgb,
+}
