@@ -6,6 +6,7 @@
 mod ambient;
 mod energy_balance;
 mod mesh_settings;
+mod penumbra;
 mod progressive;
 mod refinement;
 mod run;
@@ -23,4 +24,4 @@ pub use refinement::RefinementSettings;
 pub use run::{Progress, StopReason, Until};
 pub use scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene, receiver_layout};
 pub use settings::{FormFactorKernel, Settings, ShootFrom, SolverSettings};
-pub use solution::{Probe, ProbeMode, Solution, SurfaceTotals};
+pub use solution::{PENUMBRA_RAY_BUDGET, Probe, ProbeMode, Solution, SurfaceTotals};

@@ -2,7 +2,9 @@
 
 use glam::{DVec2, DVec3};
 
+use super::penumbra::AdaptiveVisibility;
 use crate::error::{Error, Result};
+use crate::lighting::SampleStream;
 use crate::mesh::{Cell, Mesh, receiver_inset};
 use crate::radiometry::{polygon_form_factor, polygon_form_factor_gradient};
 use crate::scene::{
@@ -29,11 +31,73 @@ pub struct Probe {
     pub surface: SurfaceId,
     /// Irradiance H, W/m²: light arriving on the surface's front.
     pub irradiance: Rgb,
+    /// Standard error of `irradiance` per channel, W/m²: the sampling error
+    /// of the gather's shadow rays (partly hidden sources), not the
+    /// solution's own error. Zero in [`ProbeMode::Mesh`], which samples
+    /// nothing, and where every source is wholly visible or hidden.
+    pub standard_error: Rgb,
     /// Radiosity B = E + ρ H, W/m².
     pub radiosity: Rgb,
     /// In-plane gradient of the radiosity of each channel (r, g, b), as
     /// world-space vectors, W/m³ (per scene unit).
     pub gradient: [DVec3; 3],
+}
+
+/// Extra shadow rays one gather probe may cast refining partly hidden
+/// sources, beyond one ray per base stratum: 16 384 (a few milliseconds).
+pub const PENUMBRA_RAY_BUDGET: usize = 16_384;
+
+/// The standard error, relative to the probe's irradiance (summed over
+/// channels), under which a gather stops refining penumbrae.
+const PENUMBRA_RELATIVE_ERROR: f64 = 0.005;
+
+/// One element a gather sees: its mean radiosity, its unoccluded form
+/// factor, its corners and its shadow rays.
+struct GatherSource<'a> {
+    radiosity: Rgb,
+    factor: f64,
+    corners: Vec<DVec3>,
+    visibility: AdaptiveVisibility<'a>,
+}
+
+/// Refines the sources' visibility, the largest contributor to the
+/// variance first, until the irradiance's standard error is under
+/// [`PENUMBRA_RELATIVE_ERROR`] of its value, every source is settled, or the
+/// next step would pass [`PENUMBRA_RAY_BUDGET`]. Returns each source's
+/// visible share and its variance.
+fn refine_penumbrae(sources: &mut [GatherSource<'_>]) -> Vec<(f64, f64)> {
+    let weight = |source: &GatherSource<'_>| source.factor * source.radiosity.element_sum();
+    let mut estimates: Vec<(f64, f64)> = sources.iter().map(|s| s.visibility.estimate()).collect();
+    let mut rays = 0;
+    loop {
+        // The irradiance (all channels) and its variance.
+        let (mut value, mut variance) = (0.0, 0.0);
+        for (source, (visible, visible_variance)) in sources.iter().zip(&estimates) {
+            value += weight(source) * visible;
+            variance += weight(source).powi(2) * visible_variance;
+        }
+        if variance.sqrt() <= PENUMBRA_RELATIVE_ERROR * value {
+            break;
+        }
+        // The unsettled source contributing most variance.
+        let worst = sources
+            .iter()
+            .zip(&estimates)
+            .enumerate()
+            .filter(|(_, (source, _))| !source.visibility.is_settled())
+            .map(|(k, (source, (_, v)))| (k, weight(source).powi(2) * v))
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        let Some((k, _)) = worst else { break };
+        let next = sources[k].visibility.next_rays();
+        if rays + next > PENUMBRA_RAY_BUDGET {
+            break;
+        }
+        let before = sources[k].visibility.rays;
+        sources[k].visibility.refine();
+        rays += sources[k].visibility.rays - before;
+        estimates[k] = sources[k].visibility.estimate();
+    }
+    estimates
 }
 
 /// Totals over one surface's mesh elements: area-weighted means of the
@@ -145,14 +209,50 @@ impl Solution<'_> {
         best.map(|(id, _)| id)
     }
 
-    /// The final gather at a point of a surface.
+    /// The final gather at a point of a surface: every element's mean
+    /// radiosity times its exact form factor and its visible share, with
+    /// partly hidden elements refined until the irradiance's standard error
+    /// is under [`PENUMBRA_RELATIVE_ERROR`] of its value or the probe has cast
+    /// [`PENUMBRA_RAY_BUDGET`] extra rays.
     fn gather(&self, position: DVec3, surface: SurfaceId) -> Probe {
         let s = self.scene.surface(surface);
         let material = self.scene.material_of(s);
         let normal = s.normal();
         let x = self.gather_point(position, surface);
+        let mut sources = self.gather_sources(x, surface);
+        let visible = refine_penumbrae(&mut sources);
         let mut irradiance = Rgb::ZERO;
+        let mut variance = Rgb::ZERO;
         let mut gradient = [DVec3::ZERO; 3];
+        for (source, (visible, visible_variance)) in sources.iter().zip(visible) {
+            let light = source.radiosity * source.factor;
+            irradiance += light * visible;
+            variance += light * light * visible_variance;
+            let factor_gradient = polygon_form_factor_gradient(x, normal, &source.corners);
+            let in_plane = factor_gradient - normal * factor_gradient.dot(normal);
+            let (radiosity, reflectance) =
+                (source.radiosity.to_array(), material.reflectance.to_array());
+            for (channel, g) in gradient.iter_mut().enumerate() {
+                *g += in_plane * (radiosity[channel] * visible * reflectance[channel]);
+            }
+        }
+        Probe {
+            position,
+            surface,
+            irradiance,
+            standard_error: Rgb::new(variance.r.sqrt(), variance.g.sqrt(), variance.b.sqrt()),
+            radiosity: material.emitted_radiosity() + material.reflectance * irradiance,
+            gradient,
+        }
+    }
+
+    /// The elements a gather at `x` on `surface` sees in front of it, each
+    /// with its unoccluded factor and its shadow rays' base strata.
+    fn gather_sources(&self, x: DVec3, surface: SurfaceId) -> Vec<GatherSource<'_>> {
+        let normal = self.scene.surface(surface).normal();
+        // Jitter keyed by the point: deterministic and independent of the order of probes.
+        let key = x.x.to_bits() ^ x.y.to_bits().rotate_left(21) ^ x.z.to_bits().rotate_left(42);
+        let mut sources = Vec::new();
         for (index, element) in self.mesh.elements.iter().enumerate() {
             if element.surface == surface {
                 continue;
@@ -171,27 +271,30 @@ impl Solution<'_> {
             if factor <= 0.0 {
                 continue;
             }
-            let visible = self.visible_fraction(x, surface, index, &corners);
-            if visible <= 0.0 {
-                continue;
-            }
-            let mean_radiosity = element.corner_mean(|v| self.radiosity[v as usize]);
-            irradiance += mean_radiosity * factor * visible;
-            let factor_gradient = polygon_form_factor_gradient(x, normal, &corners);
-            let in_plane = factor_gradient - normal * factor_gradient.dot(normal);
-            let (radiosity, reflectance) =
-                (mean_radiosity.to_array(), material.reflectance.to_array());
-            for (channel, g) in gradient.iter_mut().enumerate() {
-                *g += in_plane * (radiosity[channel] * visible * reflectance[channel]);
-            }
+            let cell = if corners.len() == 3 {
+                Cell::triangle(corners[0], corners[1], corners[2])
+            } else {
+                Cell::quad(corners[0], corners[1], corners[2], corners[3])
+            };
+            // m × m base strata, m growing with the element's apparent size.
+            let distance = (cell.centre() - x).length().max(f64::MIN_POSITIVE);
+            let base = ((3.0 * cell.area.sqrt() / distance).ceil() as usize).clamp(2, 8);
+            let visibility = AdaptiveVisibility::new(
+                cell,
+                (x, normal, surface),
+                (source_normal, element.surface),
+                base,
+                self.visibility,
+                SampleStream::new(key, index as u64),
+            );
+            sources.push(GatherSource {
+                radiosity: element.corner_mean(|v| self.radiosity[v as usize]),
+                factor,
+                corners,
+                visibility,
+            });
         }
-        Probe {
-            position,
-            surface,
-            irradiance,
-            radiosity: material.emitted_radiosity() + material.reflectance * irradiance,
-            gradient,
-        }
+        sources
     }
 
     /// Where a probe on a surface gathers: the point itself, moved inside its
@@ -209,50 +312,6 @@ impl Solution<'_> {
         let centroid = plane_vertices.iter().copied().sum::<DVec2>() / plane_vertices.len() as f64;
         let towards = (centroid - p).normalize_or_zero();
         s.frame().to_world(p + towards * inset)
-    }
-
-    /// The fraction of stratified shadow rays from `x` to an element that are
-    /// unblocked: m × m rays, m growing with the element's apparent size.
-    fn visible_fraction(
-        &self,
-        x: DVec3,
-        surface: SurfaceId,
-        element: usize,
-        corners: &[DVec3],
-    ) -> f64 {
-        let e = &self.mesh.elements[element];
-        let cell = if corners.len() == 3 {
-            Cell::triangle(corners[0], corners[1], corners[2])
-        } else {
-            Cell::quad(corners[0], corners[1], corners[2], corners[3])
-        };
-        let normal = self.scene.surface(surface).normal();
-        let source_normal = self.scene.surface(e.surface).normal();
-        let distance = (cell.centre() - x).length().max(f64::MIN_POSITIVE);
-        let m = ((3.0 * cell.area.sqrt() / distance).ceil() as usize).clamp(2, 8);
-        let offset = self.visibility.surface_offset();
-        let (mut tested, mut unblocked) = (0u32, 0u32);
-        for j in 0..m {
-            for i in 0..m {
-                let y = cell.point((i as f64 + 0.5) / m as f64, (j as f64 + 0.5) / m as f64);
-                if normal.dot(y - x) <= 0.0 {
-                    continue;
-                }
-                tested += 1;
-                if self.visibility.is_unblocked(
-                    x + normal * offset,
-                    y + source_normal * offset,
-                    [surface, e.surface],
-                ) {
-                    unblocked += 1;
-                }
-            }
-        }
-        if tested == 0 {
-            1.0
-        } else {
-            f64::from(unblocked) / f64::from(tested)
-        }
     }
 
     /// The mesh's piecewise-linear value at a point of a surface, split into
@@ -283,6 +342,7 @@ impl Solution<'_> {
                 position,
                 surface,
                 irradiance: Rgb::ZERO,
+                standard_error: Rgb::ZERO,
                 radiosity: Rgb::ZERO,
                 gradient: [DVec3::ZERO; 3],
             };
@@ -305,6 +365,7 @@ impl Solution<'_> {
             position,
             surface,
             irradiance: value(&self.irradiance),
+            standard_error: Rgb::ZERO,
             radiosity: value(&self.radiosity),
             gradient,
         }

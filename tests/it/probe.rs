@@ -208,3 +208,99 @@ fn a_point_on_no_surface_is_an_error_naming_its_line() {
         assert!(solution.probe(&point, ProbeMode::Gather).is_err());
     });
 }
+
+/// A 0.2 m square lamp (ρ = 0) facing down 1.6 m over a black floor, and a
+/// black table top 0.8 m below it whose edge x = 0 runs parallel to the
+/// lamp's edges: a floor point (x, 0, 0) sees the part x_e ≥ −x of the lamp,
+/// so the penumbra spans −0.1 < x < 0.1.
+const LAMP_HALF: f64 = 0.1;
+const LAMP_HEIGHT: f64 = 1.6;
+
+fn penumbra_scene() -> Scene {
+    let mut b = SceneBuilder::default();
+    let black = b.material("black", 0.0, 0.0);
+    let light = b.material("light", 0.0, LIGHT_RADIANCE);
+    b.polygon("floor", black, square_z(-3.0, 3.0, 0.0, true));
+    b.polygon("lamp", light, lamp_polygon(-LAMP_HALF));
+    b.polygon(
+        "table",
+        black,
+        vec![
+            DVec3::new(-2.0, -2.0, 0.8),
+            DVec3::new(0.0, -2.0, 0.8),
+            DVec3::new(0.0, 2.0, 0.8),
+            DVec3::new(-2.0, 2.0, 0.8),
+        ],
+    );
+    b.scene
+}
+
+/// The part x ≥ `from` of the lamp, facing down.
+fn lamp_polygon(from: f64) -> Vec<DVec3> {
+    let from = from.clamp(-LAMP_HALF, LAMP_HALF);
+    vec![
+        DVec3::new(from, -LAMP_HALF, LAMP_HEIGHT),
+        DVec3::new(from, LAMP_HALF, LAMP_HEIGHT),
+        DVec3::new(LAMP_HALF, LAMP_HALF, LAMP_HEIGHT),
+        DVec3::new(LAMP_HALF, -LAMP_HALF, LAMP_HEIGHT),
+    ]
+}
+
+/// The exact irradiance at (x, 0, 0): π L times Lambert's factor of the
+/// visible part of the lamp.
+fn exact_penumbra(x: f64) -> f64 {
+    if -x >= LAMP_HALF {
+        return 0.0;
+    }
+    PI * LIGHT_RADIANCE
+        * isorad::radiometry::polygon_form_factor(
+            DVec3::new(x, 0.0, 0.0),
+            DVec3::Z,
+            &lamp_polygon(-x),
+        )
+}
+
+#[test]
+fn gather_resolves_a_penumbra_against_the_exact_visible_lamp() {
+    let scene = penumbra_scene();
+    solve(&scene, |solver| {
+        let solution = solver.solution();
+        let maximum = exact_penumbra(1.0);
+        let xs: Vec<f64> = (-100..=110)
+            .step_by(5)
+            .map(|k| f64::from(k) * 1e-3)
+            .collect();
+        let start = std::time::Instant::now();
+        let probes: Vec<_> = xs
+            .iter()
+            .map(|&x| solution.probe(&at(x, 0.0), ProbeMode::Gather).unwrap())
+            .collect();
+        let per_probe = start.elapsed().as_secs_f64() / xs.len() as f64;
+        let (mut worst, mut failures) = (0.0_f64, Vec::new());
+        for (&x, probe) in xs.iter().zip(&probes) {
+            let exact = exact_penumbra(x);
+            if exact < 0.02 * maximum {
+                continue;
+            }
+            let (value, error) = (probe.irradiance.r, probe.standard_error.r);
+            let relative = (value - exact).abs() / exact;
+            worst = worst.max(relative);
+            if !(relative < 0.01 || ((value - exact).abs() < 3.0 * error && error <= 0.005 * exact))
+            {
+                failures.push(format!(
+                    "x = {x}: irradiance {value} ± {error} vs exact {exact} ({relative:.2e})"
+                ));
+            }
+        }
+        eprintln!(
+            "penumbra: worst relative error {worst:.2e}, {:.2} ms per probe",
+            per_probe * 1e3
+        );
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+        // Fully lit and fully hidden points sample nothing uncertain.
+        for x in [-0.3, 0.5] {
+            let probe = solution.probe(&at(x, 0.0), ProbeMode::Gather).unwrap();
+            assert_eq!(probe.standard_error, isorad::Rgb::ZERO, "x = {x}");
+        }
+    });
+}
