@@ -150,7 +150,14 @@ fn probe_prints_a_csv_row_per_point() {
         "x,y,z,irradiance_r,irradiance_g,irradiance_b,radiosity_r,radiosity_g,radiosity_b,grad_r_x"
     ));
     let row: Vec<f64> = lines[1].split(',').map(|v| v.parse().unwrap()).collect();
-    assert_eq!(row.len(), 18);
+    assert!(lines[0].ends_with(",grad_b_z,irradiance_se_r,irradiance_se_g,irradiance_se_b"));
+    assert_eq!(row.len(), 21);
+    assert!(
+        row[18..]
+            .iter()
+            .all(|&se| (0.0..=0.005 * row[3]).contains(&se)),
+        "the standard error is small and not negative: {csv}"
+    );
     assert!(
         row[3] > 0.0 && row[6] > 0.0,
         "the floor under the light is lit: {csv}"

@@ -48,6 +48,7 @@ pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
             }
         }
     }
+    header.push_str(",irradiance_se_r,irradiance_se_g,irradiance_se_b");
     writeln!(out, "{header}")?;
     for point in &points {
         let probe = solution
@@ -64,6 +65,8 @@ pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
                 row.push_str(&format!(",{},{},{}", g.x, g.y, g.z));
             }
         }
+        let se = probe.standard_error;
+        row.push_str(&format!(",{},{},{}", se.r, se.g, se.b));
         writeln!(out, "{row}")?;
     }
     out.flush()?;
