@@ -17,6 +17,8 @@
 //! its jittered rays would miss, keeps it on the frontier.
 
 use std::collections::HashMap;
+use std::collections::hash_map::DefaultHasher;
+use std::hash::BuildHasherDefault;
 
 use glam::DVec3;
 
@@ -74,6 +76,10 @@ impl Stratum {
 /// The corners of a grid cell, and its children, as offsets.
 const CORNERS: [(u32, u32); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
 
+/// Maps with a fixed hash, so that iteration order (and with it the
+/// rounding of the sums over strata) is the same on every run.
+type FixedMap<K, V> = HashMap<K, V, BuildHasherDefault<DefaultHasher>>;
+
 /// Where a stratum sits: its level below the base grid and its column and
 /// row in that level's (m · 2^level)² grid over the element's parameters.
 type Key = (u8, u32, u32);
@@ -92,11 +98,11 @@ pub struct AdaptiveVisibility<'a> {
     random: SampleStream,
     /// The witness rays at strata corners, by lattice point of the finest
     /// level's grid (none when the point is behind the receiver).
-    witnesses: HashMap<(u32, u32), Option<bool>>,
+    witnesses: FixedMap<(u32, u32), Option<bool>>,
     /// Base strata per side.
     base: u32,
     /// The strata that are leaves, and the frontier of the finest level.
-    strata: HashMap<Key, Stratum>,
+    strata: FixedMap<Key, Stratum>,
     frontier: Vec<Key>,
     /// Shadow rays cast so far.
     pub rays: usize,
@@ -125,9 +131,9 @@ impl<'a> AdaptiveVisibility<'a> {
             source,
             visibility,
             random,
-            witnesses: HashMap::new(),
+            witnesses: FixedMap::default(),
             base,
-            strata: HashMap::new(),
+            strata: FixedMap::default(),
             frontier: Vec::new(),
             rays: 0,
         };

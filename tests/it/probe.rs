@@ -297,6 +297,9 @@ fn gather_resolves_a_penumbra_against_the_exact_visible_lamp() {
             per_probe * 1e3
         );
         assert!(failures.is_empty(), "{}", failures.join("\n"));
+        // The jitter is keyed by the point: probing again gives the same bits.
+        let again = solution.probe(&at(xs[3], 0.0), ProbeMode::Gather).unwrap();
+        assert_eq!(again, probes[3]);
         // Fully lit and fully hidden points sample nothing uncertain.
         for x in [-0.3, 0.5] {
             let probe = solution.probe(&at(x, 0.0), ProbeMode::Gather).unwrap();

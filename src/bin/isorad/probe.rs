@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use isorad::{Solver, Until, scene::load_probe_points};
+use rayon::prelude::*;
 
 use crate::args::{ProbeModeArg, SolveArgs, prepare};
 use crate::progress::solve_with_progress;
@@ -50,10 +51,13 @@ pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
     }
     header.push_str(",irradiance_se_r,irradiance_se_g,irradiance_se_b");
     writeln!(out, "{header}")?;
-    for point in &points {
-        let probe = solution
-            .probe(point, mode)
-            .map_err(|error| with_points_path(error, &args.points))?;
+    // Probes in parallel (each is deterministic, keyed by its point), rows in order.
+    let probes: Vec<_> = points
+        .par_iter()
+        .map(|point| solution.probe(point, mode))
+        .collect();
+    for probe in probes {
+        let probe = probe.map_err(|error| with_points_path(error, &args.points))?;
         let p = probe.position;
         let (h, b) = (probe.irradiance, probe.radiosity);
         let mut row = format!(
