@@ -17,8 +17,7 @@
 //! its jittered rays would miss, keeps it on the frontier.
 
 use std::collections::HashMap;
-use std::collections::hash_map::DefaultHasher;
-use std::hash::BuildHasherDefault;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use glam::DVec3;
 
@@ -78,7 +77,46 @@ const CORNERS: [(u32, u32); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
 
 /// Maps with a fixed hash, so that iteration order (and with it the
 /// rounding of the sums over strata) is the same on every run.
-type FixedMap<K, V> = HashMap<K, V, BuildHasherDefault<DefaultHasher>>;
+type FixedMap<K, V> = HashMap<K, V, BuildHasherDefault<GridHasher>>;
+
+/// A fast fixed hash for small integer keys (grid cells and lattice
+/// points): each word is folded in by a rotation, an exclusive or and a
+/// multiplication by 2⁶⁴/φ (Fibonacci hashing). SipHash, the standard
+/// default, resists adversarial keys, which these are not, at several
+/// times the cost; the refinement hashes a few keys per shadow ray.
+#[derive(Clone, Copy, Debug, Default)]
+struct GridHasher(u64);
+
+impl GridHasher {
+    fn fold(&mut self, word: u64) {
+        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    }
+}
+
+impl Hasher for GridHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for &byte in bytes {
+            self.fold(u64::from(byte));
+        }
+    }
+
+    fn write_u8(&mut self, word: u8) {
+        self.fold(u64::from(word));
+    }
+
+    fn write_u32(&mut self, word: u32) {
+        self.fold(u64::from(word));
+    }
+
+    fn write_u64(&mut self, word: u64) {
+        self.fold(word);
+    }
+
+    fn finish(&self) -> u64 {
+        // The product's high bits are its best mixed; hash tables index by the low ones.
+        self.0.rotate_left(26)
+    }
+}
 
 /// Where a stratum sits: its level below the base grid and its column and
 /// row in that level's (m · 2^level)² grid over the element's parameters.
@@ -104,6 +142,9 @@ pub struct AdaptiveVisibility<'a> {
     /// The strata that are leaves, and the frontier of the finest level.
     strata: FixedMap<Key, Stratum>,
     frontier: Vec<Key>,
+    /// The estimate of an element whose base rays all agree, which needs
+    /// no strata kept.
+    settled: Option<(f64, f64)>,
     /// Shadow rays cast so far.
     pub rays: usize,
 }
@@ -111,13 +152,17 @@ pub struct AdaptiveVisibility<'a> {
 impl<'a> AdaptiveVisibility<'a> {
     /// Samples `cell` (a source element on surface `source`, front normal
     /// `source_normal`) from `x` on surface `receiver` (normal `n`) with
-    /// `base` × `base` strata of one jittered ray each.
+    /// `base` × `base` strata of one jittered ray each. `corner_witnesses`
+    /// are the shadow rays to the element's corners in polygon order (none
+    /// where no ray could be cast), which the caller casts once for all the
+    /// elements that share a corner.
     #[must_use]
     pub fn new(
         cell: Cell,
         (x, n, receiver): (DVec3, DVec3, SurfaceId),
         (source_normal, source): (DVec3, SurfaceId),
         base: usize,
+        corner_witnesses: [Option<bool>; 4],
         visibility: &'a Visibility,
         random: SampleStream,
     ) -> Self {
@@ -135,18 +180,53 @@ impl<'a> AdaptiveVisibility<'a> {
             base,
             strata: FixedMap::default(),
             frontier: Vec::new(),
+            settled: None,
             rays: 0,
         };
         let keys: Vec<Key> = (0..base)
             .flat_map(|j| (0..base).map(move |i| (0, i, j)))
             .collect();
-        for &key in &keys {
-            let stratum = this.sample(key, 1);
+        let strata: Vec<Stratum> = keys.iter().map(|&key| this.sample(key, 1)).collect();
+        // The usual case, wholly lit or wholly hidden: every ray cast and all agreeing.
+        let agreed = corner_witnesses[0].filter(|&unblocked| {
+            corner_witnesses[1..this.cell.polygon().len()]
+                .iter()
+                .all(|&w| w == Some(unblocked))
+                && strata.iter().all(|stratum| {
+                    stratum.cast == stratum.samples
+                        && stratum.unblocked == if unblocked { stratum.cast } else { 0 }
+                })
+        });
+        if agreed.is_some() {
+            let (mut kernel, mut visible) = (0.0, 0.0);
+            for stratum in &strata {
+                kernel += stratum.area * stratum.kernel;
+                visible += stratum.area * stratum.visible;
+            }
+            this.settled = Some(if kernel > 0.0 && kernel.is_finite() {
+                ((visible / kernel).clamp(0.0, 1.0), 0.0)
+            } else {
+                (1.0, 0.0)
+            });
+            return this;
+        }
+        for (&key, stratum) in keys.iter().zip(strata) {
             this.strata.insert(key, stratum);
         }
         // The element's corners, then, if it is partly hidden, every base corner.
-        for corner in [(0, 0), (base, 0), (0, base), (base, base)] {
-            this.witness((0, corner.0, corner.1));
+        // Parameters (0, 0), (1, 0), (1, 1), (0, 1) are a quad's corners in
+        // order; a triangle's square is folded, so (1, 1) is its first corner.
+        let polygon_corners = if this.cell.polygon().len() == 3 {
+            [0, 1, 0, 2]
+        } else {
+            [0, 1, 2, 3]
+        };
+        for ((i, j), k) in [(0, 0), (base, 0), (base, base), (0, base)]
+            .into_iter()
+            .zip(polygon_corners)
+        {
+            let point = this.lattice((0, i, j));
+            this.witnesses.insert(point, corner_witnesses[k]);
         }
         this.mark_frontier(&keys);
         if !this.frontier.is_empty() {
@@ -158,6 +238,12 @@ impl<'a> AdaptiveVisibility<'a> {
             this.mark_frontier(&keys);
         }
         this
+    }
+
+    /// The source element.
+    #[must_use]
+    pub fn cell(&self) -> &Cell {
+        &self.cell
     }
 
     /// Whether more refinement could change the estimate.
@@ -182,6 +268,9 @@ impl<'a> AdaptiveVisibility<'a> {
     /// stratified estimator's, with the kernel's integral taken as exact.
     #[must_use]
     pub fn estimate(&self) -> (f64, f64) {
+        if let Some(estimate) = self.settled {
+            return estimate;
+        }
         let (mut kernel, mut visible, mut variance) = (0.0, 0.0, 0.0);
         for stratum in self.strata.values() {
             let n = f64::from(stratum.samples.max(1));

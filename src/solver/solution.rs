@@ -1,5 +1,8 @@
 //! A solved scene, and reading it at any point (the probes).
 
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
 use glam::{DVec2, DVec3};
 
 use super::penumbra::AdaptiveVisibility;
@@ -52,11 +55,10 @@ pub const PENUMBRA_RAY_BUDGET: usize = 16_384;
 const PENUMBRA_RELATIVE_ERROR: f64 = 0.005;
 
 /// One element a gather sees: its mean radiosity, its unoccluded form
-/// factor, its corners and its shadow rays.
+/// factor and its shadow rays.
 struct GatherSource<'a> {
     radiosity: Rgb,
     factor: f64,
-    corners: Vec<DVec3>,
     visibility: AdaptiveVisibility<'a>,
 }
 
@@ -68,26 +70,24 @@ struct GatherSource<'a> {
 fn refine_penumbrae(sources: &mut [GatherSource<'_>]) -> Vec<(f64, f64)> {
     let weight = |source: &GatherSource<'_>| source.factor * source.radiosity.element_sum();
     let mut estimates: Vec<(f64, f64)> = sources.iter().map(|s| s.visibility.estimate()).collect();
+    // The irradiance (all channels) and its variance, kept up to date as
+    // sources are refined, and the unsettled sources by their variance.
+    let (mut value, mut variance) = (0.0, 0.0);
+    let mut unsettled = BinaryHeap::new();
+    for (k, (source, &(visible, visible_variance))) in sources.iter().zip(&estimates).enumerate() {
+        let w = weight(source);
+        value += w * visible;
+        variance += w * w * visible_variance;
+        if !source.visibility.is_settled() {
+            unsettled.push(VarianceShare(w * w * visible_variance, k));
+        }
+    }
     let mut rays = 0;
-    loop {
-        // The irradiance (all channels) and its variance.
-        let (mut value, mut variance) = (0.0, 0.0);
-        for (source, (visible, visible_variance)) in sources.iter().zip(&estimates) {
-            value += weight(source) * visible;
-            variance += weight(source).powi(2) * visible_variance;
-        }
-        if variance.sqrt() <= PENUMBRA_RELATIVE_ERROR * value {
-            break;
-        }
+    while variance.max(0.0).sqrt() > PENUMBRA_RELATIVE_ERROR * value {
         // The unsettled source contributing most variance.
-        let worst = sources
-            .iter()
-            .zip(&estimates)
-            .enumerate()
-            .filter(|(_, (source, _))| !source.visibility.is_settled())
-            .map(|(k, (source, (_, v)))| (k, weight(source).powi(2) * v))
-            .max_by(|a, b| a.1.total_cmp(&b.1));
-        let Some((k, _)) = worst else { break };
+        let Some(VarianceShare(_, k)) = unsettled.pop() else {
+            break;
+        };
         let next = sources[k].visibility.next_rays();
         if rays + next > PENUMBRA_RAY_BUDGET {
             break;
@@ -95,9 +95,41 @@ fn refine_penumbrae(sources: &mut [GatherSource<'_>]) -> Vec<(f64, f64)> {
         let before = sources[k].visibility.rays;
         sources[k].visibility.refine();
         rays += sources[k].visibility.rays - before;
+        let (old_visible, old_variance) = estimates[k];
         estimates[k] = sources[k].visibility.estimate();
+        let w = weight(&sources[k]);
+        value += w * (estimates[k].0 - old_visible);
+        variance += w * w * (estimates[k].1 - old_variance);
+        if !sources[k].visibility.is_settled() {
+            unsettled.push(VarianceShare(w * w * estimates[k].1, k));
+        }
     }
     estimates
+}
+
+/// A source's share of a gather's variance, ordered by that share (the
+/// source's index breaks ties), for the refinement's priority queue.
+#[derive(Clone, Copy, Debug)]
+struct VarianceShare(f64, usize);
+
+impl PartialEq for VarianceShare {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for VarianceShare {}
+
+impl PartialOrd for VarianceShare {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for VarianceShare {
+    fn cmp(&self, other: &Self) -> Ordering {
+        self.0.total_cmp(&other.0).then(self.1.cmp(&other.1))
+    }
 }
 
 /// Totals over one surface's mesh elements: area-weighted means of the
@@ -228,7 +260,11 @@ impl Solution<'_> {
             let light = source.radiosity * source.factor;
             irradiance += light * visible;
             variance += light * light * visible_variance;
-            let factor_gradient = polygon_form_factor_gradient(x, normal, &source.corners);
+            if visible <= 0.0 {
+                continue;
+            }
+            let factor_gradient =
+                polygon_form_factor_gradient(x, normal, source.visibility.cell().polygon());
             let in_plane = factor_gradient - normal * factor_gradient.dot(normal);
             let (radiosity, reflectance) =
                 (source.radiosity.to_array(), material.reflectance.to_array());
@@ -252,22 +288,51 @@ impl Solution<'_> {
         let normal = self.scene.surface(surface).normal();
         // Jitter keyed by the point: deterministic and independent of the order of probes.
         let key = x.x.to_bits() ^ x.y.to_bits().rotate_left(21) ^ x.z.to_bits().rotate_left(42);
-        let mut sources = Vec::new();
+        let mut sources = Vec::with_capacity(self.mesh.elements.len());
+        // The shadow ray to each mesh vertex, cast once for all the elements
+        // around it: 0 not yet cast, 1 none possible, 2 blocked, 3 unblocked.
+        let mut vertex_witnesses = vec![0u8; self.mesh.vertices.len()];
+        let offset = self.visibility.surface_offset();
+        let mut vertex_witness = |v: u32| {
+            let slot = &mut vertex_witnesses[v as usize];
+            if *slot == 0 {
+                let vertex = &self.mesh.vertices[v as usize];
+                let y = vertex.receiver_position;
+                let source_normal = self.scene.surface(vertex.surface).normal();
+                let d = y - x;
+                *slot = if normal.dot(d) > 0.0 && source_normal.dot(d) < 0.0 {
+                    let unblocked = self.visibility.is_unblocked(
+                        x + normal * offset,
+                        y + source_normal * offset,
+                        [surface, vertex.surface],
+                    );
+                    2 + u8::from(unblocked)
+                } else {
+                    1
+                };
+            }
+            match *slot {
+                2 => Some(false),
+                3 => Some(true),
+                _ => None,
+            }
+        };
         for (index, element) in self.mesh.elements.iter().enumerate() {
             if element.surface == surface {
                 continue;
             }
-            let corners: Vec<DVec3> = element
-                .corners()
-                .iter()
-                .map(|&v| self.mesh.vertices[v as usize].position)
-                .collect();
+            let ids = element.corners();
+            let mut corners = [DVec3::ZERO; 4];
+            for (corner, &v) in corners.iter_mut().zip(ids) {
+                *corner = self.mesh.vertices[v as usize].position;
+            }
+            let corners = &corners[..ids.len()];
             let source_normal = self.scene.surface(element.surface).normal();
             // One-sided: the element must face the point.
             if source_normal.dot(x - corners[0]) <= 0.0 {
                 continue;
             }
-            let factor = polygon_form_factor(x, normal, &corners);
+            let factor = polygon_form_factor(x, normal, corners);
             if factor <= 0.0 {
                 continue;
             }
@@ -284,13 +349,19 @@ impl Solution<'_> {
                 (x, normal, surface),
                 (source_normal, element.surface),
                 base,
+                {
+                    let mut witnesses = [None; 4];
+                    for (witness, &v) in witnesses.iter_mut().zip(ids) {
+                        *witness = vertex_witness(v);
+                    }
+                    witnesses
+                },
                 self.visibility,
                 SampleStream::new(key, index as u64),
             );
             sources.push(GatherSource {
                 radiosity: element.corner_mean(|v| self.radiosity[v as usize]),
                 factor,
-                corners,
                 visibility,
             });
         }
