@@ -61,10 +61,11 @@ pub fn mesh_surfaces(
 ) -> Mesh {
     let mut mesh = Mesh::default();
     let tolerance = CONTACT_TOLERANCE * scene.diagonal();
+    let inset = receiver_inset(scene);
     let mut touched = Vec::new();
     for (id, surface) in scene.surfaces_with_ids() {
         let grid = square_grid(surface, id, settings);
-        let contacts = contact_segments(scene, id, tolerance);
+        let contacts = contact_segments(scene, id, tolerance, inset);
         let layout = layout(id);
         if contacts.is_empty() && layout.is_none() {
             mesh.append(grid);
@@ -84,6 +85,6 @@ pub fn mesh_surfaces(
     if !touched.is_empty() {
         remove_hidden_elements(&mut mesh, scene, &touched);
     }
-    mesh.inset_boundary_receivers(receiver_inset(scene));
+    mesh.inset_boundary_receivers(inset);
     mesh
 }
