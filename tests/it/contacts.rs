@@ -123,3 +123,141 @@ fn no_darkness_bleeds_out_from_under_a_block() {
         "mesh vs gather just outside the block: {worst}"
     );
 }
+
+/// The faces of an axis-aligned box from `lo` to `hi` facing out, without
+/// its bottom (it stands on something).
+fn open_box(b: &mut SceneBuilder, name: &str, material: usize, lo: DVec3, hi: DVec3) {
+    let centre = 0.5 * (lo + hi);
+    let corner = |x: bool, y: bool, z: bool| {
+        DVec3::new(
+            if x { hi.x } else { lo.x },
+            if y { hi.y } else { lo.y },
+            if z { hi.z } else { lo.z },
+        )
+    };
+    let faces = [
+        [
+            corner(false, false, false),
+            corner(true, false, false),
+            corner(true, false, true),
+            corner(false, false, true),
+        ],
+        [
+            corner(false, true, false),
+            corner(true, true, false),
+            corner(true, true, true),
+            corner(false, true, true),
+        ],
+        [
+            corner(false, false, false),
+            corner(false, true, false),
+            corner(false, true, true),
+            corner(false, false, true),
+        ],
+        [
+            corner(true, false, false),
+            corner(true, true, false),
+            corner(true, true, true),
+            corner(true, false, true),
+        ],
+        [
+            corner(false, false, true),
+            corner(true, false, true),
+            corner(true, true, true),
+            corner(false, true, true),
+        ],
+    ];
+    for face in faces {
+        let middle = face.iter().copied().sum::<DVec3>() / 4.0;
+        b.polygon_facing(name, material, face.to_vec(), 2.0 * middle - centre);
+    }
+}
+
+/// A 2 × 0.8 m desk with a 4 cm screen standing 1 cm from its far edge,
+/// under a small lamp right above the screen, in a hall whose 20 m
+/// diagonal makes the contact tolerance (a thousandth of it) wider than
+/// that centimetre.
+fn screen_on_desk() -> Scene {
+    let mut b = SceneBuilder::default();
+    let white = b.material("white", 0.5, 0.0);
+    let light = b.material("light", 0.0, 10.0);
+    b.polygon("floor", white, square_z(-7.0, 7.0, -0.75, true));
+    b.polygon(
+        "desk",
+        white,
+        vec![
+            DVec3::new(-1.0, -0.4, 0.0),
+            DVec3::new(1.0, -0.4, 0.0),
+            DVec3::new(1.0, 0.4, 0.0),
+            DVec3::new(-1.0, 0.4, 0.0),
+        ],
+    );
+    open_box(
+        &mut b,
+        "screen",
+        white,
+        DVec3::new(-1.0, 0.39, 0.0),
+        DVec3::new(1.0, 0.43, 0.4),
+    );
+    let lamp: Vec<DVec3> = [(-0.2, 0.2), (-0.2, 0.6), (0.2, 0.6), (0.2, 0.2)]
+        .iter()
+        .map(|&(x, y)| DVec3::new(x, y, 2.2))
+        .collect();
+    b.polygon("light", light, lamp);
+    b.scene
+}
+
+/// The desk's received power as the default mesh carries it matches the
+/// integral of exact gathers over its visible part to 3 % (2.1 % short when
+/// this was written), and the centimetre under the screen is not meshed.
+/// Before contact lines this close to an outline were kept, and rows of
+/// vertices put beside them, the desk's edge vertices gathered under the
+/// screen, in the dark, and the desk received 27 % less (an office's desks
+/// 15 % less).
+#[test]
+fn a_desk_keeps_its_light_beside_a_screen_standing_near_its_edge() {
+    let scene = screen_on_desk();
+    let mut solver = Solver::new(scene, isorad::Settings::default()).unwrap();
+    solver.run();
+    let solution = solver.solution();
+    let desk = SurfaceId::new(1);
+    let meshed = solution.surface_totals()[desk.index()];
+    // The gathers: a jittered 24 × 24 grid over the desk beside the screen.
+    let (n, width, depth) = (24, 2.0, 0.79);
+    let mut random = 0x2545_f491_4f6c_dd1du64;
+    let mut next = || {
+        random ^= random << 13;
+        random ^= random >> 7;
+        random ^= random << 17;
+        (random >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut sum = 0.0;
+    for j in 0..n {
+        for i in 0..n {
+            let x = -1.0 + width * (i as f64 + next()) / n as f64;
+            let y = -0.4 + depth * (j as f64 + next()) / n as f64;
+            let point = ProbePoint {
+                position: DVec3::new(x, y, 0.0),
+                normal: None,
+                line: 1,
+            };
+            sum += solution
+                .probe(&point, ProbeMode::Gather)
+                .unwrap()
+                .irradiance
+                .r;
+        }
+    }
+    let gathered = sum / (n * n) as f64 * width * depth;
+    let ratio = meshed.received_power.r / gathered;
+    println!(
+        "desk beside a screen: meshed area {:.4} m², received {:.4} W, gathered {gathered:.4} W, ratio {ratio:.4}",
+        meshed.area, meshed.received_power.r
+    );
+    assert!(
+        (meshed.area - width * depth).abs() < 1e-6,
+        "meshed area {}",
+        meshed.area
+    );
+    assert!((ratio - 1.0).abs() < 0.03, "received / gathered = {ratio}");
+}
