@@ -21,7 +21,7 @@ use crate::scene::Rgb;
 /// is Σ_e A_e · mean_corners(ΔB), and every change to the corners here is
 /// matched by that change to the total, up to rounding. The corners give the
 /// shape of the light over the patch; a shot scales its strata to the total
-/// (see [`PatchField::strata_radiosity`]).
+/// (see [`PatchField::sampled_radiosity`]).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct UnshotCorners {
     corners: Vec<[Rgb; 4]>,
@@ -254,27 +254,45 @@ impl PatchField {
     ///
     /// (uniform P / Σ A_i for a channel whose raw sum is not positive).
     ///
+    /// Here the values are read at the centres of `sub` × `sub` cells of
+    /// each stratum's parameter square, stratum by stratum and row by row
+    /// (cell (i, j) of stratum k at k·sub² + j·sub + i), scaled together so
+    /// that Σ_k Σ_ij W_kij A_k / sub² = P (`sub` = 1: one value per stratum,
+    /// at its centre). A shot reads W where its jittered sample falls: a
+    /// stratum partly under an object standing on the patch then shoots
+    /// nothing along the rays that start under the object, and its power
+    /// leaves from the rest, instead of being lost on the object.
+    ///
     /// # References
     /// M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive
     /// Refinement Approach to Fast Radiosity Image Generation", SIGGRAPH 1988;
     /// J. R. Wallace, K. A. Elmquist, E. A. Haines, "A Ray Tracing Algorithm
     /// for Progressive Radiosity", SIGGRAPH 1989.
-    pub(crate) fn strata_radiosity(&self, strata: &[Cell]) -> Vec<Rgb> {
-        let raw: Vec<Rgb> = strata
-            .iter()
-            .map(|stratum| {
-                let centre = stratum.point(0.5, 0.5);
-                self.elements
-                    .iter()
-                    .find_map(|e| e.at(centre))
-                    .unwrap_or(Rgb::ZERO)
-            })
-            .collect();
-        let total_area: f64 = strata.iter().map(|s| s.area).sum();
+    pub(crate) fn sampled_radiosity(&self, strata: &[Cell], sub: usize) -> Vec<Rgb> {
+        let sub = sub.max(1);
+        let share = 1.0 / (sub * sub) as f64;
+        let mut raw = Vec::with_capacity(strata.len() * sub * sub);
+        let mut areas = Vec::with_capacity(raw.capacity());
+        for stratum in strata {
+            for j in 0..sub {
+                for i in 0..sub {
+                    let centre =
+                        stratum.point((i as f64 + 0.5) / sub as f64, (j as f64 + 0.5) / sub as f64);
+                    raw.push(
+                        self.elements
+                            .iter()
+                            .find_map(|e| e.at(centre))
+                            .unwrap_or(Rgb::ZERO),
+                    );
+                    areas.push(stratum.area * share);
+                }
+            }
+        }
+        let total_area: f64 = areas.iter().sum();
         let sum = raw
             .iter()
-            .zip(strata)
-            .map(|(w, s)| *w * s.area)
+            .zip(&areas)
+            .map(|(w, a)| *w * *a)
             .sum::<Rgb>()
             .to_array();
         let target = self.power.to_array();
@@ -329,7 +347,7 @@ mod tests {
         };
         let mut strata = Vec::new();
         cell.subdivide(4, &mut strata);
-        let w = field.strata_radiosity(&strata);
+        let w = field.sampled_radiosity(&strata, 1);
         let power: Rgb = w.iter().zip(&strata).map(|(w, s)| *w * s.area).sum();
         assert!((power.r - 1.0).abs() < 1e-12);
         // Column 0 (x = 1/8) shoots 7 times what column 3 (x = 7/8) does.

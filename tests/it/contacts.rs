@@ -261,3 +261,48 @@ fn a_desk_keeps_its_light_beside_a_screen_standing_near_its_edge() {
     );
     assert!((ratio - 1.0).abs() < 0.03, "received / gathered = {ratio}");
 }
+
+/// A closed 6 × 3 × 6 m room (z up) lit by a ceiling panel, with four
+/// 0.6 × 0.6 m plates 5 cm tall (a chair's base) standing on its floor, each
+/// across the corner of floor patches.
+fn plates_in_a_closed_room() -> Scene {
+    let mut b = SceneBuilder::default();
+    let white = b.material("white", 0.6, 0.0);
+    let light = b.material("light", 0.0, 5.0);
+    let size = DVec3::new(6.0, 6.0, 3.0);
+    for face in box_faces(size) {
+        b.polygon_facing("room", white, face, 0.5 * size);
+    }
+    for (x, y) in [(1.2, 1.2), (4.2, 1.5), (1.5, 4.2), (3.0, 3.0)] {
+        let lo = DVec3::new(x - 0.3, y - 0.3, 0.0);
+        open_box(&mut b, "plate", white, lo, lo + DVec3::new(0.6, 0.6, 0.05));
+    }
+    let panel: Vec<DVec3> = [(2.5, 2.5), (2.5, 3.5), (3.5, 3.5), (3.5, 2.5)]
+        .iter()
+        .map(|&(x, y)| DVec3::new(x, y, 2.99))
+        .collect();
+    b.polygon_facing("light", light, panel, DVec3::new(3.0, 3.0, 0.0));
+    b.scene
+}
+
+/// In a closed room every shot lands somewhere: a floor patch with a plate
+/// standing on part of it shoots its light from the floor around the plate,
+/// not from under it, where the plate's inside would swallow it. Escaped
+/// power under 1.2 % of the emitted at tolerance 10⁻³ (0.73 % when this was
+/// written; 2.45 % when each stratum shot the radiosity at its centre along
+/// all its rays).
+#[test]
+fn floor_shots_beside_plates_in_a_closed_room_land() {
+    let scene = plates_in_a_closed_room();
+    let mut settings = isorad::Settings::default();
+    settings.solver.tolerance = 1e-3;
+    let mut solver = Solver::new(scene, settings).unwrap();
+    solver.run();
+    let balance = solver.energy_balance();
+    let escaped = balance.escaped.element_sum() / balance.emitted.element_sum();
+    println!(
+        "plates in a closed room: escaped {:.3} % of the emitted power",
+        100.0 * escaped
+    );
+    assert!(escaped.abs() < 0.012, "escaped {escaped}");
+}
