@@ -288,7 +288,7 @@ impl Solution<'_> {
         let normal = self.scene.surface(surface).normal();
         // Jitter keyed by the point: deterministic and independent of the order of probes.
         let key = x.x.to_bits() ^ x.y.to_bits().rotate_left(21) ^ x.z.to_bits().rotate_left(42);
-        let mut sources = Vec::with_capacity(self.mesh.elements.len());
+        let mut sources = Vec::new();
         // The shadow ray to each mesh vertex, cast once for all the elements
         // around it: 0 not yet cast, 1 none possible, 2 blocked, 3 unblocked.
         let mut vertex_witnesses = vec![0u8; self.mesh.vertices.len()];

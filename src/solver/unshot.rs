@@ -273,17 +273,24 @@ impl PatchField {
         let share = 1.0 / (sub * sub) as f64;
         let mut raw = Vec::with_capacity(strata.len() * sub * sub);
         let mut areas = Vec::with_capacity(raw.capacity());
+        let mut last = 0;
         for stratum in strata {
             for j in 0..sub {
                 for i in 0..sub {
                     let centre =
                         stratum.point((i as f64 + 0.5) / sub as f64, (j as f64 + 0.5) / sub as f64);
-                    raw.push(
-                        self.elements
-                            .iter()
-                            .find_map(|e| e.at(centre))
-                            .unwrap_or(Rgb::ZERO),
-                    );
+                    // Neighbouring points mostly fall in the same element: try it first.
+                    let found = self
+                        .elements
+                        .get(last)
+                        .and_then(|e| e.at(centre))
+                        .or_else(|| {
+                            self.elements
+                                .iter()
+                                .enumerate()
+                                .find_map(|(k, e)| e.at(centre).inspect(|_| last = k))
+                        });
+                    raw.push(found.unwrap_or(Rgb::ZERO));
                     areas.push(stratum.area * share);
                 }
             }

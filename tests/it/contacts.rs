@@ -288,7 +288,7 @@ fn plates_in_a_closed_room() -> Scene {
 /// In a closed room every shot lands somewhere: a floor patch with a plate
 /// standing on part of it shoots its light from the floor around the plate,
 /// not from under it, where the plate's inside would swallow it. Escaped
-/// power under 1.2 % of the emitted at tolerance 10⁻³ (0.73 % when this was
+/// power under 1.2 % of the emitted at tolerance 10⁻³ (0.78 % when this was
 /// written; 2.45 % when each stratum shot the radiosity at its centre along
 /// all its rays).
 #[test]
