@@ -121,6 +121,39 @@ def room():
           'up = [0.0, 1.0, 0.0]\nvfov_deg = 65.0\nwidth = 640\nheight = 480\n\n[mesh]\nkind = "contour"\n')
 
 
+def table():
+    """The table-shadow case: an open floor, a table, and a small tilted lamp."""
+    folder = os.path.join(ROOT, "table")
+    os.makedirs(folder, exist_ok=True)
+    obj = Obj()
+    obj.face("floor", "floor", [(-3, 0, -3), (-3, 0, 3), (3, 0, 3), (3, 0, -3)])
+    # A 0.8 x 0.8 m top, 4 cm thick, at 0.76 m on four 3 cm legs.
+    obj.box("table_top", "wood", (-0.4, 0.72, -0.4), (0.4, 0.76, 0.4), bottom=True)
+    for x in (-0.37, 0.34):
+        for z in (-0.37, 0.34):
+            obj.box("table_leg", "wood", (x, 0.0, z), (x + 0.03, 0.72, z + 0.03))
+    # A 0.15 m square lamp 1.5 m up, 0.9 m to the side, tilted 30 degrees towards the table.
+    t = math.radians(-30)
+    c = (0.9, 1.5, 0.0)
+    u = (math.cos(t), math.sin(t), 0.0)
+    w = (0.0, 0.0, 1.0)
+    h = 0.075
+    corners = [(-1, -1), (1, -1), (1, 1), (-1, 1)]  # counter-clockwise about u x w: facing down
+    obj.face("lamp", "lamp", [tuple(c[i] + h * (a * u[i] + b * w[i]) for i in range(3)) for a, b in corners])
+    obj.write(os.path.join(folder, "table.obj"),
+              "# A 0.8 x 0.8 m table on a 6 x 6 m floor, open to the sky, under a small square\n"
+              "# lamp tilted 30 degrees towards it: a shadow with an umbra lit only by the\n"
+              "# light the floor and the table pass on. Metres.",
+              "table.mtl")
+    write(os.path.join(folder, "table.mtl"),
+          "newmtl floor\nKd 0.5 0.5 0.5\n\nnewmtl wood\nKd 0.6 0.45 0.3\n\n"
+          "newmtl lamp\nKd 0 0 0\nKe 200 200 200\n")
+    write(os.path.join(folder, "table.toml"),
+          '# A table casting a shadow under a small tilted lamp, open to the sky (isorad scene file).\n'
+          'obj = "table.obj"\n\n[camera]\nposition = [-1.6, 2.6, -2.6]\nlook_at = [-0.3, 0.1, 0.1]\n'
+          'up = [0.0, 1.0, 0.0]\nvfov_deg = 55.0\nwidth = 512\nheight = 384\n')
+
+
 def newell(points):
     """Newell's normal of a polygon (not normalised)."""
     n = [0.0, 0.0, 0.0]
@@ -321,4 +354,5 @@ if __name__ == "__main__":
     seed(30)
     seed_material()
     room()
+    table()
     office()

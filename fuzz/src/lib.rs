@@ -13,8 +13,8 @@ use isorad::{
     Scene,
     internals::estimate_square_elements,
     mesh::{
-        ContourSettings, ElementHierarchy, Mesh, SquareMeshSettings, contour_layout, mesh_square,
-        mesh_surfaces,
+        ContourSettings, ElementHierarchy, Mesh, SquareMeshSettings, SurfaceGuides, contour_layout,
+        mesh_square, mesh_surfaces,
     },
 };
 
@@ -222,8 +222,9 @@ fn contour(scene: &Scene) -> Mesh {
             Some(contour_layout(&outline, &field, centre, &settings, &[]))
         })
         .collect();
-    mesh_surfaces(scene, &coarse(scene), &|surface| {
-        layouts[surface.index()].clone()
+    mesh_surfaces(scene, &coarse(scene), &|surface| SurfaceGuides {
+        layout: layouts[surface.index()].clone(),
+        boundaries: Vec::new(),
     })
 }
 

@@ -5,7 +5,8 @@
 //! (value, gradient, visibility, maximum, kink line: what the contour mesher
 //! meshes), the dominant-small-emitter analysis that decides which receivers
 //! the contour mesher gets, and the stratified points and deterministic
-//! random stream their estimates use.
+//! random stream their estimates use, and the shadow boundaries the
+//! luminaires cast through occluders (discontinuity meshing).
 //!
 //! It uses the scene and radiometry; the mesh never imports it: the solver
 //! hands its fields down to the meshers as closures.
@@ -14,9 +15,11 @@ mod direct_field;
 mod dominance;
 mod luminaire;
 mod sample_stream;
+mod shadow_boundaries;
 mod stratified;
 
 pub use direct_field::DirectField;
 pub use dominance::{DominanceSettings, ReceiverAnalysis, analyse_receivers};
 pub use luminaire::{Luminaire, luminaires};
 pub(crate) use sample_stream::SampleStream;
+pub use shadow_boundaries::{BoundaryLimits, EdgeNeighbours, shadow_boundaries};

@@ -6,6 +6,8 @@
 //! Every mesher's output passes through here ([`mesh_surfaces`]); the square
 //! mesher is the assembly with no contour layouts ([`mesh_square`]).
 
+use glam::DVec2;
+
 use super::contacts::{contact_segments, remesh_surface, remove_hidden_elements};
 use super::contour::ContourLayout;
 use super::square::{SquareMeshSettings, square_grid};
@@ -46,18 +48,29 @@ pub fn receiver_inset(scene: &Scene) -> f64 {
 /// object are dropped (see `mesh/contacts.rs`).
 #[must_use]
 pub fn mesh_square(scene: &Scene, settings: &SquareMeshSettings) -> Mesh {
-    mesh_surfaces(scene, settings, &|_| None)
+    mesh_surfaces(scene, settings, &|_| SurfaceGuides::default())
 }
 
-/// Meshes every surface: a contour layout where `layout` gives one (in the
-/// surface's plane coordinates), the square grid elsewhere, with contact
-/// lines and hidden parts handled as [`mesh_square`] does. Patches are the
-/// square grid's blocks either way.
+/// What a mesher adds to one surface's square grid, in the surface's plane
+/// coordinates.
+#[derive(Clone, Debug, Default)]
+pub struct SurfaceGuides {
+    /// A contour layout, whose points and pieces replace the grid's points.
+    pub layout: Option<ContourLayout>,
+    /// Lines that element edges follow: the shadow boundaries the lights
+    /// cast on the surface (see `lighting::shadow_boundaries`).
+    pub boundaries: Vec<[DVec2; 2]>,
+}
+
+/// Meshes every surface: a contour layout where `guides` gives one, the
+/// square grid elsewhere, with element edges along the shadow boundaries it
+/// gives, and contact lines and hidden parts handled as [`mesh_square`]
+/// does. Patches are the square grid's blocks either way.
 #[must_use]
 pub fn mesh_surfaces(
     scene: &Scene,
     settings: &SquareMeshSettings,
-    layout: &dyn Fn(SurfaceId) -> Option<ContourLayout>,
+    guides: &dyn Fn(SurfaceId) -> SurfaceGuides,
 ) -> Mesh {
     let mut mesh = Mesh::default();
     let tolerance = CONTACT_TOLERANCE * scene.diagonal();
@@ -66,8 +79,8 @@ pub fn mesh_surfaces(
     for (id, surface) in scene.surfaces_with_ids() {
         let grid = square_grid(surface, id, settings);
         let contacts = contact_segments(scene, id, tolerance, inset);
-        let layout = layout(id);
-        if contacts.is_empty() && layout.is_none() {
+        let guides = guides(id);
+        if contacts.is_empty() && guides.layout.is_none() && guides.boundaries.is_empty() {
             mesh.append(grid);
             continue;
         }
@@ -75,8 +88,9 @@ pub fn mesh_surfaces(
             surface,
             &grid,
             &contacts,
+            &guides.boundaries,
             settings.max_edge,
-            layout.as_ref(),
+            guides.layout.as_ref(),
         ));
         if !contacts.is_empty() {
             touched.push(id);

@@ -12,8 +12,8 @@ use super::contour::ContourLayout;
 use super::patch::Cell;
 use super::topology::Mesh;
 use crate::scene::{
-    PlaneFrame, Scene, Surface, SurfaceId, Visibility, distance_to_boundary, distance_to_segment,
-    polygon_contains,
+    PlaneFrame, Scene, Surface, SurfaceId, Visibility, clip_segment_to_polygon,
+    distance_to_boundary, distance_to_segment, polygon_contains,
 };
 
 /// A contact segment in a receiver's plane coordinates, with the side the
@@ -128,40 +128,6 @@ fn plane_section(
     Some([*first, *last])
 }
 
-/// The part of a segment inside a polygon (counter-clockwise, simple),
-/// assuming it is one piece: the segment's parameter range between its first
-/// entry and last exit. `None` when it misses the polygon.
-fn clip_segment_to_polygon(ends: [DVec2; 2], polygon: &[DVec2]) -> Option<[DVec2; 2]> {
-    let [a, b] = ends;
-    let inside = |p: DVec2| polygon_contains(polygon, p);
-    // Parameters where the segment crosses the polygon's edges, plus its ends.
-    let mut cuts = vec![0.0, 1.0];
-    for k in 0..polygon.len() {
-        let (p, q) = (polygon[k], polygon[(k + 1) % polygon.len()]);
-        let denominator = (b - a).perp_dot(q - p);
-        if denominator.abs() <= f64::MIN_POSITIVE {
-            continue;
-        }
-        let t = (p - a).perp_dot(q - p) / denominator;
-        let s = (p - a).perp_dot(b - a) / denominator;
-        if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&s) {
-            cuts.push(t);
-        }
-    }
-    cuts.sort_by(f64::total_cmp);
-    // Keep the pieces whose middle is inside (or on the boundary).
-    let mut range: Option<(f64, f64)> = None;
-    for pair in cuts.windows(2) {
-        let middle = a.lerp(b, 0.5 * (pair[0] + pair[1]));
-        if pair[1] > pair[0]
-            && (inside(middle) || distance_to_boundary(polygon, middle) < 1e-9 * (b - a).length())
-        {
-            range = Some(range.map_or((pair[0], pair[1]), |(lo, _)| (lo, pair[1])));
-        }
-    }
-    range.map(|(lo, hi)| [a.lerp(b, lo), a.lerp(b, hi)])
-}
-
 /// The rows of [`BESIDE_CONTACT_ROWS`] beside every contact at least one
 /// element long (shorter ones, a table leg's or a book's, cast shadows as
 /// small as themselves): each contact moved that far along its `facing`
@@ -190,17 +156,25 @@ fn rows_beside_contacts(contacts: &[Contact], spacing: f64, outline: &[DVec2]) -
     rows
 }
 
+/// Grid points closer than this fraction of the element spacing to a shadow
+/// boundary give way to the points along it (no slivers beside the line).
+const BOUNDARY_CLEARANCE: f64 = 0.25;
+
 /// Re-triangulates a surface's regular grid so that element edges follow
-/// the contact lines and, when given, a contour layout: the layout's points
-/// and contour pieces (or, without one, the grid's vertices less those
-/// within 0.6 `spacing` of a contact line), points along the contact lines
-/// about `spacing` apart, and the grid's patch cells as constraints so that
-/// every triangle lies in one patch. Uses [`triangulate_constrained`].
+/// the contact lines, the shadow `boundaries` and, when given, a contour
+/// layout: the layout's points and contour pieces (or, without one, the
+/// grid's vertices less those within 0.6 `spacing` of a contact line or
+/// 0.25 of a boundary), points along the contact lines and boundaries about
+/// `spacing` apart, and the grid's patch cells as constraints so that every
+/// triangle lies in one patch. A boundary lying along a contact line (the
+/// shadow of an object's foot) is the contact. Uses
+/// [`triangulate_constrained`].
 #[must_use]
 pub fn remesh_surface(
     surface: &Surface,
     grid: &Mesh,
     contacts: &[Contact],
+    boundaries: &[[DVec2; 2]],
     spacing: f64,
     layout: Option<&ContourLayout>,
 ) -> Mesh {
@@ -213,15 +187,31 @@ pub fn remesh_surface(
         .max(f64::MIN_POSITIVE);
     let segments: Vec<[DVec2; 2]> = contacts.iter().map(|c| c.ends).collect();
     let beside = rows_beside_contacts(contacts, spacing, &outline);
-    // Grid points, except those crowding a contact line or a row beside one
-    // (outline points stay).
-    let crowds = |p: DVec2| {
+    let near_contact = |p: DVec2, distance: f64| {
         segments
             .iter()
-            .any(|&[a, b]| distance_to_segment(p, a, b) < 0.6 * spacing)
+            .any(|&[a, b]| distance_to_segment(p, a, b) < distance)
+    };
+    let boundaries: Vec<[DVec2; 2]> = boundaries
+        .iter()
+        .filter(|s| {
+            let middle = s[0].lerp(s[1], 0.5);
+            ![s[0], s[1], middle]
+                .iter()
+                .all(|&p| near_contact(p, BOUNDARY_CLEARANCE * spacing))
+        })
+        .copied()
+        .collect();
+    // Grid points, except those crowding a contact line, a row beside one or
+    // a boundary (outline points stay).
+    let crowds = |p: DVec2| {
+        near_contact(p, 0.6 * spacing)
             || beside
                 .iter()
                 .any(|&[a, b]| distance_to_segment(p, a, b) < 0.3 * spacing)
+            || boundaries
+                .iter()
+                .any(|&[a, b]| distance_to_segment(p, a, b) < BOUNDARY_CLEARANCE * spacing)
     };
     let mut points: Vec<DVec2> = match layout {
         Some(layout) => layout.points.clone(),
@@ -232,8 +222,8 @@ pub fn remesh_surface(
             .filter(|&p| distance_to_boundary(&outline, p) <= 1e-12 * scale || !crowds(p))
             .collect(),
     };
-    // Points along each contact line and the rows beside it.
-    for [a, b] in segments.iter().chain(&beside) {
+    // Points along each contact line, the rows beside it and the boundaries.
+    for [a, b] in segments.iter().chain(&beside).chain(&boundaries) {
         let n = (a.distance(*b) / spacing).ceil().clamp(1.0, 4096.0) as usize;
         points.extend((1..n).map(|k| a.lerp(*b, k as f64 / n as f64)));
     }
@@ -251,6 +241,7 @@ pub fn remesh_surface(
         .collect();
     let mut constraints = segments.clone();
     constraints.extend_from_slice(&beside);
+    constraints.extend_from_slice(&boundaries);
     if let Some(layout) = layout {
         constraints.extend_from_slice(&layout.constraints);
     }

@@ -14,7 +14,7 @@ mod square;
 mod topology;
 
 pub(crate) use assembly::receiver_inset;
-pub use assembly::{mesh_square, mesh_surfaces};
+pub use assembly::{SurfaceGuides, mesh_square, mesh_surfaces};
 pub(crate) use budget::estimate_square_elements;
 pub(crate) use budget::{check_element_budget, estimate_contour_elements};
 pub use constrained::PlaneTriangulation;

@@ -19,7 +19,9 @@ pub use load::{
     load_scene, load_scene_file, load_scene_with, merge_coplanar_faces, parse_probe_points,
 };
 pub use material::Material;
-pub(crate) use plane_polygon::{distance_to_boundary, distance_to_segment, polygon_contains};
+pub(crate) use plane_polygon::{
+    clip_segment_to_polygon, distance_to_boundary, distance_to_segment, polygon_contains,
+};
 
 pub use rgb::Rgb;
 pub use surface::{PlaneFrame, Surface};

@@ -30,6 +30,41 @@ pub fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     p.distance(a + (b - a) * t)
 }
 
+/// The part of a segment inside a polygon (counter-clockwise, simple),
+/// assuming it is one piece: the segment's parameter range between its first
+/// entry and last exit. `None` when it misses the polygon.
+#[must_use]
+pub fn clip_segment_to_polygon(ends: [DVec2; 2], polygon: &[DVec2]) -> Option<[DVec2; 2]> {
+    let [a, b] = ends;
+    let inside = |p: DVec2| polygon_contains(polygon, p);
+    // Parameters where the segment crosses the polygon's edges, plus its ends.
+    let mut cuts = vec![0.0, 1.0];
+    for k in 0..polygon.len() {
+        let (p, q) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+        let denominator = (b - a).perp_dot(q - p);
+        if denominator.abs() <= f64::MIN_POSITIVE {
+            continue;
+        }
+        let t = (p - a).perp_dot(q - p) / denominator;
+        let s = (p - a).perp_dot(b - a) / denominator;
+        if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&s) {
+            cuts.push(t);
+        }
+    }
+    cuts.sort_by(f64::total_cmp);
+    // Keep the pieces whose middle is inside (or on the boundary).
+    let mut range: Option<(f64, f64)> = None;
+    for pair in cuts.windows(2) {
+        let middle = a.lerp(b, 0.5 * (pair[0] + pair[1]));
+        if pair[1] > pair[0]
+            && (inside(middle) || distance_to_boundary(polygon, middle) < 1e-9 * (b - a).length())
+        {
+            range = Some(range.map_or((pair[0], pair[1]), |(lo, _)| (lo, pair[1])));
+        }
+    }
+    range.map(|(lo, hi)| [a.lerp(b, lo), a.lerp(b, hi)])
+}
+
 /// An L-shaped hexagon, the unit squares at (0, 0), (1, 0) and (0, 1),
 /// counter-clockwise: the unit tests' non-convex polygon.
 #[cfg(test)]

@@ -157,6 +157,10 @@ pub struct MeshSettings {
     pub dominance: DominanceSettings,
     /// How adaptive meshing starts and how far it splits.
     pub refinement: RefinementSettings,
+    /// Element edges along the shadow boundaries that the luminaires cast
+    /// through the scene's occluders, for every mesher (discontinuity
+    /// meshing; see `lighting::shadow_boundaries`). On by default.
+    pub shadow_boundaries: bool,
     /// The most elements [`MeshSettings::check_budget`] allows (estimated
     /// before meshing): a guard against settings that would exhaust memory.
     /// Raise it to mesh a scene that truly needs more.
@@ -175,6 +179,7 @@ impl Default for MeshSettings {
             contour: ContourSettings::default(),
             dominance: DominanceSettings::default(),
             refinement: RefinementSettings::default(),
+            shadow_boundaries: true,
             max_elements: MeshSettings::DEFAULT_MAX_ELEMENTS,
         }
     }

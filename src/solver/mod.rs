@@ -22,6 +22,8 @@ pub use mesh_settings::{Length, MeshKind, MeshSettings};
 pub use progressive::Solver;
 pub use refinement::RefinementSettings;
 pub use run::{Progress, StopReason, Until};
-pub use scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene, receiver_layout};
+pub use scene_mesh::{
+    MeshAnalysis, SceneMesh, mesh_scene, receiver_layout, scene_shadow_boundaries,
+};
 pub use settings::{FormFactorKernel, Settings, ShootFrom, SolverSettings};
 pub use solution::{PENUMBRA_RAY_BUDGET, Probe, ProbeMode, Solution, SurfaceTotals};

@@ -2,10 +2,16 @@
 //! a dominant small emitter.
 
 use glam::DVec2;
+use rayon::prelude::*;
 
 use super::mesh_settings::{MeshKind, MeshSettings};
-use crate::lighting::{DirectField, Luminaire, ReceiverAnalysis, analyse_receivers, luminaires};
-use crate::mesh::{ContourLayout, ContourSettings, Mesh, contour_layout, mesh_surfaces};
+use crate::lighting::{
+    BoundaryLimits, DirectField, EdgeNeighbours, Luminaire, ReceiverAnalysis, analyse_receivers,
+    luminaires, shadow_boundaries,
+};
+use crate::mesh::{
+    ContourLayout, ContourSettings, Mesh, SurfaceGuides, contour_layout, mesh_surfaces,
+};
 use crate::scene::{Scene, SurfaceId, Visibility};
 
 /// What meshing found: the luminaires, each receiver's analysis, and where
@@ -22,6 +28,10 @@ pub struct MeshAnalysis {
     pub newton_iterations: usize,
     /// Contour vertices placed by Newton's method.
     pub newton_solves: usize,
+    /// Shadow boundaries given to the meshers, over all receivers.
+    pub shadow_boundaries: usize,
+    /// Receivers with at least one shadow boundary.
+    pub shadow_receivers: usize,
 }
 
 /// A meshed scene, with what the analysis found on each receiver.
@@ -35,16 +45,26 @@ pub struct SceneMesh {
 /// Meshes a scene as `settings` asks: for [`MeshKind::Contour`], every
 /// receiver whose direct light comes mostly from one small luminaire gets a
 /// contour layout of that luminaire's direct radiosity (with its shadow
-/// boundaries refined), the rest the square grid.
+/// boundaries refined), the rest the square grid. With
+/// `settings.shadow_boundaries`, every mesher's elements follow the shadow
+/// boundaries the luminaires cast (see [`scene_shadow_boundaries`]).
 #[must_use]
 pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSettings) -> SceneMesh {
     let square = settings.square_for(scene);
-    let mut analysis = MeshAnalysis::default();
+    let mut analysis = MeshAnalysis {
+        luminaires: luminaires(scene),
+        ..MeshAnalysis::default()
+    };
+    let boundaries = scene_shadow_boundaries(scene, &analysis.luminaires, settings);
+    analysis.shadow_boundaries = boundaries.iter().map(Vec::len).sum();
+    analysis.shadow_receivers = boundaries.iter().filter(|b| !b.is_empty()).count();
     if matches!(settings.kind, MeshKind::Square | MeshKind::Adaptive) {
-        let mesh = mesh_surfaces(scene, &square, &|_| None);
+        let mesh = mesh_surfaces(scene, &square, &|surface| SurfaceGuides {
+            layout: None,
+            boundaries: boundaries[surface.index()].clone(),
+        });
         return SceneMesh { mesh, analysis };
     }
-    analysis.luminaires = luminaires(scene);
     analysis.receivers =
         analyse_receivers(scene, visibility, &analysis.luminaires, &settings.dominance);
     let layouts: Vec<Option<ContourLayout>> = scene
@@ -65,8 +85,52 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
             analysis.newton_solves += layout.newton_solves;
         }
     }
-    let mesh = mesh_surfaces(scene, &square, &|surface| layouts[surface.index()].clone());
+    let mesh = mesh_surfaces(scene, &square, &|surface| SurfaceGuides {
+        layout: layouts[surface.index()].clone(),
+        boundaries: boundaries[surface.index()].clone(),
+    });
     SceneMesh { mesh, analysis }
+}
+
+/// Shadow boundaries closer than this fraction of the element spacing are
+/// one: the mesh cannot tell them apart.
+const BOUNDARY_MIN_FEATURE: f64 = 0.25;
+
+/// The most shadow boundaries one receiver gets, longest first.
+const MAX_BOUNDARIES_PER_RECEIVER: usize = 256;
+
+/// Every surface's shadow boundaries, indexed by surface, in its plane
+/// coordinates, as `settings` meshes them: merged where closer than a
+/// quarter of an element, at most 256 per receiver, longest first. Empty
+/// for emitters, for surfaces smaller than one element (a line across would
+/// only split them into slivers), and for all when
+/// `settings.shadow_boundaries` is off. Computed in parallel.
+#[must_use]
+pub fn scene_shadow_boundaries(
+    scene: &Scene,
+    luminaires: &[Luminaire],
+    settings: &MeshSettings,
+) -> Vec<Vec<[DVec2; 2]>> {
+    if luminaires.is_empty() || !settings.shadow_boundaries {
+        return vec![Vec::new(); scene.surfaces.len()];
+    }
+    let square = settings.square_for(scene);
+    let neighbours = EdgeNeighbours::new(scene);
+    let limits = BoundaryLimits {
+        min_feature: BOUNDARY_MIN_FEATURE * square.max_edge,
+        max_per_receiver: MAX_BOUNDARIES_PER_RECEIVER,
+    };
+    let ids: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
+    ids.par_iter()
+        .map(|&id| {
+            let surface = scene.surface(id);
+            let emitting = scene.material_of(surface).is_emitter();
+            if emitting || surface.area() < square.max_edge * square.max_edge {
+                return Vec::new();
+            }
+            shadow_boundaries(scene, &neighbours, id, luminaires, limits)
+        })
+        .collect()
 }
 
 /// Shadow rays per luminaire polygon when looking for penumbrae.

@@ -91,8 +91,17 @@ fn relative_rms(values: &[f64], reference: &[f64]) -> f64 {
 
 /// The vertex count at which the square meshes' (vertices, error) curve
 /// reaches `error`: log–log interpolation between the two meshes whose
-/// errors bracket it (extrapolated from the nearest two outside).
+/// errors bracket it (extrapolated from the nearest two outside). An error
+/// below every square mesh's, where the curve has flattened (shadow
+/// boundaries leave the finer grids little to gain), needs at least the
+/// finest mesh's vertices: that lower bound is returned instead of an
+/// extrapolation along a flat curve.
 fn square_vertices_for(curve: &[(f64, f64)], error: f64) -> f64 {
+    let &(finest_vertices, _) = curve.last().expect("a curve");
+    let least = curve.iter().map(|&(_, e)| e).fold(f64::INFINITY, f64::min);
+    if error <= least {
+        return finest_vertices;
+    }
     let k = curve
         .windows(2)
         .position(|w| w[1].1 <= error)

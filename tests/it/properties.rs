@@ -20,7 +20,10 @@ use glam::{DVec2, DVec3};
 use isorad::{
     Material, Rgb, Scene, SolverSettings,
     internals::{distance_to_boundary, polygon_contains},
-    mesh::{ContourSettings, Mesh, SquareMeshSettings, contour_layout, mesh_square, mesh_surfaces},
+    mesh::{
+        ContourSettings, Mesh, SquareMeshSettings, SurfaceGuides, contour_layout, mesh_square,
+        mesh_surfaces,
+    },
     radiometry::polygon_form_factor,
     scene::Surface,
 };
@@ -96,8 +99,9 @@ fn contour_mesh(scene: &Scene, peak: DVec2) -> Mesh {
     settings.directions = 10;
     settings.levels = 4;
     let layout = contour_layout(&outline, &field, centre, &settings, &[]);
-    mesh_surfaces(scene, &square_settings(scene, 6.0), &|_| {
-        Some(layout.clone())
+    mesh_surfaces(scene, &square_settings(scene, 6.0), &|_| SurfaceGuides {
+        layout: Some(layout.clone()),
+        boundaries: Vec::new(),
     })
 }
 

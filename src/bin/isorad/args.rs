@@ -67,6 +67,10 @@ pub struct Overrides {
     /// 5000000, or the scene file's `[mesh] max_elements`].
     #[arg(long)]
     max_elements: Option<usize>,
+    /// Mesh without element edges along the shadow boundaries the lights
+    /// cast (discontinuity meshing, on by default).
+    #[arg(long)]
+    no_shadow_boundaries: bool,
 }
 
 impl Overrides {
@@ -103,6 +107,9 @@ impl Overrides {
         }
         if let Some(max_elements) = self.max_elements {
             mesh.max_elements = max_elements;
+        }
+        if self.no_shadow_boundaries {
+            mesh.shadow_boundaries = false;
         }
         settings
             .validate()
@@ -234,6 +241,12 @@ pub fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
             analysis.receivers.len(),
             analysis.newton_solves,
             analysis.newton_iterations
+        );
+    }
+    if analysis.shadow_boundaries > 0 {
+        eprintln!(
+            "shadow boundaries: {} on {} receivers",
+            analysis.shadow_boundaries, analysis.shadow_receivers
         );
     }
     Ok(Prepared {

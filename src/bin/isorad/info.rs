@@ -4,11 +4,13 @@
 use std::io::Write;
 
 use clap::Args;
+use glam::DVec2;
 use isorad::{
     Scene, Settings, SurfaceId,
     lighting::{Luminaire, ReceiverAnalysis, analyse_receivers, luminaires},
     load_scene,
     scene::Visibility,
+    solver::scene_shadow_boundaries,
 };
 
 use crate::args::with_flag_names;
@@ -34,9 +36,8 @@ pub struct InfoArgs {
 /// file's `[mesh.dominance]`, then the flags.
 pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
     let loaded = load_scene(&args.scene)?;
-    let mut settings = Settings::from_scene_options(&loaded.options)?
-        .mesh
-        .dominance;
+    let mesh_settings = Settings::from_scene_options(&loaded.options)?.mesh;
+    let mut settings = mesh_settings.dominance.clone();
     let mut flags = Vec::new();
     if let Some(min_share) = args.min_share {
         settings.min_share = min_share;
@@ -56,6 +57,7 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
     let visibility = Visibility::new(scene);
     let lights = luminaires(scene);
     let analyses = analyse_receivers(scene, &visibility, &lights, &settings);
+    let boundaries = scene_shadow_boundaries(scene, &lights, &mesh_settings);
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     writeln!(
         out,
@@ -76,8 +78,13 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
         "share %",
         "size ratio",
         "mesher",
+        "shadow boundaries",
     ];
-    write_table(&mut out, &header, &receiver_rows(scene, &analyses))?;
+    write_table(
+        &mut out,
+        &header,
+        &receiver_rows(scene, &analyses, &boundaries),
+    )?;
     out.flush()?;
     Ok(())
 }
@@ -102,8 +109,12 @@ fn luminaire_rows(lights: &[Luminaire]) -> Vec<Vec<String>> {
 }
 
 /// One row per receiver: index, name, area, dominant luminaire, share,
-/// size ratio, mesher.
-fn receiver_rows(scene: &Scene, analyses: &[ReceiverAnalysis]) -> Vec<Vec<String>> {
+/// size ratio, mesher, shadow boundaries.
+fn receiver_rows(
+    scene: &Scene,
+    analyses: &[ReceiverAnalysis],
+    boundaries: &[Vec<[DVec2; 2]>],
+) -> Vec<Vec<String>> {
     analyses
         .iter()
         .map(|analysis| {
@@ -126,6 +137,7 @@ fn receiver_rows(scene: &Scene, analyses: &[ReceiverAnalysis]) -> Vec<Vec<String
                 format!("{:.1}", 100.0 * analysis.share),
                 ratio,
                 mesher.to_owned(),
+                boundaries[analysis.receiver.index()].len().to_string(),
             ]
         })
         .collect()

@@ -1,0 +1,461 @@
+//! Shadow boundaries on a receiver: where an occluder's silhouette, seen
+//! from a luminaire's corner, falls on the receiver's plane.
+//!
+//! Direct light changes its form across these lines: from a polygonal
+//! luminaire, the outer and inner edges of every penumbra are pieces of the
+//! shadows that the occluders cast from the luminaire's corners (the
+//! vertex–edge events of discontinuity meshing). An element that straddles
+//! one blurs the shadow over its whole width; with element edges along them,
+//! the linear interpolation between vertices follows the penumbra instead.
+//!
+//! For each luminaire corner v in front of the receiver and each occluder
+//! polygon in the shaft between them, every silhouette edge ab of the
+//! occluder seen from v (an edge whose neighbour across it faces v the other
+//! way, or that has none) is cut to the part in front of the receiver, below
+//! v and in front of the luminaire, and projected centrally from v:
+//! p ↦ v + (p − v) h_v / (h_v − h_p), with h the height over the receiver's
+//! plane. The projected segment is clipped to the receiver's outline.
+//!
+//! # References
+//! P. Heckbert, "Discontinuity meshing for radiosity", Eurographics Workshop
+//! on Rendering 1992; D. Lischinski, F. Tampieri, D. P. Greenberg,
+//! "Discontinuity meshing for accurate radiosity", IEEE CG&A 12(6) 1992.
+
+use std::collections::HashMap;
+
+use glam::{DVec2, DVec3};
+
+use super::Luminaire;
+use crate::scene::{
+    PlaneFrame, Scene, SurfaceId, clip_segment_to_polygon, distance_to_boundary,
+    distance_to_segment,
+};
+
+/// Corners of a luminaire's polygons used as projection centres, at most
+/// (a disc's 64-gon is represented by 8 of its vertices, evenly spread).
+const MAX_CORNERS_PER_POLYGON: usize = 8;
+
+/// Heights within this fraction of the scene's diagonal count as on a plane.
+const HEIGHT_TOLERANCE: f64 = 1e-3;
+
+/// An edge is kept up to this fraction of its projection centre's height: a
+/// point level with the corner would project to infinity.
+const MAX_HEIGHT_FRACTION: f64 = 0.999;
+
+/// The boundaries a receiver keeps and what they may cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoundaryLimits {
+    /// Boundaries closer than this, and shorter ones, are merged or dropped:
+    /// a feature the mesh cannot resolve. Scene units.
+    pub min_feature: f64,
+    /// The most boundaries one receiver keeps, longest first.
+    pub max_per_receiver: usize,
+}
+
+/// The scene's polygon edges and the surfaces that share each one, for the
+/// silhouette test: an edge whose neighbour across it faces a corner the
+/// other way is on the occluder's silhouette from there.
+pub struct EdgeNeighbours {
+    quantum: f64,
+    edges: HashMap<[[i64; 3]; 2], Vec<SurfaceId>>,
+}
+
+impl EdgeNeighbours {
+    /// Indexes every surface's occluding polygon by its edges, end points
+    /// rounded to a millionth of the scene's diagonal.
+    #[must_use]
+    pub fn new(scene: &Scene) -> EdgeNeighbours {
+        let quantum = (1e-6 * scene.diagonal()).max(f64::MIN_POSITIVE);
+        let mut neighbours = EdgeNeighbours {
+            quantum,
+            edges: HashMap::new(),
+        };
+        for (id, surface) in scene.surfaces_with_ids() {
+            let polygon = surface.occluder_vertices();
+            for k in 0..polygon.len() {
+                let key = neighbours.key(polygon[k], polygon[(k + 1) % polygon.len()]);
+                neighbours.edges.entry(key).or_default().push(id);
+            }
+        }
+        neighbours
+    }
+
+    fn key(&self, a: DVec3, b: DVec3) -> [[i64; 3]; 2] {
+        let round = |p: DVec3| (p / self.quantum).round().as_i64vec3().to_array();
+        let (a, b) = (round(a), round(b));
+        if a <= b { [a, b] } else { [b, a] }
+    }
+
+    /// The surfaces other than `surface` that have the edge ab.
+    fn across(&self, surface: SurfaceId, a: DVec3, b: DVec3) -> impl Iterator<Item = SurfaceId> {
+        self.edges
+            .get(&self.key(a, b))
+            .into_iter()
+            .flatten()
+            .copied()
+            .filter(move |&other| other != surface)
+    }
+}
+
+/// The shadow boundaries that `luminaires` cast on `receiver` through the
+/// scene's other surfaces, in the receiver's plane coordinates: merged where
+/// closer than `limits.min_feature`, the longest `limits.max_per_receiver`
+/// kept. Segments running along the receiver's outline are left out (its
+/// edges are element edges already).
+#[must_use]
+pub fn shadow_boundaries(
+    scene: &Scene,
+    neighbours: &EdgeNeighbours,
+    receiver: SurfaceId,
+    luminaires: &[Luminaire],
+    limits: BoundaryLimits,
+) -> Vec<[DVec2; 2]> {
+    let target = scene.surface(receiver);
+    let frame = target.frame();
+    let outline = target.plane_vertices();
+    let tolerance = HEIGHT_TOLERANCE * scene.diagonal();
+    let mut found = Vec::new();
+    for luminaire in luminaires {
+        if luminaire.surfaces.contains(&receiver) {
+            continue;
+        }
+        // The receiver must have some part in front of the luminaire.
+        let lit = target
+            .vertices()
+            .iter()
+            .any(|&p| (p - luminaire.centre).dot(luminaire.normal) > tolerance);
+        if !lit {
+            continue;
+        }
+        if let Some(horizon) = horizon(frame, &outline, luminaire) {
+            found.push(horizon);
+        }
+        let corners: Vec<DVec3> = luminaire_corners(scene, luminaire)
+            .into_iter()
+            .filter(|&v| frame.height(v) > tolerance)
+            .collect();
+        if corners.is_empty() {
+            continue;
+        }
+        for (id, occluder) in scene.surfaces_with_ids() {
+            if id == receiver || luminaire.surfaces.contains(&id) {
+                continue;
+            }
+            let polygon = occluder.occluder_vertices();
+            let heights: Vec<f64> = polygon.iter().map(|&p| frame.height(p)).collect();
+            let highest = corners.iter().map(|&v| frame.height(v)).fold(0.0, f64::max);
+            let between = heights.iter().any(|&h| h > tolerance && h < highest)
+                && polygon
+                    .iter()
+                    .any(|&p| (p - luminaire.centre).dot(luminaire.normal) > tolerance);
+            if !between || !in_shaft(frame, &outline, &corners, polygon, tolerance) {
+                continue;
+            }
+            let normal = occluder.normal();
+            let faces = |surface: SurfaceId, v: DVec3| {
+                let s = scene.surface(surface);
+                s.normal().dot(v - s.vertices()[0]) > 0.0
+            };
+            for &v in &corners {
+                let facing = normal.dot(v - polygon[0]) > 0.0;
+                for k in 0..polygon.len() {
+                    let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+                    let mut across = neighbours.across(id, a, b).peekable();
+                    let silhouette = across.peek().is_none()
+                        || (facing && neighbours.across(id, a, b).any(|n| !faces(n, v)));
+                    if !silhouette {
+                        continue;
+                    }
+                    let Some(segment) = project_edge(frame, luminaire, v, [a, b]) else {
+                        continue;
+                    };
+                    if let Some(clipped) = clip_segment_to_polygon(segment, &outline) {
+                        found.push(clipped);
+                    }
+                }
+            }
+        }
+    }
+    found.retain(|&[a, b]| {
+        let along_outline = [a, b, a.lerp(b, 0.5)]
+            .iter()
+            .all(|&p| distance_to_boundary(&outline, p) <= limits.min_feature);
+        a.distance(b) >= limits.min_feature && !along_outline
+    });
+    merge_boundaries(found, limits)
+}
+
+/// The luminaire's horizon on the receiver: the line where the luminaire's
+/// plane cuts the receiver's, clipped to its outline. Direct light falls to
+/// zero there with a kink (as cos θ of the emitting side), and nothing
+/// reaches beyond it.
+fn horizon(frame: &PlaneFrame, outline: &[DVec2], luminaire: &Luminaire) -> Option<[DVec2; 2]> {
+    // (p − c) · n over the receiver's plane is f0 + x (u · n) + y (v · n).
+    let origin = frame.to_world(DVec2::ZERO);
+    let f0 = (origin - luminaire.centre).dot(luminaire.normal);
+    let gradient = DVec2::new(frame.u.dot(luminaire.normal), frame.v.dot(luminaire.normal));
+    if gradient.length() < 1e-6 {
+        return None;
+    }
+    let foot = -gradient * (f0 / gradient.length_squared());
+    let reach = outline.iter().map(|p| p.distance(foot)).fold(0.0, f64::max);
+    let along = gradient.perp().normalize() * (2.0 * reach + 1.0);
+    clip_segment_to_polygon([foot - along, foot + along], outline)
+}
+
+/// The corners a luminaire's shadows are cast from: its polygons' vertices,
+/// at most [`MAX_CORNERS_PER_POLYGON`] of each, evenly spread.
+fn luminaire_corners(scene: &Scene, luminaire: &Luminaire) -> Vec<DVec3> {
+    let mut corners: Vec<DVec3> = Vec::new();
+    for &surface in &luminaire.surfaces {
+        let vertices = scene.surface(surface).vertices();
+        let n = vertices.len();
+        let take = n.min(MAX_CORNERS_PER_POLYGON);
+        for k in 0..take {
+            let v = vertices[k * n / take];
+            if !corners
+                .iter()
+                .any(|c| c.distance(v) <= 1e-9 * luminaire.radius)
+            {
+                corners.push(v);
+            }
+        }
+    }
+    corners
+}
+
+/// Whether any corner's shadow of the occluder's polygon can reach the
+/// receiver: the bounding box of the polygon's projections (from every
+/// corner, of the points below it) overlaps the outline's.
+fn in_shaft(
+    frame: &PlaneFrame,
+    outline: &[DVec2],
+    corners: &[DVec3],
+    polygon: &[DVec3],
+    tolerance: f64,
+) -> bool {
+    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    for &p in outline {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    for &v in corners {
+        let hv = frame.height(v);
+        let (mut a, mut b) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        for &p in polygon {
+            let hp = frame.height(p).max(0.0);
+            if hp >= MAX_HEIGHT_FRACTION * hv {
+                // A point level with the corner throws its shadow anywhere.
+                return true;
+            }
+            let q = frame.to_plane(v + (p - v) * (hv / (hv - hp)));
+            a = a.min(q);
+            b = b.max(q);
+        }
+        let margin = DVec2::splat(tolerance);
+        if a.cmple(hi + margin).all() && b.cmpge(lo - margin).all() {
+            return true;
+        }
+    }
+    false
+}
+
+/// The shadow of edge ab cast from corner v on the receiver's plane: the
+/// part of ab in front of the receiver, below v and in front of the
+/// luminaire, projected from v. `None` when no part is.
+fn project_edge(
+    frame: &PlaneFrame,
+    luminaire: &Luminaire,
+    v: DVec3,
+    [a, b]: [DVec3; 2],
+) -> Option<[DVec2; 2]> {
+    let hv = frame.height(v);
+    // Keep t ∈ [lo, hi] where each of the linear functions f(t) ≥ 0.
+    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+    let mut keep = |fa: f64, fb: f64| {
+        if fa < 0.0 && fb < 0.0 {
+            hi = -1.0;
+        } else if fa < 0.0 {
+            lo = lo.max(fa / (fa - fb));
+        } else if fb < 0.0 {
+            hi = hi.min(fa / (fa - fb));
+        }
+    };
+    let (ha, hb) = (frame.height(a), frame.height(b));
+    keep(ha, hb);
+    keep(MAX_HEIGHT_FRACTION * hv - ha, MAX_HEIGHT_FRACTION * hv - hb);
+    keep(
+        (a - luminaire.centre).dot(luminaire.normal),
+        (b - luminaire.centre).dot(luminaire.normal),
+    );
+    if hi <= lo {
+        return None;
+    }
+    let project = |t: f64| {
+        let p = a.lerp(b, t);
+        let hp = frame.height(p).max(0.0);
+        frame.to_plane(v + (p - v) * (hv / (hv - hp)))
+    };
+    Some([project(lo), project(hi)])
+}
+
+/// Keeps the longest boundaries first, leaving out any that lies within
+/// `min_feature` of one already kept along its whole length (its ends and
+/// middle), up to `max_per_receiver`.
+fn merge_boundaries(mut found: Vec<[DVec2; 2]>, limits: BoundaryLimits) -> Vec<[DVec2; 2]> {
+    found.retain(|s| s.iter().all(|p| p.is_finite()));
+    found.sort_by(|a, b| b[0].distance(b[1]).total_cmp(&a[0].distance(a[1])));
+    let mut kept: Vec<[DVec2; 2]> = Vec::new();
+    for segment in found {
+        if kept.len() >= limits.max_per_receiver {
+            break;
+        }
+        let middle = segment[0].lerp(segment[1], 0.5);
+        let covered = kept.iter().any(|&[a, b]| {
+            [segment[0], segment[1], middle]
+                .iter()
+                .all(|&p| distance_to_segment(p, a, b) < limits.min_feature)
+        });
+        if !covered {
+            kept.push(segment);
+        }
+    }
+    kept
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lighting::luminaires;
+    use crate::scene::{Material, Rgb};
+
+    /// A 10 × 10 floor at y = 0, a 0.2 m square lamp facing down at
+    /// `lamp_height` over the origin, and an occluder given by its polygons.
+    fn scene_with(occluder: &[Vec<DVec3>], lamp_height: f64) -> Scene {
+        let mut scene = Scene::new();
+        let grey = scene
+            .add_material(Material::diffuse("grey", Rgb::splat(0.5)))
+            .unwrap();
+        let lamp = scene
+            .add_material(Material::emitter("lamp", Rgb::splat(10.0)))
+            .unwrap();
+        let floor = [(-5.0, -5.0), (-5.0, 5.0), (5.0, 5.0), (5.0, -5.0)];
+        let floor: Vec<DVec3> = floor.iter().map(|&(x, z)| DVec3::new(x, 0.0, z)).collect();
+        scene.add_polygon("floor", grey, &floor).unwrap();
+        let h = lamp_height;
+        let square = [(-0.1, -0.1), (0.1, -0.1), (0.1, 0.1), (-0.1, 0.1)];
+        let lamp_polygon: Vec<DVec3> = square.iter().map(|&(x, z)| DVec3::new(x, h, z)).collect();
+        scene.add_polygon("lamp", lamp, &lamp_polygon).unwrap();
+        for polygon in occluder {
+            scene.add_polygon("occluder", grey, polygon).unwrap();
+        }
+        scene
+    }
+
+    fn limits() -> BoundaryLimits {
+        BoundaryLimits {
+            min_feature: 1e-3,
+            max_per_receiver: 1000,
+        }
+    }
+
+    fn boundaries_on_floor(scene: &Scene) -> Vec<[DVec2; 2]> {
+        let neighbours = EdgeNeighbours::new(scene);
+        let lights = luminaires(scene);
+        shadow_boundaries(scene, &neighbours, SurfaceId::new(0), &lights, limits())
+    }
+
+    /// A horizontal plate, 1 m wide, at height 1, facing up (or down).
+    fn plate(up: bool) -> Vec<DVec3> {
+        let mut p = vec![
+            DVec3::new(0.5, 1.0, -0.5),
+            DVec3::new(-0.5, 1.0, -0.5),
+            DVec3::new(-0.5, 1.0, 0.5),
+            DVec3::new(0.5, 1.0, 0.5),
+        ];
+        if !up {
+            p.reverse();
+        }
+        p
+    }
+
+    #[test]
+    fn a_plate_casts_each_edge_from_each_lamp_corner_at_its_central_projection() {
+        // Lamp at 2 m, plate at 1 m: from corner (cx, cz), the plate's edge
+        // x = 0.5 falls at x = cx + (0.5 − cx) · 2 / (2 − 1).
+        for up in [true, false] {
+            let scene = scene_with(&[plate(up)], 2.0);
+            let frame = *scene.surface(SurfaceId::new(0)).frame();
+            let found = boundaries_on_floor(&scene);
+            // 4 corners × 4 edges, none closer than a millimetre to another.
+            assert_eq!(found.len(), 16, "{found:?}");
+            for cx in [-0.1, 0.1] {
+                for cz in [-0.1, 0.1] {
+                    for (edge_x, edge_z) in [(0.5, cz), (-0.5, cz), (cx, 0.5), (cx, -0.5)] {
+                        let x = cx + (edge_x - cx) * 2.0;
+                        let z = cz + (edge_z - cz) * 2.0;
+                        let expected = frame.to_plane(DVec3::new(x, 0.0, z));
+                        let hit = found
+                            .iter()
+                            .any(|&[a, b]| distance_to_segment(expected, a, b) < 1e-9);
+                        assert!(hit, "no boundary through {expected} (corner {cx}, {cz})");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_box_casts_only_its_silhouette_edges() {
+        // A closed 1 m cube from 0.5 to 1.5 m high: seen from a lamp corner
+        // above it, only the top face's outline and the vertical edges on the
+        // far side are silhouettes; the bottom face's edges are hidden behind
+        // the sides, so fewer boundaries than edges × corners.
+        let (lo, hi) = (DVec3::new(-0.5, 0.5, -0.5), DVec3::new(0.5, 1.5, 0.5));
+        let corner = |x: bool, y: bool, z: bool| {
+            DVec3::new(
+                if x { hi.x } else { lo.x },
+                if y { hi.y } else { lo.y },
+                if z { hi.z } else { lo.z },
+            )
+        };
+        let faces: Vec<Vec<DVec3>> = [
+            [(0, 1, 0), (0, 1, 1), (1, 1, 1), (1, 1, 0)], // top, +y
+            [(0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)], // bottom, −y
+            [(0, 0, 0), (0, 1, 0), (1, 1, 0), (1, 0, 0)], // −z
+            [(1, 0, 1), (1, 1, 1), (0, 1, 1), (0, 0, 1)], // +z
+            [(0, 0, 1), (0, 1, 1), (0, 1, 0), (0, 0, 0)], // −x
+            [(1, 0, 0), (1, 1, 0), (1, 1, 1), (1, 0, 1)], // +x
+        ]
+        .iter()
+        .map(|face| {
+            face.iter()
+                .map(|&(x, y, z)| corner(x == 1, y == 1, z == 1))
+                .collect()
+        })
+        .collect();
+        let scene = scene_with(&faces, 3.0);
+        let found = boundaries_on_floor(&scene);
+        // From above the top face (the lamp is within the cube's footprint),
+        // the silhouette is the top face's outline: 4 edges per corner.
+        assert_eq!(found.len(), 16, "{found:?}");
+        // Each lies outside the cube's footprint, none is the bottom's
+        // outline (the shadow is wider than the cube).
+        for [a, b] in found {
+            for p in [a, b] {
+                assert!(p.x.abs().max(p.y.abs()) > 0.5 + 1e-6, "{p}");
+            }
+        }
+    }
+
+    #[test]
+    fn nothing_above_the_lamp_or_behind_the_floor_casts_a_boundary() {
+        // A plate above the lamp (lamp at 0.5 m), and one under the floor.
+        let below: Vec<DVec3> = plate(true)
+            .iter()
+            .map(|p| DVec3::new(p.x, -1.0, p.z))
+            .collect();
+        let scene = scene_with(&[plate(true), below], 0.5);
+        assert!(boundaries_on_floor(&scene).is_empty());
+    }
+}
