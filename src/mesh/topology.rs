@@ -120,6 +120,17 @@ impl Mesh {
         (self.patches.len() - 1) as u32
     }
 
+    /// The shape of an element of this mesh, from its corners' positions.
+    #[must_use]
+    pub fn element_cell(&self, element: &Element) -> Cell {
+        let p = |k: usize| self.vertices[element.vertices[k] as usize].position;
+        if element.is_triangle {
+            Cell::triangle(p(0), p(1), p(2))
+        } else {
+            Cell::quad(p(0), p(1), p(2), p(3))
+        }
+    }
+
     /// Adds a triangle or quad element (3 or 4 vertex indices,
     /// counter-clockwise) to a patch of its surface.
     pub fn add_element(&mut self, corners: &[u32], patch: u32) -> u32 {

@@ -127,6 +127,19 @@ impl Visibility {
         reach: f64,
         ignore: SurfaceId,
     ) -> Option<SurfaceId> {
+        self.closest_hit(origin, direction, reach, ignore)
+            .map(|(surface, _)| surface)
+    }
+
+    /// [`Visibility::first_hit`], with the distance along the ray to the hit.
+    #[must_use]
+    pub fn closest_hit(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        reach: f64,
+        ignore: SurfaceId,
+    ) -> Option<(SurfaceId, f64)> {
         let origin = (origin - self.centre) / self.scale;
         let ray = Ray::new(
             Vec3A::new(origin.x as f32, origin.y as f32, origin.z as f32),
@@ -142,7 +155,12 @@ impl Visibility {
                 self.triangles[id].intersect(ray)
             }
         });
-        found.then(|| self.triangle_surfaces[hit.primitive_id as usize])
+        found.then(|| {
+            (
+                self.triangle_surfaces[hit.primitive_id as usize],
+                f64::from(hit.t) * self.scale,
+            )
+        })
     }
 
     /// Number of triangles in the BVH (after any splitting by the builder).

@@ -1,133 +1,315 @@
-//! The ambient term for the light not yet shot, for scenes open or closed.
+//! The ambient term for the light not yet shot, gathered where it will land.
 //!
-//! Progressive shooting leaves unshot power U at any moment. Cohen et al.
-//! (1988, §4) spread it evenly over the scene's area A as an ambient
-//! irradiance U / A · 1 / (1 − ρ̄), ρ̄ the area-weighted mean reflectance:
-//! right for a closed scene, where every shot lands somewhere. In an open
-//! scene (a lamp over a floor, the Cornell box's open front) much of what is
-//! shot leaves, and the closed-scene term adds light the path tracer never
-//! sees, most visibly where the direct light is dim.
+//! Progressive shooting leaves unshot radiosity ΔB_p on the patches at any
+//! moment. Cohen et al. (1988, §4) spread the unshot power evenly over the
+//! scene as an ambient irradiance U / A · 1 / (1 − ρ̄): right on average for
+//! a closed scene, wrong wherever the unshot light is unevenly placed. Under
+//! a table in the open, the umbra's light comes all from the table's
+//! underside and the floor round the shadow, which hold much of what is
+//! still unshot, while the open floor beside it sends its light to the sky:
+//! an even term makes the umbra 5 % too dark at the default tolerance, or,
+//! assuming a closed scene, the open floor far too bright.
 //!
-//! isorad measures instead of assuming. The ledger counts, per channel, the
-//! power shot and the part of it that landed on some element. The landing
-//! fraction f of *reflected* light (shots of patches whose emission, if any,
-//! has been shot: what the unshot power is made of) stands for what the
-//! unshot power will do: a share f of it lands, is reflected by ρ̄, lands
-//! again by f, and so on:
+//! isorad gathers the unshot light along rays instead, a coarse final
+//! gather of what remains. Each patch casts [`PATCH_RAYS`] cosine-weighted
+//! rays from stratified points on its elements, each vertex [`VERTEX_RAYS`] from where
+//! it gathers; each ray records the patch it hits first (or none: the sky).
+//! The light the unshot radiosity will still give, at patch resolution, is
+//! the fixed point of
 //!
 //! ```text
-//!   A_mb = f · U / A · Σ_k (f ρ̄)^k = f · U / A / (1 − f ρ̄)
+//!   A_p = ρ_p · ⟨ΔB_h + A_h⟩_p
 //! ```
 //!
-//! A closed scene has f = 1 and gets Cohen's term; a floor under a lamp, whose
-//! reflected light escapes upwards, gets almost none. Before any reflected
-//! light has been shot, f is the landing fraction of the emitters' shots.
+//! (⟨·⟩_p the mean over p's rays of the patch h each hits, 0 for a miss:
+//! with cosine-weighted directions that mean is the irradiance of a
+//! Lambertian surround), found by Jacobi iteration, which converges as
+//! (ρ f)^k for landing share f. A vertex's ambient irradiance is then
+//! G_v = ⟨ΔB_h + A_h⟩_v, and its radiosity gains ρ_v G_v. In a closed scene
+//! of uniform ΔB and ρ this is Cohen's ΔB / (1 − ρ); over an open floor it
+//! is nothing; under the table it is what the underside will still send.
+//! The rays are cast once and kept; only the lookups are repeated for each
+//! intermediate image.
 //!
 //! # References
 //! M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive
-//! Refinement Approach to Fast Radiosity Image Generation", SIGGRAPH 1988, §4.
+//! Refinement Approach to Fast Radiosity Image Generation", SIGGRAPH 1988, §4
+//! (the ambient term); M. F. Cohen, J. R. Wallace, "Radiosity and Realistic
+//! Image Synthesis" (1993), §5.3 (Jacobi iteration).
 
-use crate::scene::Rgb;
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
-/// The power shot and the part of it that landed on the scene's elements,
-/// per channel, for emitted light (each emitter patch's first shot) and for
-/// reflected light (every other shot).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub(crate) struct LandingLedger {
-    /// Power of the emitters' first shots, W.
-    emitted_shot: Rgb,
-    /// What of it landed, W.
-    emitted_landed: Rgb,
-    /// Power of all other shots, W.
-    reflected_shot: Rgb,
-    /// What of it landed, W.
-    reflected_landed: Rgb,
+use crate::lighting::SampleStream;
+use crate::mesh::Mesh;
+use crate::scene::{Rgb, Scene, Visibility, distance_to_boundary, polygon_contains};
+
+/// Rays each patch casts into its hemisphere (8 × 8 strata).
+const PATCH_SIDE: usize = 8;
+/// Rays each patch casts.
+pub(crate) const PATCH_RAYS: usize = PATCH_SIDE * PATCH_SIDE;
+/// Rays each vertex casts into its hemisphere.
+pub(crate) const VERTEX_RAYS: usize = 32;
+
+/// No patch: the ray left the scene.
+const MISS: u32 = u32::MAX;
+
+/// The Jacobi iteration stops when no patch's value changes by more than
+/// this fraction of the largest unshot radiosity, or after
+/// [`MAX_ITERATIONS`].
+const CONVERGENCE: f64 = 1e-6;
+const MAX_ITERATIONS: usize = 1000;
+
+/// The patch each cached ray hits, for patches and for vertices.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct AmbientRays {
+    /// `PATCH_RAYS` hits per patch, patch after patch.
+    patch_hits: Vec<u32>,
+    /// `VERTEX_RAYS` hits per vertex, vertex after vertex (for the first
+    /// `vertex_hits.len() / VERTEX_RAYS` vertices; more are cast as an
+    /// adaptive mesh grows).
+    vertex_hits: Vec<u32>,
 }
 
-impl LandingLedger {
-    /// Records a shot of power `shot` of which `landed` reached some
-    /// element; `emitted` when it was an emitter patch's first shot.
-    pub(crate) fn record(&mut self, emitted: bool, shot: Rgb, landed: Rgb) {
-        if emitted {
-            self.emitted_shot += shot;
-            self.emitted_landed += landed;
-        } else {
-            self.reflected_shot += shot;
-            self.reflected_landed += landed;
+impl AmbientRays {
+    /// Casts the rays not cast yet: every patch's once, and those of
+    /// vertices added since the last call.
+    pub(crate) fn cast_missing(&mut self, scene: &Scene, mesh: &Mesh, visibility: &Visibility) {
+        let locator = PatchLocator::new(scene, mesh);
+        if self.patch_hits.len() != mesh.patches.len() * PATCH_RAYS {
+            // A patch without elements (all hidden) casts only misses.
+            self.patch_hits = (0..mesh.patches.len())
+                .into_par_iter()
+                .flat_map_iter(|p| (0..PATCH_RAYS).map(move |k| (p, k)))
+                .map(|(p, k)| {
+                    let patch = &mesh.patches[p];
+                    let normal = scene.surface(patch.surface).normal();
+                    let mut stream = SampleStream::new(p as u64, k as u64 | 1 << 40);
+                    point_on_elements(mesh, p, k, &mut stream).map_or(MISS, |origin| {
+                        locator.hit(
+                            scene,
+                            visibility,
+                            origin,
+                            normal,
+                            patch.surface,
+                            &mut stream,
+                        )
+                    })
+                })
+                .collect();
+        }
+        let done = self.vertex_hits.len() / VERTEX_RAYS;
+        if done < mesh.vertices.len() {
+            let more: Vec<u32> = (done..mesh.vertices.len())
+                .into_par_iter()
+                .flat_map_iter(|v| (0..VERTEX_RAYS).map(move |k| (v, k)))
+                .map(|(v, k)| {
+                    let vertex = &mesh.vertices[v];
+                    let normal = scene.surface(vertex.surface).normal();
+                    let mut stream = SampleStream::new(v as u64, k as u64 | 2 << 40);
+                    let origin = vertex.receiver_position;
+                    locator.hit(
+                        scene,
+                        visibility,
+                        origin,
+                        normal,
+                        vertex.surface,
+                        &mut stream,
+                    )
+                })
+                .collect();
+            self.vertex_hits.extend(more);
         }
     }
 
-    /// The share of shot power that lands, per channel, in [0, 1]: that of
-    /// reflected light once any has been shot, else that of emitted light,
-    /// else 1 (nothing shot yet: assume a closed scene).
+    /// The ambient irradiance G_v of every vertex (see the module docs), for
+    /// unshot radiosity `unshot` and reflectance `reflectance` per patch.
+    /// Vertices whose rays have not been cast get none.
     #[must_use]
-    pub(crate) fn landing_fraction(&self) -> Rgb {
-        let channel = |reflected_shot: f64, reflected_landed: f64, shot: f64, landed: f64| {
-            if reflected_shot > 0.0 {
-                (reflected_landed / reflected_shot).clamp(0.0, 1.0)
-            } else if shot > 0.0 {
-                (landed / shot).clamp(0.0, 1.0)
-            } else {
-                1.0
-            }
+    pub(crate) fn irradiance(&self, mesh: &Mesh, unshot: &[Rgb], reflectance: &[Rgb]) -> Vec<Rgb> {
+        let residual = self.patch_residual(unshot, reflectance);
+        let seen = |hits: &[u32]| {
+            hits.iter()
+                .filter(|&&h| h != MISS)
+                .map(|&h| unshot[h as usize] + residual[h as usize])
+                .sum::<Rgb>()
+                / hits.len() as f64
         };
-        let [rs, gs, bs] = self.reflected_shot.to_array();
-        let [rl, gl, bl] = self.reflected_landed.to_array();
-        let [es_r, es_g, es_b] = self.emitted_shot.to_array();
-        let [el_r, el_g, el_b] = self.emitted_landed.to_array();
-        Rgb::new(
-            channel(rs, rl, es_r, el_r),
-            channel(gs, gl, es_g, el_g),
-            channel(bs, bl, es_b, el_b),
-        )
+        (0..mesh.vertices.len())
+            .into_par_iter()
+            .map(|v| {
+                self.vertex_hits
+                    .get(v * VERTEX_RAYS..(v + 1) * VERTEX_RAYS)
+                    .map_or(Rgb::ZERO, seen)
+            })
+            .collect()
+    }
+
+    /// The fixed point A_p = ρ_p ⟨ΔB_h + A_h⟩_p, by Jacobi iteration.
+    fn patch_residual(&self, unshot: &[Rgb], reflectance: &[Rgb]) -> Vec<Rgb> {
+        let patches = unshot.len();
+        if self.patch_hits.len() != patches * PATCH_RAYS {
+            return vec![Rgb::ZERO; patches];
+        }
+        let scale = unshot.iter().map(|b| b.max_element()).fold(0.0, f64::max);
+        let mut residual = vec![Rgb::ZERO; patches];
+        for _ in 0..MAX_ITERATIONS {
+            let next: Vec<Rgb> = (0..patches)
+                .into_par_iter()
+                .map(|p| {
+                    let hits = &self.patch_hits[p * PATCH_RAYS..(p + 1) * PATCH_RAYS];
+                    let seen = hits
+                        .iter()
+                        .filter(|&&h| h != MISS)
+                        .map(|&h| unshot[h as usize] + residual[h as usize])
+                        .sum::<Rgb>()
+                        / PATCH_RAYS as f64;
+                    reflectance[p] * seen
+                })
+                .collect();
+            let change = next
+                .iter()
+                .zip(&residual)
+                .map(|(a, b)| (*a - *b).abs().max_element())
+                .fold(0.0, f64::max);
+            residual = next;
+            if change <= CONVERGENCE * scale {
+                break;
+            }
+        }
+        residual
     }
 }
 
-/// The ambient irradiance A_mb = f · U / A / (1 − f ρ̄) (see the module
-/// docs) for unshot power `unshot` (W), total area `area`, area-weighted
-/// mean reflectance `mean_reflectance` and landing fraction `landing`.
-#[must_use]
-pub(crate) fn ambient_irradiance(
-    unshot: Rgb,
-    area: f64,
-    mean_reflectance: Rgb,
-    landing: Rgb,
-) -> Rgb {
-    if area <= 0.0 {
-        return Rgb::ZERO;
+/// The `k`-th of [`PATCH_RAYS`] stratified points on patch `p`'s elements
+/// (its visible part: the cell less what objects standing on it hide),
+/// stratified by area over the elements in order, jittered within each.
+/// `None` for a patch without elements.
+fn point_on_elements(mesh: &Mesh, p: usize, k: usize, stream: &mut SampleStream) -> Option<DVec3> {
+    let patch = &mesh.patches[p];
+    let total: f64 = patch
+        .elements
+        .iter()
+        .map(|&e| mesh.elements[e as usize].area)
+        .sum();
+    if patch.elements.is_empty() || total <= 0.0 {
+        return None;
     }
-    let interreflection = (Rgb::ONE - landing * mean_reflectance)
-        .max(Rgb::splat(1e-6))
-        .recip();
-    landing * unshot / area * interreflection
+    let mut target = (k as f64 + stream.next_f64()) / PATCH_RAYS as f64 * total;
+    let mut chosen = patch.elements[patch.elements.len() - 1];
+    for &e in &patch.elements {
+        let area = mesh.elements[e as usize].area;
+        if target < area {
+            chosen = e;
+            break;
+        }
+        target -= area;
+    }
+    let cell = mesh.element_cell(&mesh.elements[chosen as usize]);
+    Some(cell.point(stream.next_f64(), stream.next_f64()))
+}
+
+/// Which patch of a surface holds a point: each patch's cell in its
+/// surface's plane coordinates, grouped by surface.
+struct PatchLocator {
+    by_surface: Vec<Vec<(u32, Vec<DVec2>)>>,
+    reach: f64,
+}
+
+impl PatchLocator {
+    fn new(scene: &Scene, mesh: &Mesh) -> PatchLocator {
+        let mut by_surface = vec![Vec::new(); scene.surfaces.len()];
+        for (p, patch) in mesh.patches.iter().enumerate() {
+            let frame = scene.surface(patch.surface).frame();
+            let cell = patch.cell.polygon().iter().map(|&q| frame.to_plane(q));
+            by_surface[patch.surface.index()].push((p as u32, cell.collect()));
+        }
+        PatchLocator {
+            by_surface,
+            reach: 2.0 * scene.diagonal(),
+        }
+    }
+
+    /// The patch that a cosine-weighted ray from `origin` on `surface`
+    /// (unit `normal`) hits first, or [`MISS`].
+    fn hit(
+        &self,
+        scene: &Scene,
+        visibility: &Visibility,
+        origin: DVec3,
+        normal: DVec3,
+        surface: crate::scene::SurfaceId,
+        stream: &mut SampleStream,
+    ) -> u32 {
+        let (u1, u2) = (stream.next_f64(), stream.next_f64());
+        let (radius, angle) = (u1.sqrt(), std::f64::consts::TAU * u2);
+        let tangent = normal.any_orthonormal_vector();
+        let bitangent = normal.cross(tangent);
+        let direction = (tangent * (radius * angle.cos())
+            + bitangent * (radius * angle.sin())
+            + normal * (1.0 - u1).max(0.0).sqrt())
+        .normalize();
+        let start = origin + normal * visibility.surface_offset();
+        let Some((hit, distance)) = visibility.closest_hit(start, direction, self.reach, surface)
+        else {
+            return MISS;
+        };
+        let target = scene.surface(hit);
+        // Light arriving from a surface's back: one-sided surfaces send none.
+        if target.normal().dot(direction) >= 0.0 {
+            return MISS;
+        }
+        let point = target.frame().to_plane(start + direction * distance);
+        let candidates = &self.by_surface[hit.index()];
+        candidates
+            .iter()
+            .find(|(_, cell)| polygon_contains(cell, point))
+            .or_else(|| {
+                candidates.iter().min_by(|a, b| {
+                    distance_to_boundary(&a.1, point).total_cmp(&distance_to_boundary(&b.1, point))
+                })
+            })
+            .map_or(MISS, |&(p, _)| p)
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// Two patches that see only each other (every ray of each hits the
+    /// other): A = ρ (ΔB + A) on both, so A = ρ ΔB / (1 − ρ) and the ambient
+    /// irradiance G = ΔB + A = ΔB / (1 − ρ), Cohen's closed-scene term.
     #[test]
-    fn a_closed_scene_gets_cohens_term() {
-        let unshot = Rgb::splat(2.0);
-        let ambient = ambient_irradiance(unshot, 4.0, Rgb::splat(0.5), Rgb::ONE);
-        // U / A / (1 − ρ̄) = 2 / 4 / 0.5.
-        assert!((ambient.r - 1.0).abs() < 1e-15);
+    fn an_enclosure_of_uniform_patches_gets_cohens_term() {
+        let rays = AmbientRays {
+            patch_hits: [vec![1; PATCH_RAYS], vec![0; PATCH_RAYS]].concat(),
+            vertex_hits: Vec::new(),
+        };
+        let unshot = [Rgb::splat(2.0), Rgb::splat(2.0)];
+        let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];
+        let residual = rays.patch_residual(&unshot, &reflectance);
+        for a in residual {
+            // ρ ΔB / (1 − ρ) = 0.5 · 2 / 0.5.
+            assert!((a.g - 2.0).abs() < 1e-5, "{a:?}");
+        }
     }
 
+    /// Rays that leave the scene carry nothing: a patch half of whose rays
+    /// miss sees half the other's light.
     #[test]
     fn light_that_leaves_adds_nothing() {
-        let ambient = ambient_irradiance(Rgb::splat(2.0), 4.0, Rgb::splat(0.5), Rgb::ZERO);
-        assert_eq!(ambient, Rgb::ZERO);
-    }
-
-    #[test]
-    fn the_landing_fraction_is_that_of_reflected_light_once_there_is_some() {
-        let mut ledger = LandingLedger::default();
-        assert_eq!(ledger.landing_fraction(), Rgb::ONE);
-        ledger.record(true, Rgb::splat(10.0), Rgb::splat(9.0));
-        assert!((ledger.landing_fraction().g - 0.9).abs() < 1e-15);
-        ledger.record(false, Rgb::splat(4.0), Rgb::splat(1.0));
-        ledger.record(false, Rgb::splat(4.0), Rgb::splat(0.0));
-        assert!((ledger.landing_fraction().b - 0.125).abs() < 1e-15);
+        let half: Vec<u32> = (0..PATCH_RAYS)
+            .map(|k| if k % 2 == 0 { 1 } else { MISS })
+            .collect();
+        let rays = AmbientRays {
+            patch_hits: [half, vec![MISS; PATCH_RAYS]].concat(),
+            vertex_hits: Vec::new(),
+        };
+        let unshot = [Rgb::ZERO, Rgb::splat(4.0)];
+        let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];
+        let residual = rays.patch_residual(&unshot, &reflectance);
+        assert!((residual[0].r - 1.0).abs() < 1e-12, "{residual:?}");
+        assert_eq!(residual[1], Rgb::ZERO);
     }
 }

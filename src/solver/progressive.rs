@@ -1,8 +1,10 @@
 //! The progressive shooting solver (Cohen, Chen, Wallace, Greenberg 1988).
 
+use std::sync::Mutex;
+
 use rayon::prelude::*;
 
-use super::ambient::{LandingLedger, ambient_irradiance};
+use super::ambient::AmbientRays;
 use super::energy_balance::EnergyBalance;
 use super::mesh_settings::MeshKind;
 use super::refinement::{Refiner, elements_to_split};
@@ -55,8 +57,9 @@ pub struct Solver {
     emitted_power: Rgb,
     shot_power: Rgb,
     received_power: Rgb,
-    /// How much of the shot power landed, for the ambient term.
-    landing: LandingLedger,
+    /// The rays the ambient term gathers the unshot light along, cast on
+    /// first use.
+    ambient_rays: Mutex<AmbientRays>,
     /// The largest power a single patch emits (sum of channels): the scale
     /// for the number of samples a shot gets.
     reference_power: f64,
@@ -137,7 +140,7 @@ impl Solver {
             emitted_power,
             shot_power: Rgb::ZERO,
             received_power: Rgb::ZERO,
-            landing: LandingLedger::default(),
+            ambient_rays: Mutex::new(AmbientRays::default()),
             reference_power,
             shots: 0,
             rays: 0,
@@ -174,13 +177,7 @@ impl Solver {
         };
         self.unshot_corners.clear(&self.mesh.patches[j]);
         let incident = self.incident_from(j, power, radiosity);
-        let received_before = self.received_power;
         self.receive(&incident);
-        // An emitter patch's first shot is its emission; every other shot is
-        // reflected light, like the unshot power the ambient term stands for.
-        let emitted = is_emitter && self.shot[j] == Rgb::ZERO;
-        self.landing
-            .record(emitted, shot_power, self.received_power - received_before);
         self.shot_power += shot_power;
         self.shot[j] += delta;
         self.shots += 1;
@@ -309,22 +306,18 @@ impl Solver {
     }
 
     /// Radiosity per vertex with the ambient term added: the light not yet
-    /// shot, spread evenly, B_v + ρ_v · A_mb. For intermediate images.
+    /// shot, gathered where it will land, B_v + ρ_v G_v. For intermediate
+    /// images.
     #[must_use]
     pub fn radiosity_with_ambient(&self) -> Vec<Rgb> {
         self.solution_with_ambient().radiosity
     }
 
-    /// The ambient irradiance for the light not yet shot,
-    /// A_mb = f · U / A / (1 − f ρ̄): Cohen's term (U the unshot power, A the
-    /// patches' area, ρ̄ their area-weighted mean reflectance) scaled by the
-    /// measured share f of shot light that lands (see `solver/ambient.rs`).
-    fn ambient_irradiance(&self) -> Rgb {
-        let total_area: f64 = self.mesh.patches.iter().map(|p| p.area).sum();
-        if total_area <= 0.0 {
-            return Rgb::ZERO;
-        }
-        let mean_reflectance = self
+    /// The ambient irradiance G_v of every vertex: the light the unshot
+    /// radiosity will still give, gathered along cached rays (see
+    /// `solver/ambient.rs`).
+    fn ambient_irradiance(&self) -> Vec<Rgb> {
+        let reflectance: Vec<Rgb> = self
             .mesh
             .patches
             .iter()
@@ -332,16 +325,14 @@ impl Solver {
                 self.scene
                     .material_of(self.scene.surface(p.surface))
                     .reflectance
-                    * p.area
             })
-            .sum::<Rgb>()
-            / total_area;
-        ambient_irradiance(
-            self.unshot_power(),
-            total_area,
-            mean_reflectance,
-            self.landing.landing_fraction(),
-        )
+            .collect();
+        let mut rays = self
+            .ambient_rays
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        rays.cast_missing(&self.scene, &self.mesh, &self.visibility);
+        rays.irradiance(&self.mesh, &self.unshot, &reflectance)
     }
 
     /// The solution from the light shot so far, without the ambient term.
@@ -350,15 +341,24 @@ impl Solver {
         self.solution_from(self.radiosity.clone(), self.irradiance.clone())
     }
 
-    /// The solution with the ambient term for the light not yet shot added,
-    /// spread evenly (Cohen et al. 1988, §4): B_v + ρ_v · A_mb and H_v + A_mb.
-    /// For intermediate images.
+    /// The solution with the ambient term for the light not yet shot added:
+    /// B_v + ρ_v G_v and H_v + G_v, G_v the unshot light gathered along
+    /// cached rays (a coarse final gather of what remains; see
+    /// `solver/ambient.rs`). What images and probes show.
     #[must_use]
     pub fn solution_with_ambient(&self) -> Solution<'_> {
+        if self.unshot.iter().all(|b| *b == Rgb::ZERO) {
+            return self.solution();
+        }
         let ambient = self.ambient_irradiance();
-        let irradiance = self.irradiance.iter().map(|h| *h + ambient).collect();
+        let irradiance = self
+            .irradiance
+            .iter()
+            .zip(&ambient)
+            .map(|(h, g)| *h + *g)
+            .collect();
         let radiosity = (0..self.radiosity.len())
-            .map(|v| self.radiosity[v] + self.reflectance(v) * ambient)
+            .map(|v| self.radiosity[v] + self.reflectance(v) * ambient[v])
             .collect();
         self.solution_from(radiosity, irradiance)
     }

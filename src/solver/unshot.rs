@@ -58,13 +58,7 @@ impl UnshotCorners {
             .elements
             .iter()
             .map(|&e| {
-                let element = &mesh.elements[e as usize];
-                let p = |k: usize| mesh.vertices[element.vertices[k] as usize].position;
-                let cell = if element.is_triangle {
-                    Cell::triangle(p(0), p(1), p(2))
-                } else {
-                    Cell::quad(p(0), p(1), p(2), p(3))
-                };
+                let cell = mesh.element_cell(&mesh.elements[e as usize]);
                 FieldElement::new(cell, self.corners[e as usize])
             })
             .collect();

@@ -140,3 +140,71 @@ fn the_seed_discs_match_the_path_tracer() {
         assert!(per_pixel < bound, "{scene}: per-pixel error {per_pixel}");
     }
 }
+
+/// Gather probes along a line across the table's shadow (z = 0, x from
+/// −2.5 to 0.5 m every 2.5 cm, on the floor) at default settings, against
+/// Mitsuba's irradiance at the same points (`bench/mitsuba_probe.py`, 2¹⁸
+/// emitter samples and 2²⁰ path-traced cosine rays per point:
+/// `bench/references/table_line.csv`, with its standard errors). Where the
+/// light is above 2 % of its peak and more than 3 cm from the edges of the
+/// shadow the lamp's centre casts (x = −0.113 and −1.735), within 3 %; in
+/// the umbra, lit only by what the floor and the table pass on (0.1–2 % of
+/// the peak), within 3 % plus three of the reference's standard errors,
+/// and within 1 % on average.
+#[test]
+fn gather_probes_across_the_table_shadow_match_the_path_tracer() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("bench/references/table_line.csv")).unwrap();
+    // x, then irradiance and standard error per channel.
+    let reference: Vec<(f64, [f64; 3], [f64; 3])> = text
+        .lines()
+        .skip(1)
+        .map(|line| {
+            let v: Vec<f64> = line.split(',').map(|s| s.parse().unwrap()).collect();
+            (v[0], [v[3], v[4], v[5]], [v[6], v[7], v[8]])
+        })
+        .collect();
+    assert_eq!(reference.len(), 121);
+    let loaded = load_scene(root.join("scenes/table/table.toml").to_str().unwrap()).unwrap();
+    let settings = Settings::from_scene_options(&loaded.options).unwrap();
+    let mut solver = Solver::new(loaded.scene, settings).unwrap();
+    solver.run();
+    let solution = solver.solution_with_ambient();
+    let luminance = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    let peak = reference.iter().map(|r| luminance(r.1)).fold(0.0, f64::max);
+    let (mut worst, mut umbra) = (0.0_f64, Vec::new());
+    for &(x, irradiance, standard_error) in &reference {
+        let point = isorad::scene::ProbePoint {
+            position: glam::DVec3::new(x, 0.0, 0.0),
+            normal: None,
+            line: 1,
+        };
+        let probe = solution.probe(&point, isorad::ProbeMode::Gather).unwrap();
+        let (value, expected) = (probe.irradiance.luminance(), luminance(irradiance));
+        let error = value / expected - 1.0;
+        let near_edge = [-0.113, -1.735].iter().any(|e| (x - e).abs() < 0.03);
+        if expected > 0.02 * peak && !near_edge {
+            worst = worst.max(error.abs());
+        } else if (-1.55..=-0.2).contains(&x) {
+            let allowed = 0.03 + 3.0 * luminance(standard_error) / expected;
+            assert!(
+                error.abs() < allowed,
+                "umbra x = {x}: {value} vs {expected} ({:+.2} %)",
+                100.0 * error
+            );
+            umbra.push(error);
+        }
+    }
+    let umbra_mean = umbra.iter().sum::<f64>() / umbra.len() as f64;
+    println!(
+        "table shadow line: worst {:.2} % where lit, umbra mean {:+.2} % over {} points",
+        100.0 * worst,
+        100.0 * umbra_mean,
+        umbra.len()
+    );
+    assert!(worst < 0.03, "worst lit error {worst}");
+    assert!(
+        umbra.len() > 40 && umbra_mean.abs() < 0.01,
+        "umbra mean {umbra_mean}"
+    );
+}
