@@ -63,6 +63,17 @@ pub enum Error {
         /// The object holding the vertex.
         object: String,
     },
+    /// A photometric file (IES LM-63, EULUMDAT) could not be read as a
+    /// luminaire's intensity distribution.
+    #[error("{path}{}: {message}", line_suffix(*.line))]
+    Photometry {
+        /// The photometric file.
+        path: PathBuf,
+        /// 1-based line number, where known.
+        line: Option<usize>,
+        /// What is wrong.
+        message: String,
+    },
     /// A material library (MTL file) could not be parsed.
     #[error("{path}{}: {message}", line_suffix(*.line))]
     MtlParse {

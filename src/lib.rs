@@ -110,6 +110,7 @@ mod fs;
 pub mod export;
 pub mod lighting;
 pub mod mesh;
+pub mod photometry;
 pub mod radiometry;
 pub mod render;
 pub mod scene;

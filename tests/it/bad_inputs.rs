@@ -161,6 +161,11 @@ fn run(dir: &Path, args: &[String]) -> Result<Run, String> {
 fn command_line(case: &Case, index: usize) -> Vec<String> {
     let exr = format!("out/{index}.exr");
     let png = format!("out/{index}.png");
+    if case.command.as_deref() == Some("photometry") {
+        let mut args = vec!["photometry".to_owned(), case.file.clone()];
+        args.extend(case.args.iter().cloned());
+        return args;
+    }
     let mut args: Vec<String> = match case.command.as_deref() {
         Some("probe") => ["probe", "fine_basic.obj", "--points", &case.file]
             .map(String::from)

@@ -5,6 +5,7 @@
 mod args;
 mod compare;
 mod info;
+mod photometry;
 mod probe;
 mod progress;
 mod render;
@@ -16,6 +17,7 @@ use clap::{Parser, Subcommand};
 
 use compare::{CompareArgs, compare};
 use info::{InfoArgs, info};
+use photometry::{PhotometryArgs, photometry};
 use probe::{ProbeArgs, probe};
 use progress::Interrupted;
 use render::{RenderArgs, render};
@@ -40,6 +42,9 @@ enum Command {
     /// Compare contour meshes against square meshes on the receivers lit by
     /// a dominant small emitter: vertices and interpolation error.
     Compare(CompareArgs),
+    /// Read a luminaire's photometric file (IES LM-63 or EULUMDAT): its
+    /// description, symmetry, peak intensity, flux, and I(C, γ).
+    Photometry(PhotometryArgs),
 }
 
 fn main() -> ExitCode {
@@ -49,6 +54,7 @@ fn main() -> ExitCode {
         Command::Probe(args) => probe(&args),
         Command::Info(args) => info(&args),
         Command::Compare(args) => compare(&args),
+        Command::Photometry(args) => photometry(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,352 @@
+//! A luminaire's luminous intensity distribution I(C, γ), in candela, on the
+//! full sphere of the C-γ system (CIE 121, LM-63 type C).
+//!
+//! γ is the angle from the nadir (the luminaire's aim), 0° to 180°; C is the
+//! azimuth of the half-plane, 0° to 360°. Files tabulate I on a web of C
+//! planes and γ angles, often for part of the sphere only, and imply the
+//! rest by symmetry; [`IntensityDistribution::from_planes`] expands what a
+//! file gives to all C in [0°, 360°], and [`IntensityDistribution::intensity`]
+//! interpolates bilinearly in (C, γ) between the tabulated values.
+
+/// Which part of the C range a file tabulates, and so how the rest follows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Symmetry {
+    /// One plane: the same in every C (rotational symmetry about the aim).
+    Rotational,
+    /// C 0°–90°: symmetric about the C0–C180 and C90–C270 planes.
+    Quadrant,
+    /// C 0°–180°: symmetric about the C0–C180 plane, I(C) = I(360° − C).
+    AboutC0C180,
+    /// C 90°–270° (planes stored in increasing C, possibly through 360° as
+    /// EULUMDAT's C270…C90): symmetric about the C90–C270 plane,
+    /// I(C) = I(180° − C).
+    AboutC90C270,
+    /// C 0°–360°: no symmetry.
+    None,
+}
+
+/// The luminous opening: the emitting shape's size, metres (LM-63's width,
+/// length and height; EULUMDAT's luminous area). Zero where the file gives
+/// a point source.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LuminousOpening {
+    /// Along the C90–C270 axis, metres (LM-63 width; negative: circular,
+    /// the diameter).
+    pub width: f64,
+    /// Along the C0–C180 axis, metres.
+    pub length: f64,
+    /// Along the aim, metres.
+    pub height: f64,
+}
+
+/// An intensity distribution on the full C-γ sphere: `c_angles` from 0° to
+/// 360° ascending (the last plane equal to the first), `gamma_angles`
+/// ascending within [0°, 180°], and the intensities in candela, plane after
+/// plane. Zero outside the tabulated γ range.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IntensityDistribution {
+    c_angles: Vec<f64>,
+    gamma_angles: Vec<f64>,
+    candela: Vec<f64>,
+    /// The luminous opening, metres.
+    pub opening: LuminousOpening,
+}
+
+impl IntensityDistribution {
+    /// Expands planes `c_angles` (degrees, strictly increasing, as the
+    /// file's `symmetry` stores them; EULUMDAT's C270…C90 given as 270…450)
+    /// with `candela[plane][γ]` at `gamma_angles` (strictly increasing, in
+    /// [0°, 180°]) to the full sphere. The caller has checked the angles.
+    #[must_use]
+    pub fn from_planes(
+        symmetry: Symmetry,
+        c_angles: &[f64],
+        gamma_angles: &[f64],
+        candela: &[Vec<f64>],
+        opening: LuminousOpening,
+    ) -> IntensityDistribution {
+        if c_angles.is_empty() || candela.is_empty() {
+            return IntensityDistribution {
+                c_angles: vec![0.0, 360.0],
+                gamma_angles: vec![0.0],
+                candela: vec![0.0, 0.0],
+                opening,
+            };
+        }
+        let stored = |c: f64| -> Vec<f64> { plane_at(c_angles, candela, c) };
+        // Mirror images of the stored planes fill the rest of [0°, 360°].
+        let mirror: &dyn Fn(f64) -> f64 = match symmetry {
+            Symmetry::Rotational => &|_| 0.0,
+            Symmetry::Quadrant => &|c: f64| {
+                let c = c.rem_euclid(360.0);
+                let c = if c > 180.0 { 360.0 - c } else { c };
+                if c > 90.0 { 180.0 - c } else { c }
+            },
+            Symmetry::AboutC0C180 => &|c: f64| {
+                let c = c.rem_euclid(360.0);
+                if c > 180.0 { 360.0 - c } else { c }
+            },
+            Symmetry::AboutC90C270 => &|c: f64| {
+                // Fold onto [90°, 270°] across the C90–C270 plane.
+                let c = c.rem_euclid(360.0);
+                if (90.0..=270.0).contains(&c) {
+                    c
+                } else {
+                    (540.0 - c).rem_euclid(360.0)
+                }
+            },
+            Symmetry::None => &|c: f64| c.rem_euclid(360.0),
+        };
+        let mut angles: Vec<f64> = match symmetry {
+            Symmetry::Rotational => vec![0.0],
+            _ => {
+                let mut all = Vec::new();
+                for &c in c_angles {
+                    let c = c.rem_euclid(360.0);
+                    all.extend([c, 360.0 - c, 180.0 - c, 180.0 + c]);
+                }
+                all.into_iter()
+                    .map(|c| c.rem_euclid(360.0))
+                    .filter(|&c| mirror(c).is_finite())
+                    .collect()
+            }
+        };
+        angles.sort_by(f64::total_cmp);
+        angles.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+        // Keep only the angles whose mirror is a stored plane (or the whole
+        // range for a full web): the planes the file defines.
+        let defined = |c: f64| {
+            let m = mirror(c);
+            symmetry == Symmetry::Rotational
+                || c_angles
+                    .iter()
+                    .any(|&s| (s.rem_euclid(360.0) - m).abs() < 1e-9)
+        };
+        angles.retain(|&c| defined(c));
+        let mut planes: Vec<Vec<f64>> = angles
+            .iter()
+            .map(|&c| {
+                if symmetry == Symmetry::Rotational {
+                    candela[0].clone()
+                } else {
+                    stored(mirror(c))
+                }
+            })
+            .collect();
+        // Close the circle: the plane at 360° is the one at 0°.
+        if angles.first().is_none_or(|&c| c > 1e-9) {
+            // No plane at 0° (a full web starting later): interpolate
+            // between the last and the first across 360°.
+            let (first, last) = (angles[0], angles[angles.len() - 1]);
+            let span = first + 360.0 - last;
+            let w = if span > 0.0 {
+                (360.0 - last) / span
+            } else {
+                0.0
+            };
+            let at_zero: Vec<f64> = planes[planes.len() - 1]
+                .iter()
+                .zip(&planes[0])
+                .map(|(a, b)| a + (b - a) * w)
+                .collect();
+            angles.insert(0, 0.0);
+            planes.insert(0, at_zero);
+        }
+        if angles.last().is_some_and(|&c| c < 360.0 - 1e-9) {
+            angles.push(360.0);
+            planes.push(planes[0].clone());
+        } else if let Some(last) = angles.last_mut() {
+            *last = 360.0;
+        }
+        IntensityDistribution {
+            c_angles: angles,
+            gamma_angles: gamma_angles.to_vec(),
+            candela: planes.concat(),
+            opening,
+        }
+    }
+
+    /// The intensity I(C, γ) in candela, C and γ in degrees: bilinear
+    /// between the tabulated planes and angles, C taken modulo 360°, zero
+    /// for γ outside the tabulated range (a downlight tabulated to 90°
+    /// sends nothing upwards).
+    #[must_use]
+    pub fn intensity(&self, c: f64, gamma: f64) -> f64 {
+        let n = self.gamma_angles.len();
+        let (Some(&g0), Some(&g1)) = (self.gamma_angles.first(), self.gamma_angles.last()) else {
+            return 0.0;
+        };
+        if !(c.is_finite() && gamma.is_finite()) || gamma < g0 - 1e-9 || gamma > g1 + 1e-9 {
+            return 0.0;
+        }
+        let (j, tg) = bracket(&self.gamma_angles, gamma.clamp(g0, g1));
+        let (i, tc) = bracket(&self.c_angles, c.rem_euclid(360.0));
+        let at = |plane: usize, k: usize| self.candela[plane * n + k];
+        let along = |plane: usize| {
+            if n == 1 {
+                at(plane, 0)
+            } else {
+                at(plane, j) + (at(plane, j + 1) - at(plane, j)) * tg
+            }
+        };
+        if self.c_angles.len() == 1 {
+            return along(0);
+        }
+        along(i) + (along(i + 1) - along(i)) * tc
+    }
+
+    /// The tabulated γ angles, degrees.
+    #[must_use]
+    pub fn gamma_angles(&self) -> &[f64] {
+        &self.gamma_angles
+    }
+
+    /// The C planes after expansion, degrees from 0 to 360.
+    #[must_use]
+    pub fn c_angles(&self) -> &[f64] {
+        &self.c_angles
+    }
+
+    /// The largest tabulated intensity, candela.
+    #[must_use]
+    pub fn peak(&self) -> f64 {
+        self.candela.iter().copied().fold(0.0, f64::max)
+    }
+
+    /// The luminous flux Φ = ∫∫ I(C, γ) sin γ dγ dC, lumens, by the
+    /// trapezoidal rule over the web refined `refine` times per interval in
+    /// each angle (the integral of the bilinear interpolant as that grows).
+    #[must_use]
+    pub fn flux(&self, refine: usize) -> f64 {
+        let refine = refine.max(1);
+        let (Some(&g0), Some(&g1)) = (self.gamma_angles.first(), self.gamma_angles.last()) else {
+            return 0.0;
+        };
+        let steps_g = (self.gamma_angles.len().max(2) - 1) * refine;
+        let steps_c = 360 * refine;
+        let (dg, dc) = ((g1 - g0) / steps_g as f64, 360.0 / steps_c as f64);
+        let mut total = 0.0;
+        for a in 0..steps_c {
+            let c = (a as f64 + 0.5) * dc;
+            for b in 0..steps_g {
+                let gamma = g0 + (b as f64 + 0.5) * dg;
+                total += self.intensity(c, gamma) * gamma.to_radians().sin();
+            }
+        }
+        total * dg.to_radians() * dc.to_radians()
+    }
+}
+
+/// The index i and weight t with xs[i] ≤ x ≤ xs[i + 1], x = xs[i] + t
+/// (xs[i + 1] − xs[i]); xs ascending, at least one entry, x within range.
+fn bracket(xs: &[f64], x: f64) -> (usize, f64) {
+    if xs.len() < 2 {
+        return (0, 0.0);
+    }
+    let i = xs.partition_point(|&v| v <= x).clamp(1, xs.len() - 1) - 1;
+    let span = xs[i + 1] - xs[i];
+    let t = if span > 0.0 {
+        ((x - xs[i]) / span).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (i, t)
+}
+
+/// The stored plane at angle `c` (one of `c_angles` modulo 360°).
+fn plane_at(c_angles: &[f64], candela: &[Vec<f64>], c: f64) -> Vec<f64> {
+    let index = c_angles
+        .iter()
+        .position(|&s| (s.rem_euclid(360.0) - c).abs() < 1e-9)
+        .unwrap_or(0);
+    candela[index].clone()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn opening() -> LuminousOpening {
+        LuminousOpening::default()
+    }
+
+    #[test]
+    fn an_isotropic_source_of_one_candela_emits_four_pi_lumens() {
+        let d = IntensityDistribution::from_planes(
+            Symmetry::Rotational,
+            &[0.0],
+            &[0.0, 90.0, 180.0],
+            &[vec![1.0, 1.0, 1.0]],
+            opening(),
+        );
+        assert_eq!(d.intensity(123.0, 45.0), 1.0);
+        let flux = d.flux(64);
+        assert!(
+            (flux / (4.0 * std::f64::consts::PI) - 1.0).abs() < 1e-4,
+            "{flux}"
+        );
+    }
+
+    #[test]
+    fn a_quadrant_web_mirrors_into_every_quadrant() {
+        // I = 1 + C/90 in C0–C90 at every γ: C = 120 mirrors to 60, 200 to
+        // 20, 300 to 60.
+        let planes: Vec<Vec<f64>> = [0.0, 30.0, 60.0, 90.0]
+            .iter()
+            .map(|c| vec![1.0 + c / 90.0; 2])
+            .collect();
+        let d = IntensityDistribution::from_planes(
+            Symmetry::Quadrant,
+            &[0.0, 30.0, 60.0, 90.0],
+            &[0.0, 90.0],
+            &planes,
+            opening(),
+        );
+        for (c, mirrored) in [(120.0, 60.0), (200.0, 20.0), (300.0, 60.0), (345.0, 15.0)] {
+            let expected = 1.0 + mirrored / 90.0;
+            assert!((d.intensity(c, 10.0) - expected).abs() < 1e-12, "C = {c}");
+        }
+        // Nothing above the tabulated 90°.
+        assert_eq!(d.intensity(0.0, 120.0), 0.0);
+    }
+
+    #[test]
+    fn a_web_symmetric_about_c90_c270_mirrors_across_that_plane() {
+        // Planes C90, C180, C270 with I = C / 90: C0 mirrors to 180 (2),
+        // C45 to 135 (1.5), C315 to 225 (2.5).
+        let cs = [90.0, 180.0, 270.0];
+        let planes: Vec<Vec<f64>> = cs.iter().map(|c| vec![c / 90.0; 2]).collect();
+        let d = IntensityDistribution::from_planes(
+            Symmetry::AboutC90C270,
+            &cs,
+            &[0.0, 180.0],
+            &planes,
+            opening(),
+        );
+        for (c, expected) in [(0.0, 2.0), (45.0, 1.5), (315.0, 2.5), (180.0, 2.0)] {
+            assert!((d.intensity(c, 30.0) - expected).abs() < 1e-12, "C = {c}");
+        }
+    }
+
+    #[test]
+    fn intensities_interpolate_bilinearly() {
+        let d = IntensityDistribution::from_planes(
+            Symmetry::None,
+            &[0.0, 90.0, 180.0, 270.0, 360.0],
+            &[0.0, 90.0],
+            &[
+                vec![0.0, 10.0],
+                vec![20.0, 30.0],
+                vec![0.0, 0.0],
+                vec![0.0, 0.0],
+                vec![0.0, 10.0],
+            ],
+            opening(),
+        );
+        // Halfway between C0 and C90, a third of the way to γ 90:
+        // (0 + 20)/2 + ((10 + 30)/2 − 10) / 3.
+        let expected = 10.0 + 10.0 / 3.0;
+        assert!((d.intensity(45.0, 30.0) - expected).abs() < 1e-12);
+        assert!((d.intensity(405.0, 30.0) - expected).abs() < 1e-12);
+    }
+}

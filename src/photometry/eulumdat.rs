@@ -1,0 +1,399 @@
+//! EULUMDAT photometric files (`.ldt`, `.eul`).
+//!
+//! A line-based format: 26 header lines (company, type Ityp, symmetry
+//! Isym, the number Mc of C planes, the number Ng of γ angles, names,
+//! luminaire and luminous-area dimensions in mm, the downward flux
+//! fraction, light output ratio, the conversion factor for intensities,
+//! the number of lamp sets), six lines per lamp set (number of lamps, type,
+//! total flux in lm, colour temperature, colour rendering, watts), ten
+//! direct ratios, the Mc C angles, the Ng γ angles, and the intensities in
+//! cd/klm, Ng per stored plane. Isym says which planes are stored:
+//!
+//! | Isym | planes stored | symmetry |
+//! |---|---|---|
+//! | 0 | all Mc | none |
+//! | 1 | one | about the vertical axis |
+//! | 2 | C0 … C180 (Mc/2 + 1) | about the C0–C180 plane |
+//! | 3 | C270 … C90 through C0 (Mc/2 + 1) | about the C90–C270 plane |
+//! | 4 | C0 … C90 (Mc/4 + 1) | about both |
+//!
+//! I(C, γ) = value × Φ_lamps / 1000 × conversion factor, Φ_lamps the sum of
+//! the lamp sets' total fluxes.
+//!
+//! # References
+//! A. Stockmar, "EULUMDAT/2 — Extended Version of a Well Established
+//! Luminaire Data Format", CIBSE National Lighting Conference 1998; the
+//! format's description by LIGHTTOOLS/Relux (1990).
+
+use super::distribution::{IntensityDistribution, LuminousOpening, Symmetry};
+use super::ies::{MAX_CANDELA, ParseProblem};
+
+/// The most C planes or γ angles a file may give.
+const MAX_ANGLES: usize = 100_000;
+/// The most lamp sets a file may give (EULUMDAT allows 20).
+const MAX_LAMP_SETS: usize = 1000;
+/// Millimetres per metre.
+const MM: f64 = 1e-3;
+
+/// A parsed EULUMDAT file: its distribution and what a designer reads.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EulumdatFile {
+    /// The intensity distribution, candela, and the luminous opening.
+    pub distribution: IntensityDistribution,
+    /// Company identification (line 1).
+    pub company: String,
+    /// Luminaire name (line 9).
+    pub luminaire: String,
+    /// Total flux of the lamps, lm (the sum over lamp sets).
+    pub lamp_flux: f64,
+    /// Light output ratio of the luminaire, % (line 23).
+    pub light_output_ratio: f64,
+}
+
+/// Reads an EULUMDAT file's text (see the module docs).
+///
+/// # Errors
+/// A [`ParseProblem`] naming the line: too few lines, a field that is not
+/// a number, Ityp or Isym out of range, Mc not divisible as Isym needs,
+/// angles not increasing or out of range, negative or non-finite
+/// intensities, no lamp flux.
+pub fn parse_eulumdat(text: &str) -> Result<EulumdatFile, ParseProblem> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let lines = Lines {
+        lines: text.lines().collect(),
+    };
+    let company = lines.text(1)?.to_owned();
+    let ityp = lines.integer(2, "type indicator Ityp", 0, 3)?;
+    let isym = lines.integer(3, "symmetry indicator Isym", 0, 4)?;
+    let mc = lines.integer(4, "number of C planes Mc", 1, MAX_ANGLES)?;
+    let ng = lines.integer(6, "number of intensities per C plane Ng", 1, MAX_ANGLES)?;
+    let _ = ityp;
+    let luminaire = lines.text(9)?.to_owned();
+    let area_length = lines.number(16, "length or diameter of the luminous area")?;
+    let area_width = lines.number(17, "width of the luminous area")?;
+    let area_height = lines.number(18, "height of the luminous area")?;
+    let light_output_ratio = lines.number(23, "light output ratio")?;
+    let conversion = lines.number(24, "conversion factor for luminous intensities")?;
+    if conversion <= 0.0 {
+        return Err(ParseProblem::at(
+            24,
+            format!("conversion factor {conversion}: must be positive"),
+        ));
+    }
+    let sets = lines.integer(26, "number of lamp sets", 1, MAX_LAMP_SETS)?;
+    let mut lamp_flux = 0.0;
+    for set in 0..sets {
+        let line = 27 + 6 * set + 2;
+        let flux = lines.number(line, "total luminous flux of the lamps")?;
+        if flux < 0.0 {
+            return Err(ParseProblem::at(
+                line,
+                format!("lamp flux {flux}: negative"),
+            ));
+        }
+        lamp_flux += flux;
+    }
+    if lamp_flux <= 0.0 {
+        return Err(ParseProblem::at(
+            27 + 2,
+            "the lamps' total flux is 0: intensities in cd/klm cannot be scaled",
+        ));
+    }
+    // Ten direct ratios follow the lamp sets, then the angles.
+    let c_start = 27 + 6 * sets + 10;
+    let c_angles = lines.angles(c_start, mc, "C", 0.0, 360.0)?;
+    let g_start = c_start + mc;
+    let g_angles = lines.angles(g_start, ng, "γ", 0.0, 180.0)?;
+    let (stored, symmetry) = match isym {
+        0 => ((0..mc).collect::<Vec<_>>(), Symmetry::None),
+        1 => (vec![0], Symmetry::Rotational),
+        2 | 3 if mc % 2 != 0 => {
+            return Err(ParseProblem::at(
+                4,
+                format!("Mc {mc} is odd: Isym {isym} stores half of the planes"),
+            ));
+        }
+        2 => ((0..=mc / 2).collect(), Symmetry::AboutC0C180),
+        3 => (
+            (0..=mc / 2).map(|k| (3 * mc / 4 + k) % mc).collect(),
+            Symmetry::AboutC90C270,
+        ),
+        _ if mc % 4 != 0 => {
+            return Err(ParseProblem::at(
+                4,
+                format!("Mc {mc} is not a multiple of 4: Isym 4 stores a quarter of the planes"),
+            ));
+        }
+        _ => ((0..=mc / 4).collect(), Symmetry::Quadrant),
+    };
+    // The stored planes must be the ones Isym names.
+    let expect = |index: usize, angle: f64| {
+        if (c_angles[index] - angle).abs() > 1e-6 {
+            return Err(ParseProblem::at(
+                c_start + index,
+                format!(
+                    "Isym {isym} stores planes up to C{angle}, but this plane is at C{}",
+                    c_angles[index]
+                ),
+            ));
+        }
+        Ok(())
+    };
+    match isym {
+        2 => expect(mc / 2, 180.0)?,
+        3 => {
+            expect(3 * mc / 4, 270.0)?;
+            expect(mc / 4, 90.0)?;
+        }
+        4 => expect(mc / 4, 90.0)?,
+        _ => {}
+    }
+    let scale = lamp_flux / 1000.0 * conversion;
+    if !(scale.is_finite() && scale <= MAX_CANDELA) {
+        return Err(ParseProblem::at(
+            24,
+            format!("lamp flux {lamp_flux} lm × conversion factor {conversion}: out of range"),
+        ));
+    }
+    let mut planes: Vec<(f64, Vec<f64>)> = Vec::with_capacity(stored.len());
+    let mut line = g_start + ng;
+    for &plane in &stored {
+        let mut values = Vec::with_capacity(ng);
+        for _ in 0..ng {
+            let value = lines.number(line, "luminous intensity")?;
+            if value < 0.0 {
+                return Err(ParseProblem::at(
+                    line,
+                    format!("intensity {value} cd/klm: negative"),
+                ));
+            }
+            if value * scale > MAX_CANDELA {
+                return Err(ParseProblem::at(
+                    line,
+                    format!(
+                        "intensity {value} cd/klm × {lamp_flux} lm / 1000 × {conversion}: \
+                         above {MAX_CANDELA:e} cd, not a luminaire's"
+                    ),
+                ));
+            }
+            values.push(value * scale);
+            line += 1;
+        }
+        let angle = if isym == 1 { 0.0 } else { c_angles[plane] };
+        planes.push((angle, values));
+    }
+    if symmetry == Symmetry::AboutC90C270 {
+        // Stored C270 … C90; their mirror images across the C90–C270 plane,
+        // C ↦ 180° − C, are the same planes on the C90 … C270 side.
+        for plane in &mut planes {
+            plane.0 = (180.0 - plane.0).rem_euclid(360.0);
+        }
+        planes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    let angles: Vec<f64> = planes.iter().map(|p| p.0).collect();
+    let values: Vec<Vec<f64>> = planes.into_iter().map(|p| p.1).collect();
+    let opening = LuminousOpening {
+        width: area_width * MM,
+        length: area_length * MM,
+        height: area_height * MM,
+    };
+    Ok(EulumdatFile {
+        distribution: IntensityDistribution::from_planes(
+            symmetry, &angles, &g_angles, &values, opening,
+        ),
+        company,
+        luminaire,
+        lamp_flux,
+        light_output_ratio,
+    })
+}
+
+/// The file's lines, addressed 1-based.
+struct Lines<'a> {
+    lines: Vec<&'a str>,
+}
+
+impl Lines<'_> {
+    fn text(&self, line: usize) -> Result<&str, ParseProblem> {
+        self.lines.get(line - 1).map(|l| l.trim()).ok_or_else(|| {
+            ParseProblem::at(
+                self.lines.len().max(1),
+                format!("the file ends before line {line}: not a whole EULUMDAT file"),
+            )
+        })
+    }
+
+    fn number(&self, line: usize, what: &str) -> Result<f64, ParseProblem> {
+        let text = self.text(line)?;
+        // Some writers use a decimal comma.
+        let value: f64 = text
+            .replace(',', ".")
+            .parse()
+            .map_err(|_| ParseProblem::at(line, format!("{what}: `{text}` is not a number")))?;
+        if !value.is_finite() {
+            return Err(ParseProblem::at(
+                line,
+                format!("{what}: {text} is not finite"),
+            ));
+        }
+        Ok(value)
+    }
+
+    fn integer(
+        &self,
+        line: usize,
+        what: &str,
+        min: usize,
+        max: usize,
+    ) -> Result<usize, ParseProblem> {
+        let value = self.number(line, what)?;
+        if value.fract() != 0.0 || value < min as f64 || value > max as f64 {
+            return Err(ParseProblem::at(
+                line,
+                format!("{what} {value}: must be a whole number from {min} to {max}"),
+            ));
+        }
+        Ok(value as usize)
+    }
+
+    /// `n` angles from line `start`, strictly increasing within [lo, hi].
+    fn angles(
+        &self,
+        start: usize,
+        n: usize,
+        what: &str,
+        lo: f64,
+        hi: f64,
+    ) -> Result<Vec<f64>, ParseProblem> {
+        let mut angles: Vec<f64> = Vec::with_capacity(n);
+        for k in 0..n {
+            let line = start + k;
+            let angle = self.number(line, &format!("{what} angle"))?;
+            if !(lo..=hi).contains(&angle) {
+                return Err(ParseProblem::at(
+                    line,
+                    format!("{what} angle {angle}°: outside {lo}°–{hi}°"),
+                ));
+            }
+            if let Some(&before) = angles.last()
+                && angle <= before
+            {
+                return Err(ParseProblem::at(
+                    line,
+                    format!("{what} angles must increase: {angle}° after {before}°"),
+                ));
+            }
+            angles.push(angle);
+        }
+        Ok(angles)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An EULUMDAT file: Isym `isym`, Mc planes 0, 90, 180, 270 (every
+    /// 90°), γ 0, 90, 180, intensity (cd/klm) given per stored plane.
+    fn ldt(isym: usize, planes: &[[f64; 3]]) -> String {
+        let mut lines: Vec<String> = vec![
+            "isorad test".into(),
+            "1".into(),
+            isym.to_string(),
+            "4".into(),
+            "90".into(),
+            "3".into(),
+            "90".into(),
+            "report".into(),
+            "Test luminaire".into(),
+            "T-1".into(),
+            "test.ldt".into(),
+            "2026-12-01".into(),
+            "600".into(),
+            "600".into(),
+            "80".into(),
+            "500".into(),
+            "400".into(),
+            "0".into(),
+            "0".into(),
+            "0".into(),
+            "0".into(),
+            "100".into(),
+            "85".into(),
+            "1.0".into(),
+            "0".into(),
+            "1".into(),
+            "2".into(),
+            "LED".into(),
+            "2000".into(),
+            "4000".into(),
+            "1B".into(),
+            "30".into(),
+        ];
+        lines.extend((0..10).map(|_| "0.5".to_owned()));
+        lines.extend(["0", "90", "180", "270"].map(String::from));
+        lines.extend(["0", "90", "180"].map(String::from));
+        for plane in planes {
+            lines.extend(plane.iter().map(|v| v.to_string()));
+        }
+        lines.join("\r\n")
+    }
+
+    #[test]
+    fn intensities_scale_by_the_lamp_flux_and_follow_each_symmetry() {
+        // 2000 lm: 100 cd/klm is 200 cd.
+        let one = parse_eulumdat(&ldt(1, &[[100.0, 50.0, 0.0]])).unwrap();
+        assert_eq!(one.luminaire, "Test luminaire");
+        assert!((one.distribution.intensity(123.0, 0.0) - 200.0).abs() < 1e-9);
+        assert!((one.distribution.intensity(123.0, 45.0) - 150.0).abs() < 1e-9);
+        assert!((one.distribution.opening.length - 0.5).abs() < 1e-12);
+        // Isym 2: C0, C90, C180 stored; C270 mirrors C90.
+        let two = parse_eulumdat(&ldt(2, &[[1.0; 3], [2.0; 3], [3.0; 3]])).unwrap();
+        assert!((two.distribution.intensity(270.0, 10.0) - 4.0).abs() < 1e-9);
+        // Isym 3: C270, C0, C90 stored (in that order); C180 mirrors C0.
+        let three = parse_eulumdat(&ldt(3, &[[7.0; 3], [1.0; 3], [2.0; 3]])).unwrap();
+        let d = &three.distribution;
+        assert!((d.intensity(270.0, 10.0) - 14.0).abs() < 1e-9);
+        assert!((d.intensity(0.0, 10.0) - 2.0).abs() < 1e-9);
+        assert!((d.intensity(90.0, 10.0) - 4.0).abs() < 1e-9);
+        assert!((d.intensity(180.0, 10.0) - 2.0).abs() < 1e-9);
+        // Isym 4: C0 and C90 stored; C180 mirrors C0, C270 C90.
+        let four = parse_eulumdat(&ldt(4, &[[1.0; 3], [2.0; 3]])).unwrap();
+        assert!((four.distribution.intensity(180.0, 10.0) - 2.0).abs() < 1e-9);
+        assert!((four.distribution.intensity(270.0, 10.0) - 4.0).abs() < 1e-9);
+        // Isym 0: all four.
+        let zero = parse_eulumdat(&ldt(0, &[[1.0; 3], [2.0; 3], [3.0; 3], [4.0; 3]])).unwrap();
+        assert!((zero.distribution.intensity(315.0, 10.0) - 5.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn bad_files_name_their_line_and_fault() {
+        let good = ldt(1, &[[100.0, 50.0, 0.0]]);
+        let with = |line: usize, value: &str| {
+            let mut lines: Vec<&str> = good.lines().collect();
+            lines[line - 1] = value;
+            lines.join("\n")
+        };
+        let truncated: String = good.lines().take(30).collect::<Vec<_>>().join("\n");
+        let cases = [
+            (truncated, 30, "ends before"),
+            (with(3, "5"), 3, "Isym"),
+            (with(4, "x"), 4, "not a number"),
+            (with(29, "0"), 29, "flux is 0"),
+            (with(43, "400"), 43, "outside"),
+            (with(48, "0"), 48, "increase"),
+            (with(50, "-3"), 50, "negative"),
+            (with(51, "NaN"), 51, "not finite"),
+            (with(24, "0"), 24, "conversion factor"),
+        ];
+        for (text, line, fault) in cases {
+            let problem = parse_eulumdat(&text).unwrap_err();
+            assert_eq!(problem.line, Some(line), "{fault}: {problem:?}");
+            assert!(
+                problem.message.contains(fault),
+                "{fault}: {}",
+                problem.message
+            );
+        }
+    }
+}

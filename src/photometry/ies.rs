@@ -1,0 +1,509 @@
+//! IES LM-63 photometric files (1986, 1991, 1995, 2002, 2019), type C.
+//!
+//! The layout: an optional format line (`IESNA:LM-63-2002`,
+//! `IES:LM-63-2019`, `IESNA91`), keyword lines (`[LUMINAIRE] …`), a
+//! `TILT=` line, then numbers separated by blanks, tabs, commas or line
+//! breaks anywhere:
+//!
+//! ```text
+//! lamps  lumens_per_lamp  candela_multiplier  n_vertical  n_horizontal
+//! photometric_type  units_type  width  length  height
+//! ballast_factor  future_use  input_watts
+//! vertical angles (n_vertical)   horizontal angles (n_horizontal)
+//! candela: n_vertical values for each horizontal angle
+//! ```
+//!
+//! I(C, γ) = candela × candela multiplier × ballast factor (absolute
+//! photometry, lumens −1, and relative alike: the tabulated candela are
+//! those of the rated lamps). The horizontal angles imply the symmetry: a
+//! single plane (0), 0–90, 0–180, 90–270 or 0–360. Type A and B photometry
+//! and tilt data (`TILT=INCLUDE`, `TILT=<file>`) are refused with an error
+//! saying so, never ignored.
+//!
+//! # References
+//! ANSI/IES LM-63-19, "Approved Method: IES Standard File Format for the
+//! Electronic Transfer of Photometric Data and Related Information" (2019),
+//! and LM-63-02 (2002).
+
+use super::distribution::{IntensityDistribution, LuminousOpening, Symmetry};
+
+/// The most angles of either kind a file may give.
+const MAX_ANGLES: usize = 100_000;
+/// The most candela values a file may give.
+const MAX_VALUES: usize = 10_000_000;
+/// The largest intensity a file may give, candela (a lighthouse gives
+/// about 10⁷).
+pub(super) const MAX_CANDELA: f64 = 1e12;
+/// Feet per metre's inverse: LM-63 units type 1 is feet.
+const FOOT: f64 = 0.3048;
+
+/// A parsed LM-63 file: its distribution, format line and keywords.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IesFile {
+    /// The intensity distribution, candela, and the luminous opening.
+    pub distribution: IntensityDistribution,
+    /// The format line (`IESNA:LM-63-2002`), or `LM-63-1986` when absent.
+    pub format: String,
+    /// Keyword lines, `[KEY] value`, in order (`[MORE]` lines joined to the
+    /// one before).
+    pub keywords: Vec<(String, String)>,
+    /// Lumens per lamp, −1 for absolute photometry.
+    pub lumens_per_lamp: f64,
+    /// Number of lamps.
+    pub lamps: f64,
+    /// Input watts.
+    pub input_watts: f64,
+}
+
+/// A problem in a photometric file, with its 1-based line where known.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ParseProblem {
+    /// 1-based line.
+    pub line: Option<usize>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl ParseProblem {
+    pub(super) fn at(line: usize, message: impl Into<String>) -> ParseProblem {
+        ParseProblem {
+            line: Some(line),
+            message: message.into(),
+        }
+    }
+
+    pub(super) fn anywhere(message: impl Into<String>) -> ParseProblem {
+        ParseProblem {
+            line: None,
+            message: message.into(),
+        }
+    }
+}
+
+/// Reads an LM-63 file's text (see the module docs).
+///
+/// # Errors
+/// A [`ParseProblem`] naming the line: no `TILT=` line, tilt data, a value
+/// that is not a number, too few values, counts or angles out of range or
+/// not increasing, negative or non-finite candela, photometric type A or B.
+pub fn parse_ies(text: &str) -> Result<IesFile, ParseProblem> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let lines: Vec<&str> = text.lines().collect();
+    let mut format = "LM-63-1986".to_owned();
+    let mut keywords: Vec<(String, String)> = Vec::new();
+    let mut tilt_line = None;
+    for (index, raw) in lines.iter().enumerate() {
+        let line = raw.trim();
+        if index == 0 && (line.starts_with("IESNA") || line.starts_with("IES:")) {
+            format = line.to_owned();
+            continue;
+        }
+        if let Some(tilt) = line.strip_prefix("TILT") {
+            let value = tilt.trim_start().strip_prefix('=').unwrap_or("").trim();
+            match value.to_ascii_uppercase().as_str() {
+                "NONE" => {}
+                "INCLUDE" => {
+                    return Err(ParseProblem::at(
+                        index + 1,
+                        "TILT=INCLUDE: tilt factors (output against the lamp's burning angle) \
+                         are not supported; give the file with TILT=NONE",
+                    ));
+                }
+                "" => return Err(ParseProblem::at(index + 1, "TILT= without a value")),
+                _ => {
+                    return Err(ParseProblem::at(
+                        index + 1,
+                        format!(
+                            "TILT={value}: tilt data in another file is not supported; \
+                             give the file with TILT=NONE"
+                        ),
+                    ));
+                }
+            }
+            tilt_line = Some(index);
+            break;
+        }
+        if let Some((key, value)) = line.strip_prefix('[').and_then(|r| r.split_once(']')) {
+            let (key, value) = (key.trim().to_ascii_uppercase(), value.trim().to_owned());
+            match (key.as_str(), keywords.last_mut()) {
+                ("MORE", Some(last)) => {
+                    last.1.push('\n');
+                    last.1.push_str(&value);
+                }
+                _ => keywords.push((key, value)),
+            }
+        }
+    }
+    let tilt_line =
+        tilt_line.ok_or_else(|| ParseProblem::anywhere("no TILT= line: not an IES LM-63 file"))?;
+    let mut numbers = Numbers::new(&lines, tilt_line + 1);
+    let lamps = numbers.next("number of lamps")?;
+    let lumens_per_lamp = numbers.next("lumens per lamp")?;
+    let multiplier = numbers.positive("candela multiplier")?;
+    let n_vertical = numbers.count("number of vertical angles")?;
+    let n_horizontal = numbers.count("number of horizontal angles")?;
+    let (photometric_type, type_line) = numbers.next_with_line("photometric type")?;
+    let (units, units_line) = numbers.next_with_line("units type")?;
+    let width = numbers.next("luminous width")?;
+    let length = numbers.next("luminous length")?;
+    let height = numbers.next("luminous height")?;
+    let ballast = numbers.positive("ballast factor")?;
+    let _future_use = numbers.next("future use (ballast-lamp photometric factor)")?;
+    let input_watts = numbers.next("input watts")?;
+    match photometric_type {
+        1.0 => {}
+        t if t == 2.0 || t == 3.0 => {
+            let kind = if t == 2.0 { "B" } else { "A" };
+            return Err(ParseProblem::at(
+                type_line,
+                format!(
+                    "photometric type {kind} ({t}) is not supported: isorad reads type C \
+                     (1), the photometry of architectural luminaires"
+                ),
+            ));
+        }
+        t => {
+            return Err(ParseProblem::at(
+                type_line,
+                format!("photometric type {t}: must be 1 (C), 2 (B) or 3 (A)"),
+            ));
+        }
+    }
+    let scale = if units == 1.0 {
+        FOOT
+    } else if units == 2.0 {
+        1.0
+    } else {
+        return Err(ParseProblem::at(
+            units_line,
+            format!("units type {units}: must be 1 (feet) or 2 (metres)"),
+        ));
+    };
+    if n_vertical.saturating_mul(n_horizontal) > MAX_VALUES {
+        return Err(ParseProblem::at(
+            numbers.line(),
+            format!("{n_vertical} × {n_horizontal} candela values: more than {MAX_VALUES}"),
+        ));
+    }
+    let (vertical, vertical_line) = numbers.angles(n_vertical, "vertical")?;
+    let (horizontal, horizontal_line) = numbers.angles(n_horizontal, "horizontal")?;
+    let (first_v, last_v) = (vertical[0], vertical[n_vertical - 1]);
+    if !(first_v == 0.0 || first_v == 90.0) || !(last_v == 90.0 || last_v == 180.0) {
+        return Err(ParseProblem::at(
+            vertical_line,
+            format!(
+                "vertical angles run from {first_v}° to {last_v}°: type C files start at 0° or \
+                 90° and end at 90° or 180°"
+            ),
+        ));
+    }
+    let (first_h, last_h) = (horizontal[0], horizontal[n_horizontal - 1]);
+    let symmetry = match (first_h, last_h) {
+        (f, l) if f == 0.0 && l == 0.0 => Symmetry::Rotational,
+        (f, l) if f == 0.0 && l == 90.0 => Symmetry::Quadrant,
+        (f, l) if f == 0.0 && l == 180.0 => Symmetry::AboutC0C180,
+        (f, l) if f == 90.0 && l == 270.0 => Symmetry::AboutC90C270,
+        (f, l) if f == 0.0 && l == 360.0 => Symmetry::None,
+        (f, l) => {
+            return Err(ParseProblem::at(
+                horizontal_line,
+                format!(
+                    "horizontal angles run from {f}° to {l}°: type C files give 0, 0–90, \
+                     0–180, 90–270 or 0–360"
+                ),
+            ));
+        }
+    };
+    let factor = multiplier * ballast;
+    if !(factor.is_finite() && factor <= MAX_CANDELA) {
+        return Err(ParseProblem::at(
+            tilt_line + 2,
+            format!("candela multiplier {multiplier} × ballast factor {ballast}: out of range"),
+        ));
+    }
+    let mut planes = Vec::with_capacity(n_horizontal);
+    for &angle in &horizontal {
+        let mut plane = Vec::with_capacity(n_vertical);
+        for _ in 0..n_vertical {
+            let (value, line) = numbers.next_with_line("candela value")?;
+            if value < 0.0 {
+                return Err(ParseProblem::at(
+                    line,
+                    format!("candela {value} at horizontal angle {angle}°: negative"),
+                ));
+            }
+            if value * factor > MAX_CANDELA {
+                return Err(ParseProblem::at(
+                    line,
+                    format!(
+                        "candela {value} × multiplier {multiplier} × ballast factor {ballast}: \
+                         above {MAX_CANDELA:e} cd, not a luminaire's"
+                    ),
+                ));
+            }
+            plane.push(value * factor);
+        }
+        planes.push(plane);
+    }
+    if let Some(line) = numbers.remaining_line() {
+        return Err(ParseProblem::at(
+            line,
+            "values after the candela table: the counts do not match the data",
+        ));
+    }
+    let opening = LuminousOpening {
+        width: width * scale,
+        length: length * scale,
+        height: height * scale,
+    };
+    Ok(IesFile {
+        distribution: IntensityDistribution::from_planes(
+            symmetry,
+            &horizontal,
+            &vertical,
+            &planes,
+            opening,
+        ),
+        format,
+        keywords,
+        lumens_per_lamp,
+        lamps,
+        input_watts,
+    })
+}
+
+/// The numbers after the TILT line, each with its line.
+struct Numbers<'a> {
+    tokens: Vec<(&'a str, usize)>,
+    next: usize,
+    last_line: usize,
+}
+
+impl<'a> Numbers<'a> {
+    fn new(lines: &[&'a str], from: usize) -> Numbers<'a> {
+        let tokens = lines
+            .iter()
+            .enumerate()
+            .skip(from)
+            .flat_map(|(index, line)| {
+                line.split(|c: char| c.is_whitespace() || c == ',')
+                    .filter(|t| !t.is_empty())
+                    .map(move |t| (t, index + 1))
+            })
+            .collect();
+        Numbers {
+            tokens,
+            next: 0,
+            last_line: lines.len().max(1),
+        }
+    }
+
+    /// The line of the next value (or the last line at the end).
+    fn line(&self) -> usize {
+        self.tokens
+            .get(self.next)
+            .map_or(self.last_line, |&(_, line)| line)
+    }
+
+    fn next_with_line(&mut self, what: &str) -> Result<(f64, usize), ParseProblem> {
+        let Some(&(token, line)) = self.tokens.get(self.next) else {
+            return Err(ParseProblem::at(
+                self.last_line,
+                format!("the file ends before the {what}"),
+            ));
+        };
+        self.next += 1;
+        let value: f64 = token
+            .parse()
+            .map_err(|_| ParseProblem::at(line, format!("{what}: `{token}` is not a number")))?;
+        if !value.is_finite() {
+            return Err(ParseProblem::at(
+                line,
+                format!("{what}: {token} is not finite"),
+            ));
+        }
+        Ok((value, line))
+    }
+
+    fn next(&mut self, what: &str) -> Result<f64, ParseProblem> {
+        self.next_with_line(what).map(|(v, _)| v)
+    }
+
+    fn positive(&mut self, what: &str) -> Result<f64, ParseProblem> {
+        let (value, line) = self.next_with_line(what)?;
+        if value <= 0.0 {
+            return Err(ParseProblem::at(
+                line,
+                format!("{what} {value}: must be positive"),
+            ));
+        }
+        Ok(value)
+    }
+
+    fn count(&mut self, what: &str) -> Result<usize, ParseProblem> {
+        let (value, line) = self.next_with_line(what)?;
+        if value < 1.0 || value.fract() != 0.0 || value > MAX_ANGLES as f64 {
+            return Err(ParseProblem::at(
+                line,
+                format!("{what} {value}: must be a whole number from 1 to {MAX_ANGLES}"),
+            ));
+        }
+        Ok(value as usize)
+    }
+
+    /// `n` angles, strictly increasing, with the line of the first.
+    fn angles(&mut self, n: usize, what: &str) -> Result<(Vec<f64>, usize), ParseProblem> {
+        let first_line = self.line();
+        let mut angles = Vec::with_capacity(n);
+        for _ in 0..n {
+            let (angle, line) = self.next_with_line(&format!("{what} angle"))?;
+            if let Some(&before) = angles.last()
+                && angle <= before
+            {
+                return Err(ParseProblem::at(
+                    line,
+                    format!("{what} angles must increase: {angle}° after {before}°"),
+                ));
+            }
+            angles.push(angle);
+        }
+        Ok((angles, first_line))
+    }
+
+    /// The line of the first value left unread, if any.
+    fn remaining_line(&self) -> Option<usize> {
+        self.tokens.get(self.next).map(|&(_, line)| line)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A downlight: 0–90° in 5 vertical angles, one plane, I = 1000 cos γ
+    /// cd × multiplier 2 × ballast 0.5.
+    const DOWNLIGHT: &str = "IESNA:LM-63-2002\r\n[TEST] T1\r\n[LUMINAIRE] Downlight\r\n\
+        [MORE] second line\r\nTILT=NONE\r\n1 -1 2.0 5 1 1 2 -0.2 0.0 0.05\r\n0.5 1.0 20\r\n\
+        0 22.5 45 67.5 90\r\n0\r\n1000 923.88 707.11\r\n382.68 0\r\n";
+
+    #[test]
+    fn a_downlight_reads_with_its_keywords_and_factors() {
+        let file = parse_ies(DOWNLIGHT).unwrap();
+        assert_eq!(file.format, "IESNA:LM-63-2002");
+        assert_eq!(file.keywords[1].0, "LUMINAIRE");
+        assert_eq!(file.keywords[1].1, "Downlight\nsecond line");
+        let d = &file.distribution;
+        // candela × 2 × 0.5, every C.
+        assert!((d.intensity(0.0, 0.0) - 1000.0).abs() < 1e-9);
+        assert!((d.intensity(217.0, 45.0) - 707.11).abs() < 1e-9);
+        assert_eq!(d.intensity(0.0, 95.0), 0.0);
+        assert!((d.opening.width + 0.2).abs() < 1e-12);
+        // Φ = 2π Σ ∫ I(γ) sin γ dγ of the interpolant, linear on each
+        // interval: ∫ (a + b γ) sin γ dγ = [b sin γ − (a + b γ) cos γ].
+        let table = [1000.0, 923.88, 707.11, 382.68, 0.0];
+        let mut expected = 0.0;
+        for k in 0..4 {
+            let (g0, g1) = (
+                (22.5 * k as f64).to_radians(),
+                (22.5 * (k + 1) as f64).to_radians(),
+            );
+            let b = (table[k + 1] - table[k]) / (g1 - g0);
+            let a = table[k] - b * g0;
+            let primitive = |g: f64| b * g.sin() - (a + b * g) * g.cos();
+            expected += 2.0 * std::f64::consts::PI * (primitive(g1) - primitive(g0));
+        }
+        let flux = d.flux(64);
+        assert!((flux / expected - 1.0).abs() < 1e-4, "{flux} vs {expected}");
+    }
+
+    #[test]
+    fn feet_are_converted_and_1986_files_need_no_format_line() {
+        let text = "Some free text\nTILT=NONE\n1 1000 1 2 1 1 1 1 2 0\n1 0 10\n0 90\n0\n10 5\n";
+        let file = parse_ies(text).unwrap();
+        assert_eq!(file.format, "LM-63-1986");
+        assert!((file.distribution.opening.length - 2.0 * FOOT).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bad_files_name_their_line_and_fault() {
+        let cases = [
+            ("[TEST] x\n1 2 3\n", None, "no TILT= line"),
+            (
+                "IESNA:LM-63-2002\nTILT=INCLUDE\n1\n",
+                Some(2),
+                "TILT=INCLUDE",
+            ),
+            ("TILT=lamp.tlt\n", Some(1), "another file"),
+            (
+                "TILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 0\n0 45\n",
+                Some(4),
+                "ends before",
+            ),
+            (
+                "TILT=NONE\n1 -1 1 2 1 2 2 0 0 0\n1 1 0\n0 90\n0\n1 1\n",
+                Some(2),
+                "type B",
+            ),
+            (
+                "TILT=NONE\n1 -1 1 2 1 3 2 0 0 0\n1 1 0\n0 90\n0\n1 1\n",
+                Some(2),
+                "type A",
+            ),
+            (
+                "TILT=NONE\n1 -1 1 2 1 1 2 0 0 0\n1 1 0\n0 90\n0\n1 -5\n",
+                Some(6),
+                "negative",
+            ),
+            (
+                "TILT=NONE\n1 -1 1 2 1 1 2 0 0 0\n1 1 0\n0 90\n0\n1 NaN\n",
+                Some(6),
+                "not finite",
+            ),
+            (
+                "TILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 0\n0 50 40\n0\n1 1 1\n",
+                Some(4),
+                "increase",
+            ),
+            (
+                "TILT=NONE\n1 -1 1 2 1 1 2 0 0 0\n1 1 0\n0 90\n0\n1 1 7\n",
+                Some(6),
+                "after the",
+            ),
+            (
+                "TILT=NONE\n1 -1 1 2 1 1 2 0 0 0\n1 1 0\n10 90\n0\n1 1\n",
+                Some(4),
+                "vertical",
+            ),
+            (
+                "TILT=NONE\n1 -1 1 2 2 1 2 0 0 0\n1 1 0\n0 90\n0 45\n1 1 1 1\n",
+                Some(5),
+                "horizontal",
+            ),
+            (
+                "TILT=NONE\n1 -1 0 2 1 1 2 0 0 0\n1 1 0\n0 90\n0\n1 1\n",
+                Some(2),
+                "multiplier",
+            ),
+            (
+                "TILT=NONE\n1 -1 1 2.5 1 1 2 0 0 0\n",
+                Some(2),
+                "whole number",
+            ),
+            (
+                "TILT=NONE\n1 -1 1 2 1 1 7 0 0 0\n1 1 0\n0 90\n0\n1 1\n",
+                Some(2),
+                "units",
+            ),
+            ("TILT=NONE\n1 -1 1 x\n", Some(2), "not a number"),
+        ];
+        for (text, line, fault) in cases {
+            let problem = parse_ies(text).unwrap_err();
+            assert_eq!(problem.line, line, "{text:?}: {problem:?}");
+            assert!(
+                problem.message.contains(fault),
+                "{text:?}: {}",
+                problem.message
+            );
+        }
+    }
+}

@@ -1,0 +1,108 @@
+//! Photometry: real luminaires' intensity distributions, read from IES
+//! LM-63 and EULUMDAT files into one [`IntensityDistribution`] I(C, γ) in
+//! candela.
+//!
+//! isorad's photometric unit is Radiance's white efficacy: 179 lm/W, so
+//! 1 cd is 1/179 W/sr of isorad's radiometric grey (see the README).
+//!
+//! We read both formats ourselves. `lidrs` (MIT) reads them too, but, as
+//! checked for its 0.2 releases: it predates LM-63-2019, converts only type C
+//! files to its photometric web, and brings about 3.5 MB of dependencies;
+//! `eulumdat` is AGPL-3.0, which isorad's licence cannot take.
+
+mod distribution;
+mod eulumdat;
+mod ies;
+
+use std::path::Path;
+
+pub use distribution::{IntensityDistribution, LuminousOpening, Symmetry};
+pub use eulumdat::{EulumdatFile, parse_eulumdat};
+pub use ies::{IesFile, ParseProblem, parse_ies};
+
+use crate::error::{Error, Result};
+
+/// Lumens per watt of isorad's radiometric grey: a radiance of
+/// 1 W/(m²·sr) is 179 cd/m², an irradiance of 1 W/m² is 179 lx.
+pub const LUMENS_PER_WATT: f64 = 179.0;
+
+/// A photometric file as read: either format, with what it says of itself.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PhotometricFile {
+    /// An IES LM-63 file.
+    Ies(IesFile),
+    /// An EULUMDAT file.
+    Eulumdat(EulumdatFile),
+}
+
+impl PhotometricFile {
+    /// The intensity distribution, candela.
+    #[must_use]
+    pub fn distribution(&self) -> &IntensityDistribution {
+        match self {
+            PhotometricFile::Ies(file) => &file.distribution,
+            PhotometricFile::Eulumdat(file) => &file.distribution,
+        }
+    }
+
+    /// What the file says of itself, as (field, value) pairs for a report:
+    /// the format and, for LM-63, its keywords; for EULUMDAT, the company,
+    /// luminaire, lamp flux and light output ratio.
+    #[must_use]
+    pub fn description(&self) -> Vec<(String, String)> {
+        match self {
+            PhotometricFile::Ies(file) => {
+                let mut fields = vec![("format".to_owned(), file.format.clone())];
+                fields.extend(file.keywords.iter().cloned());
+                let lumens = if file.lumens_per_lamp < 0.0 {
+                    "absolute photometry".to_owned()
+                } else {
+                    format!("{} lm per lamp", file.lumens_per_lamp)
+                };
+                fields.push(("lamps".to_owned(), format!("{} ({lumens})", file.lamps)));
+                fields.push(("input watts".to_owned(), file.input_watts.to_string()));
+                fields
+            }
+            PhotometricFile::Eulumdat(file) => vec![
+                ("format".to_owned(), "EULUMDAT".to_owned()),
+                ("company".to_owned(), file.company.clone()),
+                ("luminaire".to_owned(), file.luminaire.clone()),
+                ("lamp flux".to_owned(), format!("{} lm", file.lamp_flux)),
+                (
+                    "light output ratio".to_owned(),
+                    format!("{} %", file.light_output_ratio),
+                ),
+            ],
+        }
+    }
+}
+
+/// Reads a photometric file: EULUMDAT for `.ldt` and `.eul`, IES LM-63
+/// otherwise.
+///
+/// # Errors
+/// [`Error::Photometry`] naming the file, and the line where the fault
+/// lies, when it cannot be read or is not a file isorad can use.
+pub fn read_photometric_file(path: &Path) -> Result<PhotometricFile> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Photometry {
+        path: path.to_owned(),
+        line: None,
+        message: format!("cannot be read: {source}"),
+    })?;
+    // Photometric files are ASCII or Latin-1 (manufacturers' names); bytes
+    // beyond ASCII only ever sit in text fields.
+    let text: String = bytes.iter().map(|&b| char::from(b)).collect();
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let parsed = match extension.as_deref() {
+        Some("ldt" | "eul") => parse_eulumdat(&text).map(PhotometricFile::Eulumdat),
+        _ => parse_ies(&text).map(PhotometricFile::Ies),
+    };
+    parsed.map_err(|problem| Error::Photometry {
+        path: path.to_owned(),
+        line: problem.line,
+        message: problem.message,
+    })
+}
