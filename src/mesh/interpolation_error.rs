@@ -6,6 +6,10 @@ use rayon::prelude::*;
 use super::constrained::PlaneTriangulation;
 use crate::scene::polygon_contains;
 
+/// Points below this fraction of the field's maximum are left out of the
+/// mean relative error (as the golden-image tests leave out dark pixels).
+const MEAN_FLOOR: f64 = 0.01;
+
 /// The error of a mesh's Gouraud (piecewise-linear) interpolation against
 /// the exact field, over a dense uniform grid of points inside the polygon.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -15,6 +19,10 @@ pub struct InterpolationError {
     pub rms_rel_error: f64,
     /// max |B_h − B| / max B.
     pub max_rel_error: f64,
+    /// mean |B_h − B| / B over the points where B is above 1 % of its
+    /// maximum: the relative difference a viewer sees in a tone-mapped
+    /// image, which the RMS figure hides in the dim periphery.
+    pub mean_rel_error: f64,
     /// Grid points inside the polygon (and inside a triangle) that were compared.
     pub samples: usize,
 }
@@ -66,6 +74,8 @@ impl ErrorGrid {
         values: &[f64],
     ) -> InterpolationError {
         let interpolated = self.interpolate(triangulation, values);
+        let peak = self.exact.iter().flatten().copied().fold(0.0, f64::max);
+        let (mut relative_sum, mut relative_count) = (0.0, 0usize);
         let (mut error_sq, mut signal_sq, mut max_error, mut max_value, mut samples) =
             (0.0, 0.0, 0.0f64, 0.0f64, 0);
         for (shown, truth) in interpolated.iter().zip(&self.exact) {
@@ -76,6 +86,10 @@ impl ErrorGrid {
             signal_sq += truth * truth;
             max_error = max_error.max((shown - truth).abs());
             max_value = max_value.max(truth.abs());
+            if *truth > MEAN_FLOOR * peak {
+                relative_sum += (shown - truth).abs() / truth;
+                relative_count += 1;
+            }
             samples += 1;
         }
         InterpolationError {
@@ -86,6 +100,11 @@ impl ErrorGrid {
             },
             max_rel_error: if max_value > 0.0 {
                 max_error / max_value
+            } else {
+                0.0
+            },
+            mean_rel_error: if relative_count > 0 {
+                relative_sum / relative_count as f64
             } else {
                 0.0
             },
@@ -141,4 +160,47 @@ pub fn interpolation_error(
     grid: usize,
 ) -> InterpolationError {
     ErrorGrid::new(outline, grid, exact).measure(triangulation, values)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_ten_percent_high_everywhere_err_by_ten_percent_on_average() {
+        // B = 1 + x + 99 y on the unit square (1 to 101: every point above
+        // 1 % of the maximum), two triangles carrying 1.1 B at the corners:
+        // the interpolant is 1.1 B exactly, so |B_h − B| / B = 0.1.
+        let square = [DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y];
+        let triangulation = PlaneTriangulation {
+            points: square.to_vec(),
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+        };
+        let field = |p: DVec2| 1.0 + p.x + 99.0 * p.y;
+        let values: Vec<f64> = square.iter().map(|&p| 1.1 * field(p)).collect();
+        let error = interpolation_error(&square, &triangulation, &values, &field, 64);
+        assert!((error.mean_rel_error - 0.1).abs() < 1e-9, "{error:?}");
+        // The RMS figure weighs the bright top: also 0.1 here, as the error
+        // is proportional everywhere.
+        assert!((error.rms_rel_error - 0.1).abs() < 1e-9, "{error:?}");
+    }
+
+    #[test]
+    fn the_mean_relative_error_leaves_out_points_below_one_percent_of_the_peak() {
+        // B = y² · 1000 + 0.001: the bottom tenth of the square is below 1 %
+        // of the peak; the corners carry B + 0.5, an error that is huge
+        // relative to the dark bottom and small at the top.
+        let square = [DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y];
+        let triangulation = PlaneTriangulation {
+            points: square.to_vec(),
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+        };
+        let field = |p: DVec2| 1000.0 * p.y * p.y + 0.001;
+        let values: Vec<f64> = square.iter().map(|&p| field(p) + 0.5).collect();
+        let error = interpolation_error(&square, &triangulation, &values, &field, 100);
+        // The interpolant is 1000 y + 0.501; over y in (0.1, 1], where B is
+        // above 10, the mean of (y − y²)/y² is (ln 10 − 0.9)/0.9 = 1.558.
+        // The points below (relative errors up to 500) are left out.
+        assert!((error.mean_rel_error - 1.558).abs() < 0.05, "{error:?}");
+    }
 }

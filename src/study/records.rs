@@ -82,7 +82,7 @@ impl fmt::Display for MeshSpec {
 /// Serialized as one record of [`write_json`]: `receiver`, `mesher`,
 /// `params` (`{"n"}` or `{"directions", "levels", "newton_iterations",
 /// "shadow_points"}`), `vertices`, `triangles`, `rms_rel_error`,
-/// `max_rel_error`, `seconds`.
+/// `max_rel_error`, `mean_rel_error`, `seconds`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MeshRecord {
     /// The receiver's name (its OBJ object).
@@ -103,6 +103,8 @@ pub struct MeshRecord {
     pub rms_rel_error: f64,
     /// max |B_h − B| / max B over the receiver.
     pub max_rel_error: f64,
+    /// mean |B_h − B| / B where B is above 1 % of its maximum.
+    pub mean_rel_error: f64,
     /// Seconds to build the mesh (layout and triangulation).
     pub seconds: f64,
 }
@@ -150,6 +152,7 @@ impl serde::Serialize for MeshRecord {
             triangles: usize,
             rms_rel_error: f64,
             max_rel_error: f64,
+            mean_rel_error: f64,
             seconds: f64,
         }
         let params = match self.spec {
@@ -169,6 +172,7 @@ impl serde::Serialize for MeshRecord {
             triangles: self.triangle_count(),
             rms_rel_error: self.rms_rel_error,
             max_rel_error: self.max_rel_error,
+            mean_rel_error: self.mean_rel_error,
             seconds: self.seconds,
         }
         .serialize(serializer)
@@ -221,6 +225,7 @@ impl ReceiverComparison {
             values,
             rms_rel_error: error.rms_rel_error,
             max_rel_error: error.max_rel_error,
+            mean_rel_error: error.mean_rel_error,
             seconds: built.seconds,
         });
     }
@@ -265,11 +270,24 @@ impl ReceiverComparison {
     /// their measurements (None outside their range).
     #[must_use]
     pub fn vertices_for_error(&self, of: impl Fn(&MeshSpec) -> bool, rms: f64) -> Option<f64> {
+        self.vertices_for_measure(of, |r| r.rms_rel_error, rms)
+    }
+
+    /// [`ReceiverComparison::vertices_for_error`] for any error `measure`
+    /// of a record (such as the mean relative error) reaching `target`.
+    #[must_use]
+    pub fn vertices_for_measure(
+        &self,
+        of: impl Fn(&MeshSpec) -> bool,
+        measure: impl Fn(&MeshRecord) -> f64,
+        target: f64,
+    ) -> Option<f64> {
+        let rms = target;
         let mut points: Vec<(f64, f64)> = self
             .records
             .iter()
-            .filter(|r| of(&r.spec) && r.rms_rel_error > 0.0)
-            .map(|r| (r.vertex_count() as f64, r.rms_rel_error))
+            .filter(|r| of(&r.spec) && measure(r) > 0.0)
+            .map(|r| (r.vertex_count() as f64, measure(r)))
             .collect();
         points.sort_by(|a, b| a.0.total_cmp(&b.0));
         // The lower envelope: error must fall as vertices grow.
@@ -294,7 +312,10 @@ pub fn write_json(comparisons: &[ReceiverComparison], path: &Path) -> Result<()>
     let records: Vec<&MeshRecord> = comparisons.iter().flat_map(|c| &c.records).collect();
     // JSON has no NaN: serde_json would write `null` where a number belongs.
     if let Some(bad) = records.iter().find(|r| {
-        !(r.rms_rel_error.is_finite() && r.max_rel_error.is_finite() && r.seconds.is_finite())
+        !(r.rms_rel_error.is_finite()
+            && r.max_rel_error.is_finite()
+            && r.mean_rel_error.is_finite()
+            && r.seconds.is_finite())
     }) {
         return Err(Error::Output {
             path: path.to_path_buf(),
@@ -336,6 +357,7 @@ mod tests {
             values: vec![1.0; 4],
             rms_rel_error: 0.125,
             max_rel_error: 0.5,
+            mean_rel_error: 0.0625,
             seconds: 0.25,
         }
     }
@@ -391,6 +413,7 @@ mod tests {
             "triangles": 2,
             "rms_rel_error": 0.125,
             "max_rel_error": 0.5,
+            "mean_rel_error": 0.0625,
             "seconds": 0.25,
         });
         let with = |mesher: &str, params: Value| {

@@ -268,6 +268,7 @@ fn compare_writes_records_pictures_and_a_plot() {
             "triangles",
             "rms_rel_error",
             "max_rel_error",
+            "mean_rel_error",
             "seconds",
         ] {
             assert!(!record[field].is_null(), "{field} missing in {record}");
@@ -282,10 +283,9 @@ fn compare_writes_records_pictures_and_a_plot() {
     );
     assert!(contour["vertices"].as_u64() < square30["vertices"].as_u64());
     assert!(dir.path().join("c.png").is_file() && dir.path().join("c.svg").is_file());
-    assert!(
-        String::from_utf8_lossy(&out.stdout)
-            .contains("the contour meshes' vertices for the same RMS error")
-    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("the contour meshes' vertices for the same RMS error"));
+    assert!(stdout.contains("for the same mean relative error"));
 }
 
 #[test]

@@ -10,8 +10,8 @@ use isorad::{
     load_scene,
     scene::Visibility,
     study::{
-        CompareSettings, MeshSpec, ReceiverComparison, compare_receiver, panels_for_figure,
-        write_json, write_loglog_plot, write_mesh_panels,
+        CompareSettings, MeshRecord, MeshSpec, ReceiverComparison, compare_receiver,
+        panels_for_figure, write_json, write_loglog_plot, write_mesh_panels,
     },
 };
 
@@ -154,46 +154,65 @@ fn per_receiver(path: &Path, receiver: &str, several: bool) -> PathBuf {
     path.with_file_name(format!("{stem}_{safe}{extension}"))
 }
 
-/// A table of the records, and the vertex ratio at equal error.
+/// One error figure of a measured mesh.
+type ErrorMeasure = fn(&MeshRecord) -> f64;
+
+/// A table of the records, and the vertex ratios at equal error: RMS, and
+/// the mean relative error a tone-mapped picture shows.
 fn print_comparison(comparison: &ReceiverComparison) {
     println!("receiver {}:", comparison.receiver);
     println!(
-        "  {:<8} {:>7} {:>9} {:>10} {:>12} {:>12} {:>9}",
-        "mesher", "params", "vertices", "triangles", "rms_rel_err", "max_rel_err", "seconds"
+        "  {:<8} {:>7} {:>9} {:>10} {:>12} {:>12} {:>13} {:>9}",
+        "mesher",
+        "params",
+        "vertices",
+        "triangles",
+        "rms_rel_err",
+        "max_rel_err",
+        "mean_rel_err",
+        "seconds"
     );
     for record in &comparison.records {
         println!(
-            "  {:<8} {:>7} {:>9} {:>10} {:>12.5} {:>12.5} {:>9.4}",
+            "  {:<8} {:>7} {:>9} {:>10} {:>12.5} {:>12.5} {:>13.5} {:>9.4}",
             record.spec.mesher(),
             record.spec.size(),
             record.vertex_count(),
             record.triangle_count(),
             record.rms_rel_error,
             record.max_rel_error,
+            record.mean_rel_error,
             record.seconds
         );
     }
-    // For each contour mesh, the square mesh vertices the same error needs.
-    let ratios: Vec<f64> = comparison
-        .records
-        .iter()
-        .filter(|r| r.spec.is_contour())
-        .filter_map(|r| {
-            comparison
-                .vertices_for_error(MeshSpec::is_square, r.rms_rel_error)
-                .map(|v| v / r.vertex_count() as f64)
-        })
-        .collect();
-    if ratios.is_empty() {
-        println!("  (no contour mesh falls within the square meshes' error range)");
-    } else {
-        let mut sorted = ratios.clone();
-        sorted.sort_by(f64::total_cmp);
-        println!(
-            "  square meshes need {:.1}× (median; {:.1}× to {:.1}×) the contour meshes' vertices for the same RMS error",
-            sorted[sorted.len() / 2],
-            sorted[0],
-            sorted[sorted.len() - 1]
-        );
+    let measures: [(&str, ErrorMeasure); 2] = [
+        ("RMS error", |r| r.rms_rel_error),
+        ("mean relative error (where B > 1 % of its maximum)", |r| {
+            r.mean_rel_error
+        }),
+    ];
+    for (name, measure) in measures {
+        // For each contour mesh, the square mesh vertices the same error needs.
+        let mut ratios: Vec<f64> = comparison
+            .records
+            .iter()
+            .filter(|r| r.spec.is_contour())
+            .filter_map(|r| {
+                comparison
+                    .vertices_for_measure(MeshSpec::is_square, measure, measure(r))
+                    .map(|v| v / r.vertex_count() as f64)
+            })
+            .collect();
+        if ratios.is_empty() {
+            println!("  (no contour mesh falls within the square meshes' range of {name})");
+        } else {
+            ratios.sort_by(f64::total_cmp);
+            println!(
+                "  square meshes need {:.1}× (median; {:.1}× to {:.1}×) the contour meshes' vertices for the same {name}",
+                ratios[ratios.len() / 2],
+                ratios[0],
+                ratios[ratios.len() - 1]
+            );
+        }
     }
 }

@@ -125,6 +125,18 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
         rays as f64 / solve_seconds.max(1e-9) / 1e6,
         100.0 * solver.unshot_fraction()
     );
+    if let Some(mib) = peak_memory_mib() {
+        eprintln!("peak memory: {mib:.0} MiB (resident)");
+    }
+}
+
+/// The process's peak resident memory (VmHWM in /proc/self/status), MiB;
+/// `None` where the system does not report it.
+fn peak_memory_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
 }
 
 /// Refuses, before any solving, outputs that cannot be written: a missing
