@@ -154,6 +154,50 @@ def table():
           'up = [0.0, 1.0, 0.0]\nvfov_deg = 55.0\nwidth = 512\nheight = 384\n')
 
 
+def downlights():
+    """A room lit by two photometric downlights (an IES file, no emitting faces)."""
+    folder = os.path.join(ROOT, "downlights")
+    os.makedirs(folder, exist_ok=True)
+    obj = Obj()
+    X, Y, Z = 5.0, 2.8, 4.0
+    obj.face("floor", "floor", [(0, 0, 0), (0, 0, Z), (X, 0, Z), (X, 0, 0)])
+    obj.face("ceiling", "white", [(0, Y, 0), (X, Y, 0), (X, Y, Z), (0, Y, Z)])
+    obj.face("back_wall", "white", [(0, 0, Z), (0, Y, Z), (X, Y, Z), (X, 0, Z)])
+    obj.face("front_wall", "white", [(0, 0, 0), (X, 0, 0), (X, Y, 0), (0, Y, 0)])
+    obj.face("left_wall", "white", [(0, 0, 0), (0, Y, 0), (0, Y, Z), (0, 0, Z)])
+    obj.face("right_wall", "white", [(X, 0, 0), (X, 0, Z), (X, Y, Z), (X, Y, 0)])
+    obj.box("table_top", "wood", (1.8, 0.72, 1.6), (3.2, 0.75, 2.4), bottom=True)
+    for dx in (0.05, 1.3):
+        for dz in (0.05, 0.7):
+            obj.box("table_leg", "wood", (1.8 + dx, 0.0, 1.6 + dz), (1.85 + dx, 0.72, 1.65 + dz))
+    obj.write(os.path.join(folder, "downlights.obj"),
+              "# A 5 x 2.8 x 4 m room with a table, lit only by two photometric downlights\n"
+              "# (downlights.toml's [[luminaire]] tables, downlight.ies). Metres.",
+              "downlights.mtl")
+    write(os.path.join(folder, "downlights.mtl"),
+          "newmtl floor\nKd 0.3 0.3 0.3\n\nnewmtl white\nKd 0.75 0.75 0.75\n\n"
+          "newmtl wood\nKd 0.5 0.33 0.2\n")
+    # An LM-63-2002 downlight: quadrant symmetric, I = 1200 cos^1.5 g (1 + 0.2 cos 2C) cd.
+    vertical = [10 * k for k in range(10)]
+    horizontal = [0, 30, 60, 90]
+    lines = ["IESNA:LM-63-2002", "[TEST] isorad example", "[MANUFAC] isorad",
+             "[LUMINAIRE] Downlight, slightly elongated beam", "TILT=NONE",
+             f"1 -1 1.0 {len(vertical)} {len(horizontal)} 1 2 0.15 0.15 0.0", "1.0 1.0 18",
+             " ".join(str(a) for a in vertical), " ".join(str(a) for a in horizontal)]
+    for c in horizontal:
+        values = [1200 * math.cos(math.radians(g)) ** 1.5 * (1 + 0.2 * math.cos(math.radians(2 * c)))
+                  for g in vertical]
+        lines.append(" ".join(f"{max(v, 0.0):.2f}" for v in values))
+    write(os.path.join(folder, "downlight.ies"), "\n".join(lines) + "\n")
+    luminaire = ('[[luminaire]]\nies = "downlight.ies"\nposition = [{x}, 2.75, 2.0]\n'
+                 'aim = [0.0, -1.0, 0.0]\nc0 = [1.0, 0.0, 0.0]\ncolor = [1.0, 0.92, 0.82]\n')
+    write(os.path.join(folder, "downlights.toml"),
+          '# A room lit by two IES downlights (isorad scene file).\n'
+          'obj = "downlights.obj"\n\n[camera]\nposition = [0.4, 1.6, 0.3]\nlook_at = [3.0, 0.5, 2.6]\n'
+          'up = [0.0, 1.0, 0.0]\nvfov_deg = 65.0\nwidth = 640\nheight = 480\n\n'
+          + luminaire.format(x=1.5) + "\n" + luminaire.format(x=3.5))
+
+
 def newell(points):
     """Newell's normal of a polygon (not normalised)."""
     n = [0.0, 0.0, 0.0]
@@ -355,4 +399,5 @@ if __name__ == "__main__":
     seed_material()
     room()
     table()
+    downlights()
     office()

@@ -8,7 +8,8 @@
 //! one blurs the shadow over its whole width; with element edges along them,
 //! the linear interpolation between vertices follows the penumbra instead.
 //!
-//! For each luminaire corner v in front of the receiver and each occluder
+//! For each luminaire corner v in front of the receiver (a photometric
+//! luminaire's centre counts as one corner) and each occluder
 //! polygon in the shaft between them, every silhouette edge ab of the
 //! occluder seen from v (an edge whose neighbour across it faces v the other
 //! way, or that has none) is cut to the part in front of the receiver, below
@@ -97,17 +98,19 @@ impl EdgeNeighbours {
     }
 }
 
-/// The shadow boundaries that `luminaires` cast on `receiver` through the
-/// scene's other surfaces, in the receiver's plane coordinates: merged where
-/// closer than `limits.min_feature`, the longest `limits.max_per_receiver`
-/// kept. Segments running along the receiver's outline are left out (its
-/// edges are element edges already).
+/// The shadow boundaries that `luminaires` and the point sources at
+/// `points` (photometric luminaires' centres) cast on `receiver` through
+/// the scene's other surfaces, in the receiver's plane coordinates: merged
+/// where closer than `limits.min_feature`, the longest
+/// `limits.max_per_receiver` kept. Segments running along the receiver's
+/// outline are left out (its edges are element edges already).
 #[must_use]
 pub fn shadow_boundaries(
     scene: &Scene,
     neighbours: &EdgeNeighbours,
     receiver: SurfaceId,
     luminaires: &[Luminaire],
+    points: &[DVec3],
     limits: BoundaryLimits,
 ) -> Vec<[DVec2; 2]> {
     let target = scene.surface(receiver);
@@ -130,24 +133,79 @@ pub fn shadow_boundaries(
         if let Some(horizon) = horizon(frame, &outline, luminaire) {
             found.push(horizon);
         }
-        let corners: Vec<DVec3> = luminaire_corners(scene, luminaire)
-            .into_iter()
+        let source = Source {
+            corners: luminaire_corners(scene, luminaire),
+            plane: Some((luminaire.centre, luminaire.normal)),
+            surfaces: &luminaire.surfaces,
+        };
+        source.cast(scene, neighbours, receiver, tolerance, &mut found);
+    }
+    for &point in points {
+        let source = Source {
+            corners: vec![point],
+            plane: None,
+            surfaces: &[],
+        };
+        source.cast(scene, neighbours, receiver, tolerance, &mut found);
+    }
+    found.retain(|&[a, b]| {
+        let along_outline = [a, b, a.lerp(b, 0.5)]
+            .iter()
+            .all(|&p| distance_to_boundary(&outline, p) <= limits.min_feature);
+        a.distance(b) >= limits.min_feature && !along_outline
+    });
+    merge_boundaries(found, limits)
+}
+
+/// A light that casts shadows: the corners they are cast from, the plane
+/// in front of which it emits (none for a point source, which may light
+/// every direction), and its own surfaces, which cast nothing.
+struct Source<'a> {
+    corners: Vec<DVec3>,
+    plane: Option<(DVec3, DVec3)>,
+    surfaces: &'a [SurfaceId],
+}
+
+impl Source<'_> {
+    /// Whether `p` lies where the source sends light.
+    fn in_front(&self, p: DVec3, tolerance: f64) -> bool {
+        self.plane
+            .is_none_or(|(centre, normal)| (p - centre).dot(normal) > tolerance)
+    }
+
+    /// Pushes onto `found` the receiver-plane shadows of every occluder's
+    /// silhouette edges from each of the source's corners in front of the
+    /// receiver, clipped to its outline.
+    fn cast(
+        &self,
+        scene: &Scene,
+        neighbours: &EdgeNeighbours,
+        receiver: SurfaceId,
+        tolerance: f64,
+        found: &mut Vec<[DVec2; 2]>,
+    ) {
+        let target = scene.surface(receiver);
+        let frame = target.frame();
+        let outline = target.plane_vertices();
+        let corners: Vec<DVec3> = self
+            .corners
+            .iter()
+            .copied()
             .filter(|&v| frame.height(v) > tolerance)
             .collect();
         if corners.is_empty() {
-            continue;
+            return;
         }
+        let highest = corners.iter().map(|&v| frame.height(v)).fold(0.0, f64::max);
         for (id, occluder) in scene.surfaces_with_ids() {
-            if id == receiver || luminaire.surfaces.contains(&id) {
+            if id == receiver || self.surfaces.contains(&id) {
                 continue;
             }
             let polygon = occluder.occluder_vertices();
-            let heights: Vec<f64> = polygon.iter().map(|&p| frame.height(p)).collect();
-            let highest = corners.iter().map(|&v| frame.height(v)).fold(0.0, f64::max);
-            let between = heights.iter().any(|&h| h > tolerance && h < highest)
-                && polygon
-                    .iter()
-                    .any(|&p| (p - luminaire.centre).dot(luminaire.normal) > tolerance);
+            let between = polygon.iter().any(|&p| {
+                let h = frame.height(p);
+                h > tolerance && h < highest
+            }) && polygon.iter().any(|&p| self.in_front(p, tolerance));
             if !between || !in_shaft(frame, &outline, &corners, polygon, tolerance) {
                 continue;
             }
@@ -166,7 +224,7 @@ pub fn shadow_boundaries(
                     if !silhouette {
                         continue;
                     }
-                    let Some(segment) = project_edge(frame, luminaire, v, [a, b]) else {
+                    let Some(segment) = project_edge(frame, self.plane, v, [a, b]) else {
                         continue;
                     };
                     if let Some(clipped) = clip_segment_to_polygon(segment, &outline) {
@@ -176,13 +234,6 @@ pub fn shadow_boundaries(
             }
         }
     }
-    found.retain(|&[a, b]| {
-        let along_outline = [a, b, a.lerp(b, 0.5)]
-            .iter()
-            .all(|&p| distance_to_boundary(&outline, p) <= limits.min_feature);
-        a.distance(b) >= limits.min_feature && !along_outline
-    });
-    merge_boundaries(found, limits)
 }
 
 /// The luminaire's horizon on the receiver: the line where the luminaire's
@@ -262,10 +313,11 @@ fn in_shaft(
 
 /// The shadow of edge ab cast from corner v on the receiver's plane: the
 /// part of ab in front of the receiver, below v and in front of the
-/// luminaire, projected from v. `None` when no part is.
+/// source's `plane` (centre, normal) if it has one, projected from v.
+/// `None` when no part is.
 fn project_edge(
     frame: &PlaneFrame,
-    luminaire: &Luminaire,
+    plane: Option<(DVec3, DVec3)>,
     v: DVec3,
     [a, b]: [DVec3; 2],
 ) -> Option<[DVec2; 2]> {
@@ -284,10 +336,9 @@ fn project_edge(
     let (ha, hb) = (frame.height(a), frame.height(b));
     keep(ha, hb);
     keep(MAX_HEIGHT_FRACTION * hv - ha, MAX_HEIGHT_FRACTION * hv - hb);
-    keep(
-        (a - luminaire.centre).dot(luminaire.normal),
-        (b - luminaire.centre).dot(luminaire.normal),
-    );
+    if let Some((centre, normal)) = plane {
+        keep((a - centre).dot(normal), (b - centre).dot(normal));
+    }
     if hi <= lo {
         return None;
     }
@@ -362,7 +413,14 @@ mod tests {
     fn boundaries_on_floor(scene: &Scene) -> Vec<[DVec2; 2]> {
         let neighbours = EdgeNeighbours::new(scene);
         let lights = luminaires(scene);
-        shadow_boundaries(scene, &neighbours, SurfaceId::new(0), &lights, limits())
+        shadow_boundaries(
+            scene,
+            &neighbours,
+            SurfaceId::new(0),
+            &lights,
+            &[],
+            limits(),
+        )
     }
 
     /// A horizontal plate, 1 m wide, at height 1, facing up (or down).

@@ -126,7 +126,7 @@ pub(crate) fn check_not_empty(path: &Path, scene: &Scene) -> Result<()> {
         return Err(empty("the scene has no usable faces"));
     }
     let emits = |s: &Surface| scene.material_of(s).is_emitter();
-    if !scene.surfaces.iter().any(emits) {
+    if !scene.surfaces.iter().any(emits) && scene.luminaires.is_empty() {
         return Err(empty(
             "the scene has no emitter: no face uses a material with a positive `Ke`",
         ));

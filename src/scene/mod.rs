@@ -3,6 +3,7 @@
 mod build;
 mod camera;
 mod load;
+mod luminaire;
 mod material;
 pub(crate) mod plane_polygon;
 pub(crate) mod polygon;
@@ -18,6 +19,7 @@ pub use load::{
     LoadSettings, LoadedScene, MergeReport, ProbePoint, builtin_names, load_obj, load_probe_points,
     load_scene, load_scene_file, load_scene_with, merge_coplanar_faces, parse_probe_points,
 };
+pub use luminaire::PhotometricLuminaire;
 pub use material::Material;
 pub(crate) use plane_polygon::{
     clip_segment_to_polygon, distance_to_boundary, distance_to_segment, polygon_contains,
@@ -49,6 +51,9 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// The camera, if the scene defines one.
     pub camera: Option<Camera>,
+    /// Luminaires from photometric files (a scene file's `[[luminaire]]`),
+    /// lighting the scene besides its emitting faces.
+    pub luminaires: Vec<PhotometricLuminaire>,
     /// What the loader repaired or skipped.
     pub warnings: Vec<Warning>,
 }

@@ -60,8 +60,10 @@ pub struct Solver {
     /// The rays the ambient term gathers the unshot light along, cast on
     /// first use.
     ambient_rays: Mutex<AmbientRays>,
-    /// The largest power a single patch emits (sum of channels): the scale
-    /// for the number of samples a shot gets.
+    /// Whether each of the scene's photometric luminaires has shot.
+    luminaire_shot: Vec<bool>,
+    /// The largest power a single patch or photometric luminaire emits (sum
+    /// of channels): the scale for the number of samples a shot gets.
     reference_power: f64,
     shots: usize,
     rays: u64,
@@ -123,8 +125,15 @@ impl Solver {
         let radiosity: Vec<Rgb> = mesh.vertices.iter().map(|v| emitted(v.surface)).collect();
         let unshot: Vec<Rgb> = mesh.patches.iter().map(|p| emitted(p.surface)).collect();
         let powers = mesh.patches.iter().zip(&unshot).map(|(p, b)| *b * p.area);
-        let emitted_power = powers.clone().sum::<Rgb>();
-        let reference_power = powers.map(|p| p.element_sum()).fold(0.0, f64::max);
+        let emitted_power =
+            powers.clone().sum::<Rgb>() + scene.luminaires.iter().map(|l| l.power()).sum::<Rgb>();
+        let luminaire_shot = vec![false; scene.luminaires.len()];
+        // Photometric luminaires count as emitters: a room lit only by them
+        // scales its shots' samples by their power.
+        let reference_power = powers
+            .map(|p| p.element_sum())
+            .chain(scene.luminaires.iter().map(|l| l.power().element_sum()))
+            .fold(0.0, f64::max);
         let unshot_len = unshot.len();
         let unshot_corners = UnshotCorners::new(&mesh, &unshot);
         Solver {
@@ -141,6 +150,7 @@ impl Solver {
             shot_power: Rgb::ZERO,
             received_power: Rgb::ZERO,
             ambient_rays: Mutex::new(AmbientRays::default()),
+            luminaire_shot,
             reference_power,
             shots: 0,
             rays: 0,
@@ -149,9 +159,13 @@ impl Solver {
         }
     }
 
-    /// Shoots the patch with the most unshot power. Returns false when no
-    /// patch has any.
+    /// Shoots the next photometric luminaire not yet shot, else the patch
+    /// with the most unshot power. Returns false when nothing has any.
     pub fn step(&mut self) -> bool {
+        if let Some(k) = self.luminaire_shot.iter().position(|&shot| !shot) {
+            self.shoot_luminaire(k);
+            return true;
+        }
         let power = |(p, b): (usize, &Rgb)| (p, b.element_sum() * self.mesh.patches[p].area);
         let Some((j, power)) = self
             .unshot
@@ -187,6 +201,39 @@ impl Solver {
             self.refine();
         }
         true
+    }
+
+    /// Shoots photometric luminaire `k`: every vertex receives
+    /// E = I(ω) cos θ / r² from its photometric centre, with one shadow ray.
+    fn shoot_luminaire(&mut self, k: usize) {
+        let incident =
+            self.luminaire_light(k, &(0..self.mesh.vertices.len() as u32).collect::<Vec<_>>());
+        self.rays += incident.len() as u64;
+        self.receive(&incident);
+        self.shot_power += self.scene.luminaires[k].power();
+        self.luminaire_shot[k] = true;
+        self.shots += 1;
+        self.refine();
+    }
+
+    /// The irradiance photometric luminaire `k` gives each of `vertices`,
+    /// in parallel.
+    fn luminaire_light(&self, k: usize, vertices: &[u32]) -> Vec<Rgb> {
+        let (scene, mesh, visibility) = (&self.scene, &self.mesh, &self.visibility);
+        let luminaire = &scene.luminaires[k];
+        vertices
+            .par_iter()
+            .map(|&v| {
+                let vertex = &mesh.vertices[v as usize];
+                let normal = scene.surface(vertex.surface).normal();
+                luminaire.irradiance_at(
+                    vertex.receiver_position,
+                    normal,
+                    vertex.surface,
+                    visibility,
+                )
+            })
+            .collect()
     }
 
     /// Irradiance at every vertex from patch j shooting `radiosity`,
@@ -285,12 +332,21 @@ impl Solver {
     }
 
     fn unshot_power(&self) -> Rgb {
+        let luminaires: Rgb = self
+            .scene
+            .luminaires
+            .iter()
+            .zip(&self.luminaire_shot)
+            .filter(|(_, shot)| !**shot)
+            .map(|(l, _)| l.power())
+            .sum();
         self.mesh
             .patches
             .iter()
             .zip(&self.unshot)
             .map(|(p, b)| *b * p.area)
-            .sum()
+            .sum::<Rgb>()
+            + luminaires
     }
 
     /// Radiosity per vertex (W/m²) from the light shot so far.
@@ -369,6 +425,7 @@ impl Solver {
             scene: &self.scene,
             mesh: &self.mesh,
             visibility: &self.visibility,
+            luminaires_shot: self.luminaire_shot.clone(),
             radiosity,
             irradiance,
         }
@@ -583,6 +640,16 @@ impl Solver {
             })
             .collect();
         self.rays += gathered.iter().map(|g| g.1).sum::<u64>();
-        gathered.into_iter().map(|g| g.0).collect()
+        let mut light: Vec<Rgb> = gathered.into_iter().map(|g| g.0).collect();
+        for k in 0..self.scene.luminaires.len() {
+            if self.luminaire_shot[k] {
+                let direct = self.luminaire_light(k, vertices);
+                self.rays += vertices.len() as u64;
+                for (h, d) in light.iter_mut().zip(direct) {
+                    *h += d;
+                }
+            }
+        }
+        light
     }
 }

@@ -1,7 +1,7 @@
 //! Which receiver gets which mesher, and the contour layouts of those lit by
 //! a dominant small emitter.
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::mesh_settings::{MeshKind, MeshSettings};
@@ -111,7 +111,7 @@ pub fn scene_shadow_boundaries(
     luminaires: &[Luminaire],
     settings: &MeshSettings,
 ) -> Vec<Vec<[DVec2; 2]>> {
-    if luminaires.is_empty() || !settings.shadow_boundaries {
+    if (luminaires.is_empty() && scene.luminaires.is_empty()) || !settings.shadow_boundaries {
         return vec![Vec::new(); scene.surfaces.len()];
     }
     let square = settings.square_for(scene);
@@ -120,6 +120,7 @@ pub fn scene_shadow_boundaries(
         min_feature: BOUNDARY_MIN_FEATURE * square.max_edge,
         max_per_receiver: MAX_BOUNDARIES_PER_RECEIVER,
     };
+    let points: Vec<DVec3> = scene.luminaires.iter().map(|l| l.position).collect();
     let ids: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
     ids.par_iter()
         .map(|&id| {
@@ -128,7 +129,7 @@ pub fn scene_shadow_boundaries(
             if emitting || surface.area() < square.max_edge * square.max_edge {
                 return Vec::new();
             }
-            shadow_boundaries(scene, &neighbours, id, luminaires, limits)
+            shadow_boundaries(scene, &neighbours, id, luminaires, &points, limits)
         })
         .collect()
 }

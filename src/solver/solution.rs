@@ -157,6 +157,9 @@ pub struct Solution<'a> {
     pub mesh: &'a Mesh,
     /// Its shadow-ray structure.
     pub visibility: &'a Visibility,
+    /// Which of the scene's photometric luminaires the solution holds the
+    /// light of (gather probes add their direct light).
+    pub luminaires_shot: Vec<bool>,
     /// Radiosity per mesh vertex, W/m².
     pub radiosity: Vec<Rgb>,
     /// Irradiance per mesh vertex, W/m².
@@ -272,6 +275,12 @@ impl Solution<'_> {
                 *g += in_plane * (radiosity[channel] * visible * reflectance[channel]);
             }
         }
+        let (direct, direct_gradient) = self.luminaire_light(x, normal, surface);
+        irradiance += direct;
+        let reflectance = material.reflectance.to_array();
+        for (channel, g) in gradient.iter_mut().enumerate() {
+            *g += direct_gradient[channel] * reflectance[channel];
+        }
         Probe {
             position,
             surface,
@@ -280,6 +289,35 @@ impl Solution<'_> {
             radiosity: material.emitted_radiosity() + material.reflectance * irradiance,
             gradient,
         }
+    }
+
+    /// The direct irradiance the photometric luminaires that have shot give
+    /// `x` on `surface` (unit `normal`), and its in-plane gradient per
+    /// channel by central differences over a ten-thousandth of the scene's
+    /// diagonal (shadow edges make it one-sided there).
+    fn luminaire_light(&self, x: DVec3, normal: DVec3, surface: SurfaceId) -> (Rgb, [DVec3; 3]) {
+        let mut total = Rgb::ZERO;
+        let mut gradient = [DVec3::ZERO; 3];
+        let h = 1e-4 * self.scene.diagonal();
+        let u = normal.any_orthonormal_vector();
+        let v = normal.cross(u);
+        for (luminaire, _) in self
+            .scene
+            .luminaires
+            .iter()
+            .zip(&self.luminaires_shot)
+            .filter(|(_, shot)| **shot)
+        {
+            let at = |p: DVec3| luminaire.irradiance_at(p, normal, surface, self.visibility);
+            total += at(x);
+            for axis in [u, v] {
+                let slope = (at(x + axis * h) - at(x - axis * h)) / (2.0 * h);
+                for (channel, g) in gradient.iter_mut().enumerate() {
+                    *g += axis * slope.to_array()[channel];
+                }
+            }
+        }
+        (total, gradient)
     }
 
     /// The elements a gather at `x` on `surface` sees in front of it, each

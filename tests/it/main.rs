@@ -17,6 +17,7 @@ mod dominance;
 mod export;
 mod fuzz_regressions;
 mod golden;
+mod luminaires;
 mod office;
 mod plots;
 mod probe;

@@ -42,15 +42,18 @@ const WARNINGS_PER_OBJECT: usize = 10;
 /// [`super::merge_coplanar_faces`]). The scene has no camera; see
 /// [`Scene::camera_or_default`].
 pub fn load_obj(path: &Path) -> Result<Scene> {
-    load_obj_from(path, &Disk, true)
+    load_obj_from(path, &Disk, true, false)
 }
 
 /// [`load_obj`] reading the OBJ and its MTL files from `files`; adjacent
-/// coplanar faces are merged when `merge_coplanar` holds.
+/// coplanar faces are merged when `merge_coplanar` holds. With
+/// `lit_elsewhere` (a scene file's luminaires light it) the scene need not
+/// have an emitting face.
 pub(crate) fn load_obj_from(
     path: &Path,
     files: &dyn SourceFiles,
     merge_coplanar: bool,
+    lit_elsewhere: bool,
 ) -> Result<Scene> {
     // Read and check the text, with line numbers.
     let text = files.read_to_string(path)?;
@@ -77,7 +80,10 @@ pub(crate) fn load_obj_from(
     if merge_coplanar {
         merge_scene_faces(path, &mut scene);
     }
-    check_not_empty(path, &scene)?;
+    // With luminaires to come, the scene file checks once they are there.
+    if !lit_elsewhere {
+        check_not_empty(path, &scene)?;
+    }
     Ok(scene)
 }
 
@@ -319,7 +325,7 @@ mod tests {
     /// Loads `s.obj` with text `obj` and the library `mtl` holding [`MTL`].
     fn load(obj: String, mtl: &'static str) -> Scene {
         let files = Memory(vec![("s.obj", obj), (mtl, MTL.to_owned())]);
-        load_obj_from(Path::new("s.obj"), &files, false).unwrap()
+        load_obj_from(Path::new("s.obj"), &files, false, false).unwrap()
     }
 
     /// A lamp over a floor, its MTL library named `mtl`.

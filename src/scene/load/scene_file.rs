@@ -52,6 +52,7 @@
 //! path (`mesh.refinement.threshold`).
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use glam::DVec3;
 use serde::Deserialize;
@@ -61,7 +62,9 @@ use crate::error::{Error, Result};
 use super::loaded::LoadedScene;
 use super::obj::load_obj_from;
 use super::source::{Disk, SourceFiles};
-use crate::scene::{Camera, SceneOptions};
+use crate::photometry::read_photometric_file;
+use crate::scene::build::check_not_empty;
+use crate::scene::{Camera, PhotometricLuminaire, Rgb, SceneOptions};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -75,6 +78,19 @@ struct SceneFileToml {
     /// Read by the solver layer; here only checked to be a table.
     #[serde(rename = "mesh")]
     _mesh: Option<toml::Table>,
+    luminaire: Option<Vec<LuminaireToml>>,
+}
+
+/// One `[[luminaire]]` table.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LuminaireToml {
+    ies: PathBuf,
+    position: [f64; 3],
+    aim: [f64; 3],
+    c0: [f64; 3],
+    multiplier: Option<f64>,
+    color: Option<[f64; 3]>,
 }
 
 #[derive(Deserialize)]
@@ -132,13 +148,22 @@ pub(crate) fn load_scene_file_with(
     // The OBJ, relative to this file; an unreadable OBJ is this file's error.
     let obj_path = path.parent().unwrap_or(Path::new("")).join(&file.obj);
     let merge = merge_coplanar && file.merge_coplanar.unwrap_or(true);
-    let mut scene = load_obj_from(&obj_path, files, merge).map_err(|e| match e {
+    let luminaire_tables = file.luminaire.unwrap_or_default();
+    let lit_elsewhere = !luminaire_tables.is_empty();
+    let mut scene = load_obj_from(&obj_path, files, merge, lit_elsewhere).map_err(|e| match e {
         Error::Io { path: p, source } if p == obj_path => {
             file_error(format!("obj = {:?}: {}: {source}", file.obj, p.display()))
         }
         other => other,
     })?;
     scene.camera = camera;
+    let folder = path.parent().unwrap_or(Path::new(""));
+    for (k, table) in luminaire_tables.into_iter().enumerate() {
+        let luminaire = luminaire_from_toml(folder, table)
+            .map_err(|message| file_error(format!("[[luminaire]] {}: {message}", k + 1)))?;
+        scene.luminaires.push(luminaire?);
+    }
+    check_not_empty(&obj_path, &scene)?;
     Ok(LoadedScene {
         scene,
         options: SceneOptions::from_scene_file(path.to_path_buf(), text),
@@ -159,6 +184,55 @@ fn toml_message(text: &str, error: &toml::de::Error) -> String {
 pub(crate) fn line_at(text: &str, offset: usize) -> usize {
     let before = text.get(..offset.min(text.len())).unwrap_or(text);
     before.matches('\n').count() + 1
+}
+
+/// A `[[luminaire]]` table: its photometric file read (relative to the
+/// scene file's folder; its own errors name it and its line), its frame
+/// checked (`aim` non-zero, `c0` not along it, made perpendicular), the
+/// multiplier finite and non-negative, the colour non-negative with a
+/// positive luminance, normalised to unit luminance. The outer error is
+/// this table's fault, the inner one the photometric file's.
+fn luminaire_from_toml(
+    folder: &Path,
+    t: LuminaireToml,
+) -> Result<Result<PhotometricLuminaire>, String> {
+    let finite = |v: [f64; 3]| v.iter().all(|x| x.is_finite());
+    if !(finite(t.position) && finite(t.aim) && finite(t.c0)) {
+        return Err("position, aim and c0 must be finite".into());
+    }
+    let aim = DVec3::from_array(t.aim);
+    if aim.length() <= 0.0 {
+        return Err("aim = [0, 0, 0] gives no direction".into());
+    }
+    let aim = aim.normalize();
+    let c0 = DVec3::from_array(t.c0);
+    let c0 = c0 - aim * c0.dot(aim);
+    if c0.length() <= 1e-9 * DVec3::from_array(t.c0).length().max(f64::MIN_POSITIVE) {
+        return Err("c0 runs along aim: it must point away from it, to the C0 half-plane".into());
+    }
+    let multiplier = t.multiplier.unwrap_or(1.0);
+    if !(multiplier.is_finite() && multiplier >= 0.0) {
+        return Err(format!("multiplier = {multiplier}: must be a number ≥ 0"));
+    }
+    let color = t.color.map_or(Rgb::ONE, |[r, g, b]| Rgb::new(r, g, b));
+    if !(color.is_finite() && color.min_element() >= 0.0 && color.luminance() > 0.0) {
+        return Err(format!(
+            "color = [{}, {}, {}]: components must be ≥ 0 with a positive luminance",
+            color.r, color.g, color.b
+        ));
+    }
+    let file = folder.join(&t.ies);
+    Ok(
+        read_photometric_file(&file).map(|photometric| PhotometricLuminaire {
+            name: t.ies.display().to_string(),
+            distribution: Arc::new(photometric.distribution().clone()),
+            position: DVec3::from_array(t.position),
+            aim,
+            c0: c0.normalize(),
+            multiplier,
+            color: color / color.luminance(),
+        }),
+    )
 }
 
 /// The `[camera]` table, with defaults, checked by [`Camera::validate`].

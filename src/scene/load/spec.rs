@@ -39,7 +39,7 @@ pub fn load_scene_with(spec: &str, settings: &LoadSettings) -> Result<LoadedScen
                 load_scene_file_with(path, &Disk, spec.to_owned(), settings.merge_coplanar)
             }
             Some("obj") => Ok(LoadedScene {
-                scene: load_obj_from(path, &Disk, settings.merge_coplanar)?,
+                scene: load_obj_from(path, &Disk, settings.merge_coplanar, false)?,
                 options: SceneOptions::default(),
                 source: spec.to_owned(),
             }),
