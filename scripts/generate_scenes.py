@@ -81,23 +81,29 @@ def seed_material():
           "newmtl floor\nKd 0.5 0.5 0.5\n\nnewmtl lamp\nKd 0 0 0\nKe 100 100 100\n")
 
 
-def room():
-    folder = os.path.join(ROOT, "room")
-    os.makedirs(folder, exist_ok=True)
-    obj = Obj()
-    X, Y, Z = 6.0, 3.0, 4.0
+def room_with_table(obj, size, left_wall, table):
+    """A room facing inwards (floor, ceiling, four walls; the x = 0 wall in
+    material `left_wall`) and a 1.4 x 0.8 m table top at 0.75 m on four legs,
+    its corner at `table` (x, z)."""
+    X, Y, Z = size
     obj.face("floor", "floor", [(0, 0, 0), (0, 0, Z), (X, 0, Z), (X, 0, 0)])
     obj.face("ceiling", "white", [(0, Y, 0), (X, Y, 0), (X, Y, Z), (0, Y, Z)])
     obj.face("back_wall", "white", [(0, 0, Z), (0, Y, Z), (X, Y, Z), (X, 0, Z)])
     obj.face("front_wall", "white", [(0, 0, 0), (X, 0, 0), (X, Y, 0), (0, Y, 0)])
-    obj.face("left_wall", "blue", [(0, 0, 0), (0, Y, 0), (0, Y, Z), (0, 0, Z)])
+    obj.face("left_wall", left_wall, [(0, 0, 0), (0, Y, 0), (0, Y, Z), (0, 0, Z)])
     obj.face("right_wall", "white", [(X, 0, 0), (X, 0, Z), (X, Y, Z), (X, Y, 0)])
-    # A table: a 1.4 x 0.8 m top at 0.75 m on four legs.
-    tx, tz = 2.6, 1.6
+    tx, tz = table
     obj.box("table_top", "wood", (tx, 0.72, tz), (tx + 1.4, 0.75, tz + 0.8), bottom=True)
     for dx in (0.05, 1.3):
         for dz in (0.05, 0.7):
             obj.box("table_leg", "wood", (tx + dx, 0.0, tz + dz), (tx + dx + 0.05, 0.72, tz + dz + 0.05))
+
+
+def room():
+    folder = os.path.join(ROOT, "room")
+    os.makedirs(folder, exist_ok=True)
+    obj = Obj()
+    room_with_table(obj, (6.0, 3.0, 4.0), "blue", (2.6, 1.6))
     # A small square luminaire, 0.25 m, tilted 30 degrees, 2.4 m up, off to one side.
     t = math.radians(30)
     c = (4.2, 2.4, 2.0)
@@ -159,17 +165,7 @@ def downlights():
     folder = os.path.join(ROOT, "downlights")
     os.makedirs(folder, exist_ok=True)
     obj = Obj()
-    X, Y, Z = 5.0, 2.8, 4.0
-    obj.face("floor", "floor", [(0, 0, 0), (0, 0, Z), (X, 0, Z), (X, 0, 0)])
-    obj.face("ceiling", "white", [(0, Y, 0), (X, Y, 0), (X, Y, Z), (0, Y, Z)])
-    obj.face("back_wall", "white", [(0, 0, Z), (0, Y, Z), (X, Y, Z), (X, 0, Z)])
-    obj.face("front_wall", "white", [(0, 0, 0), (X, 0, 0), (X, Y, 0), (0, Y, 0)])
-    obj.face("left_wall", "white", [(0, 0, 0), (0, Y, 0), (0, Y, Z), (0, 0, Z)])
-    obj.face("right_wall", "white", [(X, 0, 0), (X, 0, Z), (X, Y, Z), (X, Y, 0)])
-    obj.box("table_top", "wood", (1.8, 0.72, 1.6), (3.2, 0.75, 2.4), bottom=True)
-    for dx in (0.05, 1.3):
-        for dz in (0.05, 0.7):
-            obj.box("table_leg", "wood", (1.8 + dx, 0.0, 1.6 + dz), (1.85 + dx, 0.72, 1.65 + dz))
+    room_with_table(obj, (5.0, 2.8, 4.0), "white", (1.8, 1.6))
     obj.write(os.path.join(folder, "downlights.obj"),
               "# A 5 x 2.8 x 4 m room with a table, lit only by two photometric downlights\n"
               "# (downlights.toml's [[luminaire]] tables, downlight.ies). Metres.",

@@ -26,7 +26,7 @@
 //! format's description by LIGHTTOOLS/Relux (1990).
 
 use super::distribution::{IntensityDistribution, LuminousOpening, Symmetry};
-use super::ies::{MAX_CANDELA, ParseProblem};
+use super::ies::{MAX_CANDELA, ParseProblem, scaled_intensity};
 
 /// The most C planes or γ angles a file may give.
 const MAX_ANGLES: usize = 100_000;
@@ -161,22 +161,8 @@ pub fn parse_eulumdat(text: &str) -> Result<EulumdatFile, ParseProblem> {
         let mut values = Vec::with_capacity(ng);
         for _ in 0..ng {
             let value = lines.number(line, "luminous intensity")?;
-            if value < 0.0 {
-                return Err(ParseProblem::at(
-                    line,
-                    format!("intensity {value} cd/klm: negative"),
-                ));
-            }
-            if value * scale > MAX_CANDELA {
-                return Err(ParseProblem::at(
-                    line,
-                    format!(
-                        "intensity {value} cd/klm × {lamp_flux} lm / 1000 × {conversion}: \
-                         above {MAX_CANDELA:e} cd, not a luminaire's"
-                    ),
-                ));
-            }
-            values.push(value * scale);
+            let what = || format!("intensity {value} cd/klm");
+            values.push(scaled_intensity(value, scale, line, &what)?);
             line += 1;
         }
         let angle = if isym == 1 { 0.0 } else { c_angles[plane] };

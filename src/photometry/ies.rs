@@ -226,22 +226,8 @@ pub fn parse_ies(text: &str) -> Result<IesFile, ParseProblem> {
         let mut plane = Vec::with_capacity(n_vertical);
         for _ in 0..n_vertical {
             let (value, line) = numbers.next_with_line("candela value")?;
-            if value < 0.0 {
-                return Err(ParseProblem::at(
-                    line,
-                    format!("candela {value} at horizontal angle {angle}°: negative"),
-                ));
-            }
-            if value * factor > MAX_CANDELA {
-                return Err(ParseProblem::at(
-                    line,
-                    format!(
-                        "candela {value} × multiplier {multiplier} × ballast factor {ballast}: \
-                         above {MAX_CANDELA:e} cd, not a luminaire's"
-                    ),
-                ));
-            }
-            plane.push(value * factor);
+            let what = || format!("candela {value} at horizontal angle {angle}°");
+            plane.push(scaled_intensity(value, factor, line, &what)?);
         }
         planes.push(plane);
     }
@@ -270,6 +256,30 @@ pub fn parse_ies(text: &str) -> Result<IesFile, ParseProblem> {
         lamps,
         input_watts,
     })
+}
+
+/// `value` × `scale` in candela, or an error at `line` when the value is
+/// negative or the product above [`MAX_CANDELA`]; `what` names the value.
+pub(super) fn scaled_intensity(
+    value: f64,
+    scale: f64,
+    line: usize,
+    what: &dyn Fn() -> String,
+) -> Result<f64, ParseProblem> {
+    if value < 0.0 {
+        return Err(ParseProblem::at(line, format!("{}: negative", what())));
+    }
+    let candela = value * scale;
+    if candela > MAX_CANDELA {
+        return Err(ParseProblem::at(
+            line,
+            format!(
+                "{} × {scale} = {candela:e} cd: above {MAX_CANDELA:e} cd, not a luminaire's",
+                what()
+            ),
+        ));
+    }
+    Ok(candela)
 }
 
 /// The numbers after the TILT line, each with its line.
