@@ -26,7 +26,7 @@
 //! format's description by LIGHTTOOLS/Relux (1990).
 
 use super::distribution::{IntensityDistribution, LuminousOpening, Symmetry};
-use super::ies::{MAX_CANDELA, ParseProblem, scaled_intensity};
+use super::ies::{MAX_CANDELA, ParseProblem, push_increasing, scaled_intensity};
 
 /// The most C planes or γ angles a file may give.
 const MAX_ANGLES: usize = 100_000;
@@ -261,15 +261,7 @@ impl Lines<'_> {
                     format!("{what} angle {angle}°: outside {lo}°–{hi}°"),
                 ));
             }
-            if let Some(&before) = angles.last()
-                && angle <= before
-            {
-                return Err(ParseProblem::at(
-                    line,
-                    format!("{what} angles must increase: {angle}° after {before}°"),
-                ));
-            }
-            angles.push(angle);
+            push_increasing(&mut angles, angle, line, what)?;
         }
         Ok(angles)
     }

@@ -282,6 +282,26 @@ pub(super) fn scaled_intensity(
     Ok(candela)
 }
 
+/// Appends `angle` (read at `line`) to `angles`, or fails unless it is
+/// larger than the last; `what` names the kind of angle.
+pub(super) fn push_increasing(
+    angles: &mut Vec<f64>,
+    angle: f64,
+    line: usize,
+    what: &str,
+) -> Result<(), ParseProblem> {
+    if let Some(&before) = angles.last()
+        && angle <= before
+    {
+        return Err(ParseProblem::at(
+            line,
+            format!("{what} angles must increase: {angle}° after {before}°"),
+        ));
+    }
+    angles.push(angle);
+    Ok(())
+}
+
 /// The numbers after the TILT line, each with its line.
 struct Numbers<'a> {
     tokens: Vec<(&'a str, usize)>,
@@ -367,15 +387,7 @@ impl<'a> Numbers<'a> {
         let mut angles = Vec::with_capacity(n);
         for _ in 0..n {
             let (angle, line) = self.next_with_line(&format!("{what} angle"))?;
-            if let Some(&before) = angles.last()
-                && angle <= before
-            {
-                return Err(ParseProblem::at(
-                    line,
-                    format!("{what} angles must increase: {angle}° after {before}°"),
-                ));
-            }
-            angles.push(angle);
+            push_increasing(&mut angles, angle, line, what)?;
         }
         Ok((angles, first_line))
     }
