@@ -446,3 +446,35 @@ fn scene_file_settings_act_as_their_flags_and_flags_override_them() {
         stderr(&out)
     );
 }
+
+/// `isorad info` lists a scene's photometric luminaires with their flux
+/// (the shipped downlight: 1200 cos^1.5 γ (1 + 0.2 cos 2C) cd, whose flux
+/// is 1200 · 0.4 · 2π = 3016 lm; linear interpolation between its 10°
+/// steps adds a few tenths of a per cent), and the floor's shadow
+/// boundaries under them; `isorad photometry` reads the same file.
+#[test]
+fn info_lists_photometric_luminaires_and_photometry_reads_their_file() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = tempfile::tempdir().unwrap();
+    let scene = root.join("scenes/downlights/downlights.toml");
+    let out = isorad(dir.path(), &["info", scene.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(text.contains("2 photometric luminaire(s)"), "{text}");
+    let flux: f64 = text
+        .lines()
+        .find(|l| l.contains("downlight.ies"))
+        .and_then(|l| l.split_whitespace().last())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no flux: {text}"));
+    let expected = 1200.0 * 0.4 * std::f64::consts::TAU;
+    assert!((flux / expected - 1.0).abs() < 0.01, "{flux} lm");
+    let ies = root.join("scenes/downlights/downlight.ies");
+    let out = isorad(dir.path(), &["photometry", ies.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        text.contains("IESNA:LM-63-2002") && text.contains("peak 1440.00 cd"),
+        "{text}"
+    );
+}

@@ -9,6 +9,7 @@ use isorad::{
     Scene, Settings, SurfaceId,
     lighting::{Luminaire, ReceiverAnalysis, analyse_receivers, luminaires},
     load_scene,
+    photometry::LUMENS_PER_WATT,
     scene::Visibility,
     solver::scene_shadow_boundaries,
 };
@@ -61,15 +62,41 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     writeln!(
         out,
-        "{}: {} surfaces, {} luminaire(s), {} receivers\n",
+        "{}: {} surfaces, {} luminaire(s), {} photometric luminaire(s), {} receivers\n",
         loaded.source,
         scene.surfaces.len(),
         lights.len(),
+        scene.luminaires.len(),
         analyses.len()
     )?;
     let header = ["luminaire", "surfaces", "area", "radius", "exitance (W/m²)"];
     write_table(&mut out, &header, &luminaire_rows(&lights))?;
     writeln!(out)?;
+    if !scene.luminaires.is_empty() {
+        // Luminous flux: the radiant power's luminance at 179 lm/W.
+        let rows: Vec<Vec<String>> = scene
+            .luminaires
+            .iter()
+            .enumerate()
+            .map(|(k, l)| {
+                let p = l.position;
+                vec![
+                    k.to_string(),
+                    l.name.clone(),
+                    format!(
+                        "{} {} {}",
+                        significant(p.x),
+                        significant(p.y),
+                        significant(p.z)
+                    ),
+                    significant(l.power().luminance() * LUMENS_PER_WATT),
+                ]
+            })
+            .collect();
+        let header = ["photometric luminaire", "file", "position", "flux (lm)"];
+        write_table(&mut out, &header, &rows)?;
+        writeln!(out)?;
+    }
     let header = [
         "receiver",
         "name",
