@@ -130,11 +130,14 @@ pub fn shadow_boundaries(
         if !lit {
             continue;
         }
-        if let Some(horizon) = horizon(frame, &outline, luminaire) {
+        // The horizon only matters where the luminaire lights the receiver.
+        let corners = luminaire_corners(scene, luminaire);
+        let lights_front = corners.iter().any(|&v| frame.height(v) > tolerance);
+        if let Some(horizon) = horizon(frame, &outline, luminaire).filter(|_| lights_front) {
             found.push(horizon);
         }
         let source = Source {
-            corners: luminaire_corners(scene, luminaire),
+            corners,
             plane: Some((luminaire.centre, luminaire.normal)),
             surfaces: &luminaire.surfaces,
         };

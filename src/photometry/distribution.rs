@@ -17,9 +17,9 @@ pub enum Symmetry {
     Quadrant,
     /// C 0°–180°: symmetric about the C0–C180 plane, I(C) = I(360° − C).
     AboutC0C180,
-    /// C 90°–270° (planes stored in increasing C, possibly through 360° as
-    /// EULUMDAT's C270…C90): symmetric about the C90–C270 plane,
-    /// I(C) = I(180° − C).
+    /// C 90°–270°: symmetric about the C90–C270 plane, I(C) = I(180° − C).
+    /// (EULUMDAT's Isym 3 stores the other half, C270 … C90; its reader
+    /// mirrors those planes onto 90°–270° first.)
     AboutC90C270,
     /// C 0°–360°: no symmetry.
     None,
@@ -53,9 +53,9 @@ pub struct IntensityDistribution {
 }
 
 impl IntensityDistribution {
-    /// Expands planes `c_angles` (degrees, strictly increasing, as the
-    /// file's `symmetry` stores them; EULUMDAT's C270…C90 given as 270…450)
-    /// with `candela[plane][γ]` at `gamma_angles` (strictly increasing, in
+    /// Expands planes `c_angles` (degrees, strictly increasing, within the
+    /// range `symmetry` names: 0°–90°, 0°–180°, 90°–270° or 0°–360°) with
+    /// `candela[plane][γ]` at `gamma_angles` (strictly increasing, in
     /// [0°, 180°]) to the full sphere. The caller has checked the angles.
     #[must_use]
     pub fn from_planes(
@@ -214,8 +214,9 @@ impl IntensityDistribution {
     }
 
     /// The luminous flux Φ = ∫∫ I(C, γ) sin γ dγ dC, lumens, by the
-    /// trapezoidal rule over the web refined `refine` times per interval in
-    /// each angle (the integral of the bilinear interpolant as that grows).
+    /// midpoint rule on a grid `refine` times finer than the γ web and of
+    /// 360 × `refine` steps in C (the integral of the bilinear interpolant
+    /// as that grows).
     #[must_use]
     pub fn flux(&self, refine: usize) -> f64 {
         let refine = refine.max(1);

@@ -4,8 +4,9 @@
 //! Isym, the number Mc of C planes, the number Ng of γ angles, names,
 //! luminaire and luminous-area dimensions in mm, the downward flux
 //! fraction, light output ratio, the conversion factor for intensities,
-//! the number of lamp sets), six lines per lamp set (number of lamps, type,
-//! total flux in lm, colour temperature, colour rendering, watts), ten
+//! the number n of lamp sets), six fields of n lines each (the sets'
+//! numbers of lamps, types, total fluxes in lm, colour temperatures,
+//! colour rendering, watts), ten
 //! direct ratios, the Mc C angles, the Ng γ angles, and the intensities in
 //! cd/klm, Ng per stored plane. Isym says which planes are stored:
 //!
@@ -17,8 +18,8 @@
 //! | 3 | C270 … C90 through C0 (Mc/2 + 1) | about the C90–C270 plane |
 //! | 4 | C0 … C90 (Mc/4 + 1) | about both |
 //!
-//! I(C, γ) = value × Φ_lamps / 1000 × conversion factor, Φ_lamps the sum of
-//! the lamp sets' total fluxes.
+//! I(C, γ) = value × Φ_lamps / 1000 × conversion factor, Φ_lamps the first
+//! lamp set's total flux (further sets are alternative equipment).
 //!
 //! # References
 //! A. Stockmar, "EULUMDAT/2 — Extended Version of a Well Established
@@ -28,8 +29,9 @@
 use super::distribution::{IntensityDistribution, LuminousOpening, Symmetry};
 use super::ies::{MAX_CANDELA, ParseProblem, push_increasing, scaled_intensity};
 
-/// The most C planes or γ angles a file may give.
-const MAX_ANGLES: usize = 100_000;
+/// The most C planes or γ angles a file may give (real files give at most
+/// a few hundred).
+const MAX_ANGLES: usize = 3600;
 /// The most lamp sets a file may give (EULUMDAT allows 20).
 const MAX_LAMP_SETS: usize = 1000;
 /// Millimetres per metre.
@@ -44,7 +46,8 @@ pub struct EulumdatFile {
     pub company: String,
     /// Luminaire name (line 9).
     pub luminaire: String,
-    /// Total flux of the lamps, lm (the sum over lamp sets).
+    /// Total flux of the first lamp set, lm: what the intensities in cd/klm
+    /// are relative to.
     pub lamp_flux: f64,
     /// Light output ratio of the luminaire, % (line 23).
     pub light_output_ratio: f64,
@@ -140,12 +143,19 @@ pub fn parse_eulumdat(text: &str) -> Result<EulumdatFile, ParseProblem> {
         Ok(())
     };
     match isym {
-        2 => expect(mc / 2, 180.0)?,
+        2 => {
+            expect(0, 0.0)?;
+            expect(mc / 2, 180.0)?;
+        }
         3 => {
+            expect(0, 0.0)?;
             expect(3 * mc / 4, 270.0)?;
             expect(mc / 4, 90.0)?;
         }
-        4 => expect(mc / 4, 90.0)?,
+        4 => {
+            expect(0, 0.0)?;
+            expect(mc / 4, 90.0)?;
+        }
         _ => {}
     }
     let scale = lamp_flux / 1000.0 * conversion;

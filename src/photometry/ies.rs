@@ -27,8 +27,9 @@
 
 use super::distribution::{IntensityDistribution, LuminousOpening, Symmetry};
 
-/// The most angles of either kind a file may give.
-const MAX_ANGLES: usize = 100_000;
+/// The most angles of either kind a file may give (every 0.05° of γ or
+/// 0.1° of C; real files give at most a few hundred).
+const MAX_ANGLES: usize = 3600;
 /// The most candela values a file may give.
 const MAX_VALUES: usize = 10_000_000;
 /// The largest intensity a file may give, candela (a lighthouse gives
@@ -98,8 +99,11 @@ pub fn parse_ies(text: &str) -> Result<IesFile, ParseProblem> {
             format = line.to_owned();
             continue;
         }
-        if let Some(tilt) = line.strip_prefix("TILT") {
-            let value = tilt.trim_start().strip_prefix('=').unwrap_or("").trim();
+        if let Some(value) = line
+            .strip_prefix("TILT")
+            .and_then(|rest| rest.trim_start().strip_prefix('='))
+        {
+            let value = value.trim();
             match value.to_ascii_uppercase().as_str() {
                 "NONE" => {}
                 "INCLUDE" => {

@@ -31,9 +31,36 @@ pub struct PhotometricLuminaire {
     pub multiplier: f64,
     /// Tint, with unit luminance (Rec. 709 weights, isorad's primaries).
     pub color: Rgb,
+    /// Its radiant power per channel, W (see [`PhotometricLuminaire::power`]).
+    power: Rgb,
 }
 
 impl PhotometricLuminaire {
+    /// A luminaire of `distribution` at `position`, γ = 0 along the unit
+    /// `aim`, C0 along the unit `c0` (perpendicular to it), intensities
+    /// times `multiplier`, tinted by `color` (unit luminance). Its power is
+    /// integrated here, once.
+    #[must_use]
+    pub fn new(
+        name: String,
+        distribution: Arc<IntensityDistribution>,
+        [position, aim, c0]: [DVec3; 3],
+        multiplier: f64,
+        color: Rgb,
+    ) -> PhotometricLuminaire {
+        let power = color * (distribution.flux(8) * multiplier / LUMENS_PER_WATT);
+        PhotometricLuminaire {
+            name,
+            distribution,
+            position,
+            aim,
+            c0,
+            multiplier,
+            color,
+            power,
+        }
+    }
+
     /// The (C, γ) angles of the unit direction `direction` from the
     /// luminaire, degrees: γ from `aim`, C from `c0` towards C90.
     #[must_use]
@@ -60,12 +87,15 @@ impl PhotometricLuminaire {
     /// multiplier / 179 lm/W × colour.
     #[must_use]
     pub fn power(&self) -> Rgb {
-        self.color * (self.distribution.flux(8) * self.multiplier / LUMENS_PER_WATT)
+        self.power
     }
 
     /// The irradiance it gives a point `x` on `surface` with unit normal
     /// `normal` (the front side), W/m²: E = I(ω) cos θ / r² when nothing
-    /// blocks the segment to the photometric centre, else zero.
+    /// blocks the segment to the photometric centre, else zero. The shadow
+    /// ray stops a surface offset short of the centre, so a recessed
+    /// fitting whose centre lies on the ceiling's plane does not shadow
+    /// itself.
     #[must_use]
     pub fn irradiance_at(
         &self,
@@ -89,7 +119,8 @@ impl PhotometricLuminaire {
             return Rgb::ZERO;
         }
         let start = x + normal * visibility.surface_offset();
-        if !visibility.is_unblocked(start, self.position, [surface, surface]) {
+        let end = self.position + (to_light / r) * -visibility.surface_offset();
+        if !visibility.is_unblocked(start, end, [surface, surface]) {
             return Rgb::ZERO;
         }
         intensity * (cos / r2)
@@ -112,15 +143,13 @@ mod tests {
             &planes,
             LuminousOpening::default(),
         );
-        PhotometricLuminaire {
-            name: "test".into(),
-            distribution: Arc::new(distribution),
-            position: DVec3::ZERO,
-            aim: -DVec3::Y,
-            c0: DVec3::X,
-            multiplier: 1.0,
-            color: Rgb::ONE,
-        }
+        PhotometricLuminaire::new(
+            "test".into(),
+            Arc::new(distribution),
+            [DVec3::ZERO, -DVec3::Y, DVec3::X],
+            1.0,
+            Rgb::ONE,
+        )
     }
 
     #[test]

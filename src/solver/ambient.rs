@@ -29,7 +29,10 @@
 //! of uniform ΔB and ρ this is Cohen's ΔB / (1 − ρ); over an open floor it
 //! is nothing; under the table it is what the underside will still send.
 //! The rays are cast once and kept; only the lookups are repeated for each
-//! intermediate image.
+//! intermediate image. Photometric luminaires shoot before any patch, so
+//! the term never stands in for their direct light (a preview before the
+//! first shot shows none). The iteration stops after 1000 sweeps: for
+//! ρ f near 1 (reflectances of 0.99 in a closed room) it then falls short.
 //!
 //! # References
 //! M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A Progressive

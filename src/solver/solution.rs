@@ -294,7 +294,8 @@ impl Solution<'_> {
     /// The direct irradiance the photometric luminaires that have shot give
     /// `x` on `surface` (unit `normal`), and its in-plane gradient per
     /// channel by central differences over a ten-thousandth of the scene's
-    /// diagonal (shadow edges make it one-sided there).
+    /// diagonal (within that of a point light's sharp shadow edge the
+    /// difference spans the jump: there the gradient is not defined).
     fn luminaire_light(&self, x: DVec3, normal: DVec3, surface: SurfaceId) -> (Rgb, [DVec3; 3]) {
         let mut total = Rgb::ZERO;
         let mut gradient = [DVec3::ZERO; 3];

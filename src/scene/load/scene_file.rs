@@ -200,14 +200,17 @@ fn luminaire_from_toml(
     if !(finite(t.position) && finite(t.aim) && finite(t.c0)) {
         return Err("position, aim and c0 must be finite".into());
     }
-    let aim = DVec3::from_array(t.aim);
-    if aim.length() <= 0.0 {
-        return Err("aim = [0, 0, 0] gives no direction".into());
-    }
-    let aim = aim.normalize();
-    let c0 = DVec3::from_array(t.c0);
-    let c0 = c0 - aim * c0.dot(aim);
-    if c0.length() <= 1e-9 * DVec3::from_array(t.c0).length().max(f64::MIN_POSITIVE) {
+    let Some(aim) = DVec3::from_array(t.aim).try_normalize() else {
+        return Err(format!(
+            "aim = {:?} gives no direction: it must be a non-zero vector",
+            t.aim
+        ));
+    };
+    let Some(c0_unit) = DVec3::from_array(t.c0).try_normalize() else {
+        return Err(format!("c0 = {:?} gives no direction", t.c0));
+    };
+    let c0 = c0_unit - aim * c0_unit.dot(aim);
+    if c0.length() < 1e-6 {
         return Err("c0 runs along aim: it must point away from it, to the C0 half-plane".into());
     }
     let multiplier = t.multiplier.unwrap_or(1.0);
@@ -222,17 +225,15 @@ fn luminaire_from_toml(
         ));
     }
     let file = folder.join(&t.ies);
-    Ok(
-        read_photometric_file(&file).map(|photometric| PhotometricLuminaire {
-            name: t.ies.display().to_string(),
-            distribution: Arc::new(photometric.distribution().clone()),
-            position: DVec3::from_array(t.position),
-            aim,
-            c0: c0.normalize(),
+    Ok(read_photometric_file(&file).map(|photometric| {
+        PhotometricLuminaire::new(
+            t.ies.display().to_string(),
+            Arc::new(photometric.distribution().clone()),
+            [DVec3::from_array(t.position), aim, c0.normalize()],
             multiplier,
-            color: color / color.luminance(),
-        }),
-    )
+            color / color.luminance(),
+        )
+    }))
 }
 
 /// The `[camera]` table, with defaults, checked by [`Camera::validate`].
