@@ -130,7 +130,7 @@ pub fn parse_eulumdat(text: &str) -> Result<EulumdatFile, ParseProblem> {
         _ => ((0..=mc / 4).collect(), Symmetry::Quadrant),
     };
     // The stored planes must be the ones Isym names.
-    let expect = |index: usize, angle: f64| {
+    let check_plane = |index: usize, angle: f64| {
         if (c_angles[index] - angle).abs() > 1e-6 {
             return Err(ParseProblem::at(
                 c_start + index,
@@ -144,17 +144,17 @@ pub fn parse_eulumdat(text: &str) -> Result<EulumdatFile, ParseProblem> {
     };
     match isym {
         2 => {
-            expect(0, 0.0)?;
-            expect(mc / 2, 180.0)?;
+            check_plane(0, 0.0)?;
+            check_plane(mc / 2, 180.0)?;
         }
         3 => {
-            expect(0, 0.0)?;
-            expect(3 * mc / 4, 270.0)?;
-            expect(mc / 4, 90.0)?;
+            check_plane(0, 0.0)?;
+            check_plane(3 * mc / 4, 270.0)?;
+            check_plane(mc / 4, 90.0)?;
         }
         4 => {
-            expect(0, 0.0)?;
-            expect(mc / 4, 90.0)?;
+            check_plane(0, 0.0)?;
+            check_plane(mc / 4, 90.0)?;
         }
         _ => {}
     }

@@ -78,8 +78,13 @@ impl AmbientRays {
     /// Casts the rays not cast yet: every patch's once, and those of
     /// vertices added since the last call.
     pub(crate) fn cast_missing(&mut self, scene: &Scene, mesh: &Mesh, visibility: &Visibility) {
+        let done = self.vertex_hits.len() / VERTEX_RAYS;
+        let patches_cast = self.patch_hits.len() == mesh.patches.len() * PATCH_RAYS;
+        if patches_cast && done >= mesh.vertices.len() {
+            return;
+        }
         let locator = PatchLocator::new(scene, mesh);
-        if self.patch_hits.len() != mesh.patches.len() * PATCH_RAYS {
+        if !patches_cast {
             // A patch without elements (all hidden) casts only misses.
             self.patch_hits = (0..mesh.patches.len())
                 .into_par_iter()
@@ -101,7 +106,6 @@ impl AmbientRays {
                 })
                 .collect();
         }
-        let done = self.vertex_hits.len() / VERTEX_RAYS;
         if done < mesh.vertices.len() {
             let more: Vec<u32> = (done..mesh.vertices.len())
                 .into_par_iter()

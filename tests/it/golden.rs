@@ -45,20 +45,18 @@ fn image_errors(image: &Image, reference: &Image) -> (f64, f64) {
 /// the resolution of `reference` (under `bench/references/`), as
 /// `isorad render` does, and returns [`image_errors`] against it.
 fn errors_against_reference(scene: &str, reference: &str) -> (f64, f64) {
-    errors_with_mesher(scene, reference, None)
+    errors_with(scene, reference, &|_| {})
 }
 
-/// [`errors_against_reference`], with the scene file's mesher replaced by
-/// `mesher` when given: the same geometry as a user's OBJ at default
-/// settings.
-fn errors_with_mesher(scene: &str, reference: &str, mesher: Option<MeshKind>) -> (f64, f64) {
+/// [`errors_against_reference`], with the scene file's settings changed by
+/// `adjust` (a square mesh: the same geometry as a user's OBJ at default
+/// settings; or a feature turned off, to see what it is worth).
+fn errors_with(scene: &str, reference: &str, adjust: &dyn Fn(&mut Settings)) -> (f64, f64) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let reference = read_exr(&root.join("bench/references").join(reference)).unwrap();
     let loaded = load_scene(root.join("scenes").join(scene).to_str().unwrap()).unwrap();
     let mut settings = Settings::from_scene_options(&loaded.options).unwrap();
-    if let Some(kind) = mesher {
-        settings.mesh.kind = kind;
-    }
+    adjust(&mut settings);
     let mut solver = Solver::new(loaded.scene, settings).unwrap();
     solver.run();
     let mut camera = solver.scene().camera_or_default();
@@ -112,6 +110,14 @@ fn the_table_shadow_matches_the_path_tracer() {
         "mean radiance ×{mean_ratio}"
     );
     assert!(per_pixel < 0.035, "per-pixel error {per_pixel}");
+    // Without element edges along the shadow boundaries the penumbrae smear
+    // over the elements that straddle them.
+    let off = |s: &mut Settings| s.mesh.shadow_boundaries = false;
+    let (_, blurred) = errors_with("table/table.toml", "table_256.exr", &off);
+    assert!(
+        blurred > 3.0 * per_pixel,
+        "{blurred} without shadow boundaries"
+    );
 }
 
 /// The seed paper's small disc 1 m over an open 10 × 10 m floor, flat and
@@ -130,7 +136,8 @@ fn the_seed_discs_match_the_path_tracer() {
             0.025,
         ),
     ] {
-        let (mean_ratio, per_pixel) = errors_with_mesher(scene, reference, Some(MeshKind::Square));
+        let square = |s: &mut Settings| s.mesh.kind = MeshKind::Square;
+        let (mean_ratio, per_pixel) = errors_with(scene, reference, &square);
         // The mean includes the lamp seen directly, a few pixels that the
         // two renderers' filters spread differently.
         assert!(
