@@ -107,6 +107,7 @@
 mod error;
 mod fs;
 
+pub mod calculation;
 pub mod export;
 pub mod lighting;
 pub mod mesh;

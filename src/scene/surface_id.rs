@@ -22,6 +22,10 @@ impl SurfaceId {
         SurfaceId(index as u32)
     }
 
+    /// An id that no surface has: the end of a shadow ray at a point in
+    /// free space (a work-plane point), which no surface must be ignored for.
+    pub const NONE: SurfaceId = SurfaceId(u32::MAX);
+
     /// The index in [`crate::Scene::surfaces`].
     #[must_use]
     pub const fn index(self) -> usize {

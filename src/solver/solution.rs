@@ -252,43 +252,69 @@ impl Solution<'_> {
     fn gather(&self, position: DVec3, surface: SurfaceId) -> Probe {
         let s = self.scene.surface(surface);
         let material = self.scene.material_of(s);
-        let normal = s.normal();
         let x = self.gather_point(position, surface);
-        let mut sources = self.gather_sources(x, surface);
+        let (irradiance, standard_error, gradient) =
+            self.gather_irradiance(x, s.normal(), surface, material.reflectance);
+        Probe {
+            position,
+            surface,
+            irradiance,
+            standard_error,
+            radiosity: material.emitted_radiosity() + material.reflectance * irradiance,
+            gradient,
+        }
+    }
+
+    /// The irradiance a gather finds at a point `x` in free space (a point
+    /// of a work plane above a floor, say) on a small receiver facing the
+    /// unit `normal`, W/m², with its standard error per channel: the light of
+    /// every element in front of it, as [`Solution::probe`] gathers it on a
+    /// surface, and of every photometric luminaire.
+    #[must_use]
+    pub fn irradiance_in_space(&self, x: DVec3, normal: DVec3) -> (Rgb, Rgb) {
+        let (irradiance, standard_error, _) =
+            self.gather_irradiance(x, normal, SurfaceId::NONE, Rgb::ZERO);
+        (irradiance, standard_error)
+    }
+
+    /// The gather's irradiance at `x` (unit `normal`) on `surface`
+    /// ([`SurfaceId::NONE`] in free space), its standard error, and the
+    /// in-plane gradient of ρ H per channel for reflectance `reflectance`.
+    fn gather_irradiance(
+        &self,
+        x: DVec3,
+        normal: DVec3,
+        surface: SurfaceId,
+        reflectance: Rgb,
+    ) -> (Rgb, Rgb, [DVec3; 3]) {
+        let mut sources = self.gather_sources(x, normal, surface);
         let visible = refine_penumbrae(&mut sources);
         let mut irradiance = Rgb::ZERO;
         let mut variance = Rgb::ZERO;
         let mut gradient = [DVec3::ZERO; 3];
+        let reflectance = reflectance.to_array();
         for (source, (visible, visible_variance)) in sources.iter().zip(visible) {
             let light = source.radiosity * source.factor;
             irradiance += light * visible;
             variance += light * light * visible_variance;
-            if visible <= 0.0 {
+            if visible <= 0.0 || reflectance == [0.0; 3] {
                 continue;
             }
             let factor_gradient =
                 polygon_form_factor_gradient(x, normal, source.visibility.cell().polygon());
             let in_plane = factor_gradient - normal * factor_gradient.dot(normal);
-            let (radiosity, reflectance) =
-                (source.radiosity.to_array(), material.reflectance.to_array());
+            let radiosity = source.radiosity.to_array();
             for (channel, g) in gradient.iter_mut().enumerate() {
                 *g += in_plane * (radiosity[channel] * visible * reflectance[channel]);
             }
         }
         let (direct, direct_gradient) = self.luminaire_light(x, normal, surface);
         irradiance += direct;
-        let reflectance = material.reflectance.to_array();
         for (channel, g) in gradient.iter_mut().enumerate() {
             *g += direct_gradient[channel] * reflectance[channel];
         }
-        Probe {
-            position,
-            surface,
-            irradiance,
-            standard_error: Rgb::new(variance.r.sqrt(), variance.g.sqrt(), variance.b.sqrt()),
-            radiosity: material.emitted_radiosity() + material.reflectance * irradiance,
-            gradient,
-        }
+        let standard_error = Rgb::new(variance.r.sqrt(), variance.g.sqrt(), variance.b.sqrt());
+        (irradiance, standard_error, gradient)
     }
 
     /// The direct irradiance the photometric luminaires that have shot give
@@ -321,10 +347,10 @@ impl Solution<'_> {
         (total, gradient)
     }
 
-    /// The elements a gather at `x` on `surface` sees in front of it, each
-    /// with its unoccluded factor and its shadow rays' base strata.
-    fn gather_sources(&self, x: DVec3, surface: SurfaceId) -> Vec<GatherSource<'_>> {
-        let normal = self.scene.surface(surface).normal();
+    /// The elements a gather at `x` facing `normal` on `surface`
+    /// ([`SurfaceId::NONE`] in free space) sees in front of it, each with
+    /// its unoccluded factor and its shadow rays' base strata.
+    fn gather_sources(&self, x: DVec3, normal: DVec3, surface: SurfaceId) -> Vec<GatherSource<'_>> {
         // Jitter keyed by the point: deterministic and independent of the order of probes.
         let key = x.x.to_bits() ^ x.y.to_bits().rotate_left(21) ^ x.z.to_bits().rotate_left(42);
         let mut sources = Vec::new();

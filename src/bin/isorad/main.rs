@@ -4,6 +4,7 @@
 
 mod args;
 mod compare;
+mod grid;
 mod info;
 mod photometry;
 mod probe;
@@ -16,6 +17,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use compare::{CompareArgs, compare};
+use grid::{GridArgs, grid};
 use info::{InfoArgs, info};
 use photometry::{PhotometryArgs, photometry};
 use probe::{ProbeArgs, probe};
@@ -45,6 +47,9 @@ enum Command {
     /// Read a luminaire's photometric file (IES LM-63 or EULUMDAT): its
     /// description, symmetry, peak intensity, flux, and I(C, γ).
     Photometry(PhotometryArgs),
+    /// Solve a scene and compute illuminance (lx) on a calculation grid over
+    /// a surface or a work plane: CSV with Emin, Eavg, Emax and U0.
+    Grid(GridArgs),
 }
 
 fn main() -> ExitCode {
@@ -55,6 +60,7 @@ fn main() -> ExitCode {
         Command::Info(args) => info(&args),
         Command::Compare(args) => compare(&args),
         Command::Photometry(args) => photometry(&args),
+        Command::Grid(args) => grid(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,10 +1,14 @@
-//! `isorad probe`: irradiance and radiosity at points, as CSV on stdout.
+//! `isorad probe`: irradiance and radiosity at points, with illuminance
+//! (lx) and luminance (cd/m²), as CSV on stdout.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use isorad::{Solver, Until, scene::load_probe_points};
+use isorad::{
+    Rgb, Solver, Until, calculation::illuminance_lux, photometry::LUMENS_PER_WATT,
+    scene::load_probe_points,
+};
 use rayon::prelude::*;
 
 use crate::args::{ProbeModeArg, SolveArgs, prepare};
@@ -50,6 +54,7 @@ pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
         }
     }
     header.push_str(",irradiance_se_r,irradiance_se_g,irradiance_se_b");
+    header.push_str(",illuminance_lux,luminance_cd_m2");
     writeln!(out, "{header}")?;
     // Probes in parallel (each is deterministic, keyed by its point), rows in order.
     let probes: Vec<_> = points
@@ -71,10 +76,20 @@ pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
         }
         let se = probe.standard_error;
         row.push_str(&format!(",{},{},{}", se.r, se.g, se.b));
+        row.push_str(&format!(
+            ",{},{}",
+            illuminance_lux(probe.irradiance),
+            luminance_cd_m2(probe.radiosity)
+        ));
         writeln!(out, "{row}")?;
     }
     out.flush()?;
     Ok(())
+}
+
+/// Luminance of a Lambertian surface, cd/m²: 179 lm/W × Y(B) / π.
+fn luminance_cd_m2(radiosity: Rgb) -> f64 {
+    radiosity.luminance() * LUMENS_PER_WATT / std::f64::consts::PI
 }
 
 /// A probe error names the points file the user gave.

@@ -8,12 +8,14 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::Args;
 use isorad::{
-    RenderSettings, Solver, StopReason, ToneMap, Until, export::ExportFormat, export_solution,
-    render::auto_exposure, write_exr, write_png,
+    RenderSettings, Rgb, Scene, Solver, StopReason, ToneMap, Until, export::ExportFormat,
+    export_solution, lighting::luminaires, photometry::LUMENS_PER_WATT, render::auto_exposure,
+    write_exr, write_png,
 };
 
 use crate::args::{Prepared, SolveArgs, ensure_directory_exists, prepare};
 use crate::progress::{INTERRUPTED, Interrupted, solve_with_progress};
+use crate::table::significant;
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -125,9 +127,46 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
         rays as f64 / solve_seconds.max(1e-9) / 1e6,
         100.0 * solver.unshot_fraction()
     );
+    eprintln!("{}", emitted_flux(scene));
     if let Some(mib) = peak_memory_mib() {
         eprintln!("peak memory: {mib:.0} MiB (resident)");
     }
+}
+
+/// The luminous flux emitted, lm (the radiant power's luminance at
+/// 179 lm/W): the total, and each lamp's (the first few, when there are
+/// many).
+fn emitted_flux(scene: &Scene) -> String {
+    const LISTED: usize = 8;
+    let lumens = |power: Rgb| power.luminance() * LUMENS_PER_WATT;
+    let mut each: Vec<(String, f64)> = luminaires(scene)
+        .iter()
+        .map(|lamp| {
+            let name = &scene.surface(lamp.surfaces[0]).name;
+            (name.clone(), lumens(lamp.exitance * lamp.area))
+        })
+        .collect();
+    each.extend(
+        scene
+            .luminaires
+            .iter()
+            .map(|luminaire| (luminaire.name.clone(), lumens(luminaire.power()))),
+    );
+    let total: f64 = each.iter().map(|(_, flux)| flux).sum();
+    let mut listed: Vec<String> = each
+        .iter()
+        .take(LISTED)
+        .map(|(name, flux)| format!("{name} {}", significant(*flux)))
+        .collect();
+    if each.len() > LISTED {
+        listed.push(format!("{} more", each.len() - LISTED));
+    }
+    format!(
+        "emitted: {} lm from {} lamps ({})",
+        significant(total),
+        each.len(),
+        listed.join(", ")
+    )
 }
 
 /// The process's peak resident memory (VmHWM in /proc/self/status), MiB;

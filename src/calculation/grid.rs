@@ -1,0 +1,392 @@
+//! Calculation grids: illuminance at the points of a regular grid on a named
+//! surface, or on the work plane a height above it, with the statistics a
+//! lighting standard asks for.
+//!
+//! The grid follows EN 12464-1:2021, §4.4 and Annex: the largest cell size
+//! is p = 0.2 · 5^log₁₀(d) m, with d the longer side of the area in metres;
+//! each side is cut into ⌈side / p⌉ equal cells and the points sit at the
+//! cells' centres, so none lies on the boundary. Points outside the
+//! surface's outline are left out. A point on the surface is read by the
+//! solution's gather probe; a point of a raised work plane lies in free
+//! space, where the gather is evaluated on a small horizontal receiver
+//! ([`Solution::irradiance_in_space`]), not interpolated on a mesh.
+
+use std::io::Write;
+use std::path::Path;
+
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::fs::{io_error, write_atomically};
+use crate::photometry::LUMENS_PER_WATT;
+use crate::scene::{PlaneFrame, ProbePoint, Rgb, Scene, SurfaceId, polygon_contains};
+use crate::solver::{ProbeMode, Solution};
+
+/// The most points a grid may have: a million (a metre-wide grid at
+/// one-millimetre spacing), far beyond what a standard asks for.
+pub const MAX_GRID_POINTS: usize = 1_000_000;
+
+/// The largest grid spacing EN 12464-1 allows on an area whose longer side
+/// is `longer_side` metres: p = 0.2 · 5^log₁₀(d), and at most 10 m. For a
+/// 10 m room that is 1 m; for a 1 m desk, 0.2 m.
+#[must_use]
+pub fn en12464_spacing(longer_side: f64) -> f64 {
+    (0.2 * 5f64.powf(longer_side.max(f64::MIN_POSITIVE).log10())).min(10.0)
+}
+
+/// A calculation grid: points on a plane over a surface's outline.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CalculationGrid {
+    /// The surface name the grid was asked for.
+    pub name: String,
+    /// Height of the grid's plane above the surface, along its normal.
+    pub height: f64,
+    /// The grid's plane: the surface's plane raised by `height`, with `u`
+    /// and `v` as a plan shows them (for a floor, x to the right and −z up,
+    /// seen from above; for a wall, up is +y).
+    pub frame: PlaneFrame,
+    /// Plane coordinates of point (0, 0); point (column, row) is at
+    /// `origin + (column · spacing.x, row · spacing.y)`.
+    pub origin: DVec2,
+    /// Distance between neighbouring points along u and v.
+    pub spacing: DVec2,
+    /// Points along u and along v.
+    pub columns: usize,
+    /// Points along v.
+    pub rows: usize,
+    /// The outlines of the surfaces the grid covers, in plane coordinates.
+    pub outlines: Vec<Vec<DVec2>>,
+    /// Row-major (`row * columns + column`): the world position of each point
+    /// and the surface under it, `None` outside every outline.
+    pub points: Vec<Option<(DVec3, SurfaceId)>>,
+}
+
+/// Statistics of a grid's illuminance, lx, over its points inside the outline.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IlluminanceStatistics {
+    /// Points counted.
+    pub points: usize,
+    /// Emin, Eavg, Emax, lx.
+    pub minimum: f64,
+    /// The arithmetic mean over the points.
+    pub average: f64,
+    /// The largest value.
+    pub maximum: f64,
+}
+
+impl IlluminanceStatistics {
+    /// The statistics of the finite values of `lux` (NaN marks points
+    /// outside the outline); `None` when there are none.
+    #[must_use]
+    pub fn of(lux: &[f64]) -> Option<IlluminanceStatistics> {
+        let finite: Vec<f64> = lux.iter().copied().filter(|e| e.is_finite()).collect();
+        if finite.is_empty() {
+            return None;
+        }
+        Some(IlluminanceStatistics {
+            points: finite.len(),
+            minimum: finite.iter().copied().fold(f64::INFINITY, f64::min),
+            average: finite.iter().sum::<f64>() / finite.len() as f64,
+            maximum: finite.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        })
+    }
+
+    /// Uniformity U₀ = Emin / Eavg (EN 12464-1); 0 when Eavg is 0.
+    #[must_use]
+    pub fn uniformity(&self) -> f64 {
+        ratio(self.minimum, self.average)
+    }
+
+    /// Diversity Emin / Emax; 0 when Emax is 0.
+    #[must_use]
+    pub fn diversity(&self) -> f64 {
+        ratio(self.minimum, self.maximum)
+    }
+}
+
+fn ratio(a: f64, b: f64) -> f64 {
+    if b > 0.0 { a / b } else { 0.0 }
+}
+
+/// Illuminance, lx, of an irradiance: its luminance (Rec. 709 weights of
+/// isorad's linear RGB primaries) at 179 lm/W.
+#[must_use]
+pub fn illuminance_lux(irradiance: Rgb) -> f64 {
+    irradiance.luminance() * LUMENS_PER_WATT
+}
+
+impl CalculationGrid {
+    /// The grid on the surfaces named `name`, or on the plane `height` above
+    /// them, with points at most `spacing` apart (EN 12464-1's spacing for
+    /// the area when `None`).
+    ///
+    /// A name may cover several polygons (an OBJ object split into faces);
+    /// the grid takes those in the plane of the largest, facing its way.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSetting`] when no surface has the name, when
+    /// `height` is negative or not finite, when `spacing` is not positive,
+    /// or when the grid would pass [`MAX_GRID_POINTS`].
+    pub fn on_surface(
+        scene: &Scene,
+        name: &str,
+        height: f64,
+        spacing: Option<f64>,
+    ) -> Result<CalculationGrid> {
+        let invalid = |field: &str, message: String| Error::InvalidSetting {
+            name: field.into(),
+            message,
+        };
+        if !(height.is_finite() && height >= 0.0) {
+            return Err(invalid("height", format!("{height} must be ≥ 0")));
+        }
+        if let Some(spacing) = spacing
+            && !(spacing.is_finite() && spacing > 0.0)
+        {
+            return Err(invalid("spacing", format!("{spacing} must be > 0")));
+        }
+        let named: Vec<SurfaceId> = scene
+            .surfaces_with_ids()
+            .filter(|(_, s)| s.name == name)
+            .map(|(id, _)| id)
+            .collect();
+        let Some(&largest) = named.iter().max_by(|a, b| {
+            scene
+                .surface(**a)
+                .area()
+                .total_cmp(&scene.surface(**b).area())
+        }) else {
+            return Err(invalid("surface", unknown_surface_message(scene, name)));
+        };
+        let base = scene.surface(largest);
+        let normal = base.normal();
+        let tolerance = 1e-4 * scene.diagonal();
+        let covered: Vec<SurfaceId> = named
+            .into_iter()
+            .filter(|&id| {
+                let s = scene.surface(id);
+                s.normal().dot(normal) > 0.9999
+                    && base.frame().height(s.frame().origin).abs() <= tolerance
+            })
+            .collect();
+        let frame = plan_frame(base.frame().origin + normal * height, normal);
+        let outlines: Vec<Vec<DVec2>> = covered
+            .iter()
+            .map(|&id| {
+                let s = scene.surface(id);
+                s.vertices().iter().map(|&p| frame.to_plane(p)).collect()
+            })
+            .collect();
+        let (low, high) = outlines
+            .iter()
+            .flatten()
+            .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(low, high), &p| {
+                (low.min(p), high.max(p))
+            });
+        let size = high - low;
+        let largest_spacing = spacing.unwrap_or_else(|| en12464_spacing(size.max_element()));
+        let cells = |side: f64| ((side / largest_spacing).ceil() as usize).max(1);
+        let (columns, rows) = (cells(size.x), cells(size.y));
+        if columns.saturating_mul(rows) > MAX_GRID_POINTS {
+            return Err(invalid(
+                "spacing",
+                format!(
+                    "{largest_spacing} gives {columns} × {rows} points on `{name}`, \
+                     more than {MAX_GRID_POINTS}"
+                ),
+            ));
+        }
+        let spacing = DVec2::new(size.x / columns as f64, size.y / rows as f64);
+        let origin = low + spacing / 2.0;
+        let points = (0..rows * columns)
+            .map(|k| {
+                let p = origin + DVec2::new((k % columns) as f64, (k / columns) as f64) * spacing;
+                let (inside, _) = covered
+                    .iter()
+                    .zip(&outlines)
+                    .find(|(_, outline)| polygon_contains(outline, p))?;
+                Some((frame.to_world(p), *inside))
+            })
+            .collect();
+        Ok(CalculationGrid {
+            name: name.to_owned(),
+            height,
+            frame,
+            origin,
+            spacing,
+            columns,
+            rows,
+            outlines,
+            points,
+        })
+    }
+
+    /// The illuminance at every point, lx, row-major; NaN outside the
+    /// outline. On the surface (height 0) each point is a gather probe of
+    /// the surface under it; above it, a gather in free space facing the
+    /// surface's normal. Points are evaluated in parallel.
+    #[must_use]
+    pub fn illuminance(&self, solution: &Solution<'_>) -> Vec<f64> {
+        let normal = self.frame.normal;
+        self.points
+            .par_iter()
+            .map(|point| {
+                let Some((position, surface)) = *point else {
+                    return f64::NAN;
+                };
+                let irradiance = if self.height > 0.0 {
+                    solution.irradiance_in_space(position, normal).0
+                } else {
+                    let probe = ProbePoint {
+                        position,
+                        normal: Some(normal),
+                        line: 0,
+                    };
+                    match solution.probe(&probe, ProbeMode::Gather) {
+                        Ok(probe) => probe.irradiance,
+                        // The point lies on the surface by construction; a
+                        // gather that cannot place it reads nothing there.
+                        Err(_) => {
+                            debug_assert!(false, "grid point {position} off surface {surface}");
+                            return f64::NAN;
+                        }
+                    }
+                };
+                illuminance_lux(irradiance)
+            })
+            .collect()
+    }
+
+    /// Writes the grid's points inside the outline with their illuminance
+    /// `lux` (from [`CalculationGrid::illuminance`]) as CSV, columns
+    /// `x,y,z,illuminance_lux`, after `#` lines that say what the grid is
+    /// and give Emin, Eavg, Emax, U₀ = Emin/Eavg and Emin/Emax, one per line
+    /// as `# name = value`. The file is written atomically.
+    ///
+    /// # Errors
+    /// [`Error::Io`] when the file cannot be written.
+    pub fn write_csv(&self, path: &Path, lux: &[f64]) -> Result<()> {
+        write_atomically(path, |out| {
+            let io = |error| io_error(path, error);
+            for line in self.header_lines(lux) {
+                writeln!(out, "# {line}").map_err(io)?;
+            }
+            writeln!(out, "x,y,z,illuminance_lux").map_err(io)?;
+            for (point, &e) in self.points.iter().zip(lux) {
+                if let Some((p, _)) = point {
+                    writeln!(out, "{},{},{},{e}", p.x, p.y, p.z).map_err(io)?;
+                }
+            }
+            Ok(())
+        })
+    }
+
+    /// What the grid is and its statistics, as `name = value` lines.
+    #[must_use]
+    pub fn header_lines(&self, lux: &[f64]) -> Vec<String> {
+        let n = self.frame.normal;
+        let mut lines = vec![
+            format!("surface = {}", self.name),
+            format!("height = {}", self.height),
+            format!("normal = {} {} {}", n.x, n.y, n.z),
+            format!(
+                "grid = {} x {} at {:.4} x {:.4}",
+                self.columns, self.rows, self.spacing.x, self.spacing.y
+            ),
+        ];
+        match IlluminanceStatistics::of(lux) {
+            Some(stats) => lines.extend([
+                format!("points = {}", stats.points),
+                format!("Emin = {:.6} lx", stats.minimum),
+                format!("Eavg = {:.6} lx", stats.average),
+                format!("Emax = {:.6} lx", stats.maximum),
+                format!("U0 = Emin/Eavg = {:.6}", stats.uniformity()),
+                format!("Emin/Emax = {:.6}", stats.diversity()),
+            ]),
+            None => lines.push("points = 0".into()),
+        }
+        lines
+    }
+
+    /// Plane coordinates of point `index` (row-major).
+    #[must_use]
+    pub fn plane_point(&self, index: usize) -> DVec2 {
+        let (column, row) = (index % self.columns, index / self.columns);
+        self.origin + DVec2::new(column as f64, row as f64) * self.spacing
+    }
+}
+
+/// The frame a plan shows: for a horizontal surface (|n_y| > 0.9), u along
+/// +x and v = n × u (−z on a floor seen from above); otherwise v up (+y
+/// projected onto the plane) and u = v × n, a wall seen from its front.
+fn plan_frame(origin: DVec3, normal: DVec3) -> PlaneFrame {
+    let (u, v) = if normal.y.abs() > 0.9 {
+        let u = (DVec3::X - normal * normal.x).normalize();
+        (u, normal.cross(u))
+    } else {
+        let v = (DVec3::Y - normal * normal.y).normalize();
+        (v.cross(normal), v)
+    };
+    PlaneFrame {
+        origin,
+        u,
+        v,
+        normal,
+    }
+}
+
+/// "no surface is named `x`", with the names there are (the first 20).
+fn unknown_surface_message(scene: &Scene, name: &str) -> String {
+    let mut names: Vec<&str> = scene.surfaces.iter().map(|s| s.name.as_str()).collect();
+    names.sort_unstable();
+    names.dedup();
+    let more = names.len().saturating_sub(20);
+    names.truncate(20);
+    let mut message = format!(
+        "no surface is named `{name}`; the scene has {}",
+        names.join(", ")
+    );
+    if more > 0 {
+        message.push_str(&format!(" and {more} more"));
+    }
+    message
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn en12464_spacing_follows_the_formula() {
+        assert!((en12464_spacing(10.0) - 1.0).abs() < 1e-12);
+        assert!((en12464_spacing(1.0) - 0.2).abs() < 1e-12);
+        assert!((en12464_spacing(100.0) - 5.0).abs() < 1e-12);
+        assert!((en12464_spacing(1e6) - 10.0).abs() < 1e-12);
+        assert!(en12464_spacing(0.0) > 0.0);
+    }
+
+    #[test]
+    fn statistics_skip_points_outside() {
+        let stats = IlluminanceStatistics::of(&[100.0, f64::NAN, 300.0, 200.0]).unwrap();
+        assert_eq!(stats.points, 3);
+        assert_eq!(
+            (stats.minimum, stats.average, stats.maximum),
+            (100.0, 200.0, 300.0)
+        );
+        assert!((stats.uniformity() - 0.5).abs() < 1e-12);
+        assert!((stats.diversity() - 1.0 / 3.0).abs() < 1e-12);
+        assert!(IlluminanceStatistics::of(&[f64::NAN]).is_none());
+    }
+
+    #[test]
+    fn a_floor_plan_is_seen_from_above() {
+        let frame = plan_frame(DVec3::ZERO, DVec3::Y);
+        assert_eq!(frame.u, DVec3::X);
+        assert!((frame.v + DVec3::Z).length() < 1e-12);
+        assert!((frame.u.cross(frame.v) - frame.normal).length() < 1e-12);
+        let wall = plan_frame(DVec3::ZERO, DVec3::Z);
+        assert!((wall.v - DVec3::Y).length() < 1e-12);
+        assert!((wall.u.cross(wall.v) - wall.normal).length() < 1e-12);
+    }
+}
