@@ -8,6 +8,7 @@ mod adaptive_mesh;
 mod adaptive_solve;
 mod api;
 mod bad_inputs;
+mod cie171;
 mod cli;
 mod contacts;
 mod contour;
