@@ -99,7 +99,8 @@ impl EdgeNeighbours {
 }
 
 /// The shadow boundaries that `luminaires` and the point sources at
-/// `points` (photometric luminaires' centres) cast on `receiver` through
+/// `points` (photometric luminaires' centres, or their luminous openings'
+/// corners) cast on `receiver` through
 /// the scene's other surfaces, in the receiver's plane coordinates: merged
 /// where closer than `limits.min_feature`, the longest
 /// `limits.max_per_receiver` kept. Segments running along the receiver's

@@ -31,7 +31,8 @@ pub enum Symmetry {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LuminousOpening {
     /// Along the C90–C270 axis, metres (LM-63 width; negative: circular,
-    /// the diameter).
+    /// of diameter −width, as LM-63 says it and as EULUMDAT's zero width
+    /// with a length is read).
     pub width: f64,
     /// Along the C0–C180 axis, metres.
     pub length: f64,

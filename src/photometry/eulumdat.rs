@@ -188,9 +188,12 @@ pub fn parse_eulumdat(text: &str) -> Result<EulumdatFile, ParseProblem> {
     }
     let angles: Vec<f64> = planes.iter().map(|p| p.0).collect();
     let values: Vec<Vec<f64>> = planes.into_iter().map(|p| p.1).collect();
+    // EULUMDAT gives a circular area as its diameter with zero width; the
+    // opening says circular as LM-63 does, by a negative width.
+    let circular = area_width == 0.0 && area_length > 0.0;
     let opening = LuminousOpening {
-        width: area_width * MM,
-        length: area_length * MM,
+        width: if circular { -area_length } else { area_width } * MM,
+        length: if circular { 0.0 } else { area_length } * MM,
         height: area_height * MM,
     };
     Ok(EulumdatFile {

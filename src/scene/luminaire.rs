@@ -91,11 +91,16 @@ impl PhotometricLuminaire {
     }
 
     /// The irradiance it gives a point `x` on `surface` with unit normal
-    /// `normal` (the front side), W/m²: E = I(ω) cos θ / r² when nothing
-    /// blocks the segment to the photometric centre, else zero. The shadow
-    /// ray stops a surface offset short of the centre, so a recessed
-    /// fitting whose centre lies on the ceiling's plane does not shadow
-    /// itself.
+    /// `normal` (the front side), W/m²: E = I(ω) cos θ / r² from the
+    /// photometric centre (the far-field law the file was measured for),
+    /// times the share of the luminous opening that `x` sees unblocked.
+    ///
+    /// A point source is one shadow ray to the centre. A luminous opening
+    /// (see [`PhotometricLuminaire::opening_samples`]) is sampled at
+    /// [`OPENING_SAMPLES`] points, so that its shadows have penumbrae; in
+    /// the open the result is the point-source law exactly. Each shadow ray
+    /// stops a surface offset short of its sample, so a recessed fitting
+    /// whose opening lies on the ceiling's plane does not shadow itself.
     #[must_use]
     pub fn irradiance_at(
         &self,
@@ -118,13 +123,104 @@ impl PhotometricLuminaire {
         if intensity == Rgb::ZERO {
             return Rgb::ZERO;
         }
-        let start = x + normal * visibility.surface_offset();
-        let end = self.position + (to_light / r) * -visibility.surface_offset();
-        if !visibility.is_unblocked(start, end, [surface, surface]) {
+        let offset = visibility.surface_offset();
+        let start = x + normal * offset;
+        let unblocked = |target: DVec3| {
+            let back = (x - target).normalize_or_zero() * offset;
+            visibility.is_unblocked(start, target + back, [surface, surface])
+        };
+        let samples = self.opening_samples();
+        let seen = samples.iter().filter(|&&p| unblocked(p)).count();
+        if seen == 0 {
             return Rgb::ZERO;
         }
-        intensity * (cos / r2)
+        intensity * (cos / r2 * seen as f64 / samples.len() as f64)
     }
+
+    /// Shadow rays' targets on the luminous opening: the centre alone for a
+    /// point source; otherwise [`OPENING_SAMPLES`] points of a Hammersley
+    /// set over the opening's face through the centre, perpendicular to the
+    /// aim: a rectangle of the file's width (along C90) by its length (along
+    /// C0), either of which may be zero (a line), or a disc of diameter
+    /// −width (the concentric map of Shirley & Chiu 1997). The opening's
+    /// height (along the aim) is not sampled: the face through the centre
+    /// stands for it, so that a fitting whose centre sits on the ceiling
+    /// puts no sample behind it.
+    #[must_use]
+    pub fn opening_samples(&self) -> Vec<DVec3> {
+        let opening = self.distribution.opening;
+        let c90 = (-self.aim).cross(self.c0);
+        let (width, length) = (opening.width, opening.length.max(0.0));
+        if width == 0.0 && length == 0.0 || !(width.is_finite() && length.is_finite()) {
+            return vec![self.position];
+        }
+        (0..OPENING_SAMPLES)
+            .map(|i| {
+                let s = (i as f64 + 0.5) / OPENING_SAMPLES as f64;
+                let t = radical_inverse(i as u32);
+                let (along_c0, along_c90) = if width < 0.0 {
+                    let (a, b) = concentric_disc(s, t);
+                    (a * -width / 2.0, b * -width / 2.0)
+                } else {
+                    ((t - 0.5) * length, (s - 0.5) * width)
+                };
+                self.position + self.c0 * along_c0 + c90 * along_c90
+            })
+            .collect()
+    }
+
+    /// Points a shadow boundary is cast from: the centre of a point source,
+    /// or the outline of the luminous opening (its rectangle's corners, or
+    /// eight points on its disc's rim).
+    #[must_use]
+    pub fn opening_corners(&self) -> Vec<DVec3> {
+        let opening = self.distribution.opening;
+        let c90 = (-self.aim).cross(self.c0);
+        let (width, length) = (opening.width, opening.length.max(0.0));
+        if width == 0.0 && length == 0.0 || !(width.is_finite() && length.is_finite()) {
+            return vec![self.position];
+        }
+        if width < 0.0 {
+            return (0..8)
+                .map(|k| {
+                    let angle = f64::from(k) * std::f64::consts::FRAC_PI_4;
+                    self.position + (self.c0 * angle.cos() + c90 * angle.sin()) * (-width / 2.0)
+                })
+                .collect();
+        }
+        [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .iter()
+            .map(|&(a, b)| self.position + self.c0 * (a * length / 2.0) + c90 * (b * width / 2.0))
+            .collect()
+    }
+}
+
+/// Shadow rays per receiving point for a luminaire with a luminous opening.
+pub const OPENING_SAMPLES: usize = 16;
+
+/// The base-2 radical inverse of `i` (van der Corput): its bits mirrored
+/// about the binary point.
+fn radical_inverse(i: u32) -> f64 {
+    f64::from(i.reverse_bits()) / 2f64.powi(32)
+}
+
+/// Shirley & Chiu's concentric map of the unit square onto the unit disc,
+/// which keeps strata compact ("A Low Distortion Map Between Disk and
+/// Square", JGT 2(3), 1997).
+fn concentric_disc(s: f64, t: f64) -> (f64, f64) {
+    let (a, b) = (2.0 * s - 1.0, 2.0 * t - 1.0);
+    if a == 0.0 && b == 0.0 {
+        return (0.0, 0.0);
+    }
+    let (r, phi) = if a.abs() > b.abs() {
+        (a, std::f64::consts::FRAC_PI_4 * (b / a))
+    } else {
+        (
+            b,
+            std::f64::consts::FRAC_PI_2 - std::f64::consts::FRAC_PI_4 * (a / b),
+        )
+    };
+    (r * phi.cos(), r * phi.sin())
 }
 
 #[cfg(test)]
@@ -150,6 +246,36 @@ mod tests {
             1.0,
             Rgb::ONE,
         )
+    }
+
+    #[test]
+    fn opening_samples_cover_the_rectangle_or_the_disc() {
+        let mut luminaire = c_reader();
+        assert_eq!(luminaire.opening_samples(), vec![DVec3::ZERO]);
+        let mut distribution = (*luminaire.distribution).clone();
+        distribution.opening = LuminousOpening {
+            width: 0.4,
+            length: 1.2,
+            height: 0.1,
+        };
+        luminaire.distribution = Arc::new(distribution.clone());
+        let samples = luminaire.opening_samples();
+        assert_eq!(samples.len(), OPENING_SAMPLES);
+        let mean = samples.iter().sum::<DVec3>() / samples.len() as f64;
+        assert!(mean.length() < 0.05, "mean {mean}");
+        // Length along C0 (x), width along C90 (−z), in the plane y = 0.
+        for p in &samples {
+            assert!(p.y == 0.0 && p.x.abs() <= 0.6 && p.z.abs() <= 0.2, "{p}");
+        }
+        assert_eq!(luminaire.opening_corners().len(), 4);
+        distribution.opening.width = -0.5;
+        luminaire.distribution = Arc::new(distribution);
+        for p in luminaire.opening_samples() {
+            assert!(p.length() <= 0.25 + 1e-12, "{p}");
+        }
+        for p in luminaire.opening_corners() {
+            assert!((p.length() - 0.25).abs() < 1e-12, "{p}");
+        }
     }
 
     #[test]

@@ -208,7 +208,8 @@ impl Solver {
     fn shoot_luminaire(&mut self, k: usize) {
         let incident =
             self.luminaire_light(k, &(0..self.mesh.vertices.len() as u32).collect::<Vec<_>>());
-        self.rays += incident.len() as u64;
+        let samples = self.scene.luminaires[k].opening_samples().len();
+        self.rays += (incident.len() * samples) as u64;
         self.receive(&incident);
         self.shot_power += self.scene.luminaires[k].power();
         self.luminaire_shot[k] = true;

@@ -120,7 +120,11 @@ pub fn scene_shadow_boundaries(
         min_feature: BOUNDARY_MIN_FEATURE * square.max_edge,
         max_per_receiver: MAX_BOUNDARIES_PER_RECEIVER,
     };
-    let points: Vec<DVec3> = scene.luminaires.iter().map(|l| l.position).collect();
+    let points: Vec<DVec3> = scene
+        .luminaires
+        .iter()
+        .flat_map(|l| l.opening_corners())
+        .collect();
     let ids: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
     ids.par_iter()
         .map(|&id| {

@@ -27,6 +27,11 @@ fn table() -> (Vec<f64>, Vec<f64>, Vec<Vec<f64>>) {
 }
 
 fn ies_text() -> String {
+    ies_text_with_opening(0.0, 0.0)
+}
+
+/// The table as LM-63, with a luminous opening `width` × `length` metres.
+fn ies_text_with_opening(width: f64, length: f64) -> String {
     let (vertical, horizontal, candela) = table();
     let join = |v: &[f64]| {
         v.iter()
@@ -35,7 +40,7 @@ fn ies_text() -> String {
             .join(" ")
     };
     let mut text = format!(
-        "IESNA:LM-63-2002\n[TEST] isorad\nTILT=NONE\n1 -1 2.0 {} {} 1 2 0 0 0\n0.5 1.0 20\n{}\n{}\n",
+        "IESNA:LM-63-2002\n[TEST] isorad\nTILT=NONE\n1 -1 2.0 {} {} 1 2 {width} {length} 0\n0.5 1.0 20\n{}\n{}\n",
         vertical.len(),
         horizontal.len(),
         join(&vertical),
@@ -142,6 +147,50 @@ fn a_downlight_lights_the_floor_as_its_tabulated_intensity_over_distance_squared
     let expected = green * flux * 2.0 * 0.5 * 0.8 / 179.0;
     let ratio = balance.emitted.g / expected;
     assert!((ratio - 1.0).abs() < 0.01, "emitted ×{ratio} of the flux");
+}
+
+#[test]
+fn a_luminous_opening_casts_penumbrae_and_keeps_the_point_law_in_the_open() {
+    // A blocker halfway down covers x < 0; the opening is 0.6 m square.
+    let obj = format!(
+        "{FLOOR}usemtl white\nv -4 1.25 -4\nv -4 1.25 4\nv 0 1.25 4\nv 0 1.25 -4\nf 5 6 7 8\n"
+    );
+    let dir = scene_folder(&obj, LUMINAIRE);
+    std::fs::write(
+        dir.path().join("downlight.ies"),
+        ies_text_with_opening(0.6, 0.6),
+    )
+    .unwrap();
+    let solver = solve(dir.path());
+    let solution = solver.solution_with_ambient();
+    let direct = |x: f64| {
+        let point = ProbePoint {
+            position: DVec3::new(x, 0.0, 0.5),
+            normal: None,
+            line: 1,
+        };
+        let probe = solution.probe(&point, ProbeMode::Gather).unwrap();
+        let d = DVec3::new(0.0, 2.5, 0.0) - point.position;
+        let open = solver.scene().luminaires[0].radiant_intensity(-d.normalize());
+        let law = open.g * (d.y / d.length()) / d.length_squared();
+        // The blocker faces up (one-sided, it reflects nothing down) and
+        // the floor sees no other surface: its light is the luminaire's alone.
+        probe.irradiance.g / law
+    };
+    // Past the penumbra on the open side: the point law exactly.
+    assert!((direct(1.0) - 1.0).abs() < 1e-6, "open: ×{}", direct(1.0));
+    // In the umbra: nothing.
+    assert!(direct(-0.5).abs() < 1e-9, "umbra: ×{}", direct(-0.5));
+    // Rays to the opening's points at x_s cross the blocker's plane at
+    // (x + x_s)/2, so x sees the part x_s ≥ −x: a quarter hidden at 0.15,
+    // half at 0, three quarters at −0.15 (within one sample of 16).
+    for (x, seen) in [(0.15, 0.75), (0.0, 0.5), (-0.15, 0.25)] {
+        let share = direct(x);
+        assert!(
+            (share - seen).abs() <= 1.0 / 16.0 + 1e-9,
+            "x = {x}: sees {share} of the opening, geometry says {seen}"
+        );
+    }
 }
 
 #[test]
