@@ -250,7 +250,7 @@ fn probe_lux(solver: &Solver, x: DVec3, n: DVec3) -> f64 {
 fn case_5_2_point_source_from_ies_and_eulumdat() {
     for file in ["asymmetric.ies", "asymmetric.ldt"] {
         let dir = room_folder(0.0, Some(file), "");
-        let solver = solve(&dir.path().to_path_buf());
+        let solver = solve(dir.path());
         let mut worst: f64 = 0.0;
         for (x, n) in probe_points() {
             let exact = point_source_lux(x, n);
