@@ -30,8 +30,9 @@ use glam::{DVec2, DVec3};
 use super::luminaire::Luminaire;
 use super::sample_stream::SampleStream;
 use super::stratified::stratified_points;
+use crate::photometry::LUMENS_PER_WATT;
 use crate::radiometry::{DiscModel, ReceiverPlane, SmallDisc, polygon_form_factor_with_gradient};
-use crate::scene::{PlaneFrame, Scene, SurfaceId, Visibility};
+use crate::scene::{PhotometricLuminaire, PlaneFrame, Scene, SurfaceId, Visibility};
 
 /// Most iterations of the ascent in [`DirectField::maximum`].
 const MAX_ASCENT_STEPS: usize = 100;
@@ -47,18 +48,33 @@ pub struct DirectField {
     frame: PlaneFrame,
     /// The receiving surface.
     receiver: SurfaceId,
-    /// The luminaire's polygons (world) with their surfaces.
-    polygons: Vec<(SurfaceId, Vec<DVec3>)>,
-    /// The same polygons in `luminaire_frame`'s plane coordinates.
-    plane_polygons: Vec<Vec<DVec2>>,
-    /// The luminaire's plane: origin at its centre, normal m.
-    luminaire_frame: PlaneFrame,
-    /// The luminaire's area.
-    luminaire_area: f64,
-    /// Y(ρ ⊙ E), W/m²: radiosity per unit form factor.
+    /// What gives the light.
+    source: FieldSource,
+    /// Radiosity per unit of the source's raw field: Y(ρ ⊙ E), W/m², for
+    /// an area luminaire (per unit form factor); Y(ρ ⊙ tint) / 179 lm/W
+    /// for a photometric one (per lux).
     scale: f64,
     /// Length scale of the geometry: max(|height of the centre|, radius).
     length: f64,
+}
+
+/// The two kinds of luminaire a field can come from.
+#[derive(Clone, Debug)]
+enum FieldSource {
+    /// Emitting polygons: the raw field is Σ_i F(x → P_i).
+    Polygons {
+        /// The luminaire's polygons (world) with their surfaces.
+        polygons: Vec<(SurfaceId, Vec<DVec3>)>,
+        /// The same polygons in `luminaire_frame`'s plane coordinates.
+        plane_polygons: Vec<Vec<DVec2>>,
+        /// The luminaire's plane: origin at its centre, normal m.
+        luminaire_frame: PlaneFrame,
+        /// The luminaire's area.
+        luminaire_area: f64,
+    },
+    /// A photometric luminaire: the raw field is its unoccluded
+    /// illuminance, lx ([`PhotometricLuminaire::illuminance_with_gradient`]).
+    Photometric(Box<PhotometricLuminaire>),
 }
 
 impl DirectField {
@@ -110,10 +126,48 @@ impl DirectField {
         Some(DirectField {
             frame,
             receiver,
-            polygons,
-            plane_polygons,
-            luminaire_frame,
-            luminaire_area: luminaire.area,
+            source: FieldSource::Polygons {
+                polygons,
+                plane_polygons,
+                luminaire_frame,
+                luminaire_area: luminaire.area,
+            },
+            scale,
+            length,
+        })
+    }
+
+    /// The field of photometric luminaire `luminaire` on surface
+    /// `receiver`'s plane: B(p) = Y(ρ ⊙ tint) / 179 lm/W · E_v(p), with
+    /// E_v = I(C, γ) · multiplier · cos θ / r² and its analytic gradient
+    /// through the web's interpolation.
+    ///
+    /// `None` when the luminaire's centre is not in front of the receiver's
+    /// plane, for a receiver index out of range, or a non-finite scale.
+    #[must_use]
+    pub fn photometric(
+        scene: &Scene,
+        receiver: SurfaceId,
+        luminaire: &PhotometricLuminaire,
+    ) -> Option<DirectField> {
+        let surface = scene.surfaces.get(receiver.index())?;
+        let frame = *surface.frame();
+        let height = frame.height(luminaire.position);
+        let radius = luminaire
+            .opening_corners()
+            .iter()
+            .map(|c| c.distance(luminaire.position))
+            .fold(0.0, f64::max);
+        let length = height.max(radius);
+        let material = scene.materials.get(surface.material)?;
+        let scale = (material.reflectance * luminaire.color).luminance() / LUMENS_PER_WATT;
+        if !(height > 0.0 && scale.is_finite() && length.is_finite()) {
+            return None;
+        }
+        Some(DirectField {
+            frame,
+            receiver,
+            source: FieldSource::Photometric(Box::new(luminaire.clone())),
             scale,
             length,
         })
@@ -125,10 +179,24 @@ impl DirectField {
         &self.frame
     }
 
-    /// Y(ρ ⊙ E), W/m²: the radiosity per unit form factor.
+    /// The radiosity per unit of the raw field: Y(ρ ⊙ E), W/m², per unit
+    /// form factor for an area luminaire; Y(ρ ⊙ tint) / 179 lm/W per lux
+    /// for a photometric one.
     #[must_use]
     pub fn scale(&self) -> f64 {
         self.scale
+    }
+
+    /// The luminaire's centre (world): its area's centroid, or the
+    /// photometric centre.
+    #[must_use]
+    pub fn centre(&self) -> DVec3 {
+        match &self.source {
+            FieldSource::Polygons {
+                luminaire_frame, ..
+            } => luminaire_frame.origin,
+            FieldSource::Photometric(luminaire) => luminaire.position,
+        }
     }
 
     /// Unoccluded direct radiosity B_S(p) = Y(ρ ⊙ E) · Σ_i F(p → P_i), W/m²,
@@ -153,19 +221,34 @@ impl DirectField {
         self.value_and_gradient(p).0
     }
 
-    /// Σ_i F(p → P_i) and its gradient in plane coordinates.
+    /// The source's raw field at p (Σ_i F(p → P_i), or a photometric
+    /// luminaire's illuminance in lx) and its gradient in plane coordinates.
     fn form_factor_with_gradient(&self, p: DVec2) -> (f64, DVec2) {
         let x = self.frame.to_world(p);
-        let lit = x.is_finite() && self.luminaire_frame.height(x) > 0.0;
-        if !lit {
+        if !x.is_finite() {
             return (0.0, DVec2::ZERO);
         }
-        let (mut f, mut g) = (0.0, DVec3::ZERO);
-        for (_, polygon) in &self.polygons {
-            let (fi, gi) = polygon_form_factor_with_gradient(x, self.frame.normal, polygon);
-            f += fi;
-            g += gi;
-        }
+        let (f, g) = match &self.source {
+            FieldSource::Polygons {
+                polygons,
+                luminaire_frame,
+                ..
+            } => {
+                if luminaire_frame.height(x) <= 0.0 {
+                    return (0.0, DVec2::ZERO);
+                }
+                let (mut f, mut g) = (0.0, DVec3::ZERO);
+                for (_, polygon) in polygons {
+                    let (fi, gi) = polygon_form_factor_with_gradient(x, self.frame.normal, polygon);
+                    f += fi;
+                    g += gi;
+                }
+                (f, g)
+            }
+            FieldSource::Photometric(luminaire) => {
+                luminaire.illuminance_with_gradient(x, self.frame.normal)
+            }
+        };
         (f, DVec2::new(g.dot(self.frame.u), g.dot(self.frame.v)))
     }
 
@@ -189,18 +272,30 @@ impl DirectField {
     #[must_use]
     pub fn visible_fraction(&self, visibility: &Visibility, p: DVec2, samples: usize) -> f64 {
         let x = self.frame.to_world(p);
-        if !x.is_finite() || self.luminaire_frame.height(x) <= 0.0 {
+        let (
+            FieldSource::Polygons {
+                polygons,
+                plane_polygons,
+                luminaire_frame,
+                ..
+            },
+            true,
+        ) = (&self.source, x.is_finite())
+        else {
+            return self.opening_fraction(visibility, x);
+        };
+        if luminaire_frame.height(x) <= 0.0 {
             return 0.0;
         }
-        let (n, m) = (self.frame.normal, self.luminaire_frame.normal);
+        let (n, m) = (self.frame.normal, luminaire_frame.normal);
         let offset = visibility.surface_offset();
         let from = x + n * offset;
         let mut random = SampleStream::new(p.x.to_bits() ^ u64::from(self.receiver), p.y.to_bits());
         let (mut visible, mut total) = (0.0, 0.0);
-        for ((surface, _), polygon) in self.polygons.iter().zip(&self.plane_polygons) {
+        for ((surface, _), polygon) in polygons.iter().zip(plane_polygons) {
             for (q, area) in stratified_points(polygon, samples.max(1), 0.0, &mut random) {
                 // The point-kernel weight of the sample; nothing if either faces away.
-                let y = self.luminaire_frame.to_world(q);
+                let y = luminaire_frame.to_world(q);
                 let d = y - x;
                 let r2 = d.length_squared();
                 let (cos_r, cos_s) = (n.dot(d), -m.dot(d));
@@ -221,6 +316,31 @@ impl DirectField {
         }
     }
 
+    /// A photometric luminaire's visible share at world point x: the
+    /// fraction of its opening's sample points
+    /// ([`PhotometricLuminaire::opening_samples`]) that x sees (the centre
+    /// alone for a point source); 0 for an area luminaire's field or a
+    /// point that is not finite or not lit.
+    fn opening_fraction(&self, visibility: &Visibility, x: DVec3) -> f64 {
+        let FieldSource::Photometric(luminaire) = &self.source else {
+            return 0.0;
+        };
+        if !x.is_finite() || self.frame.normal.dot(luminaire.position - x) <= 0.0 {
+            return 0.0;
+        }
+        let offset = visibility.surface_offset();
+        let from = x + self.frame.normal * offset;
+        let samples = luminaire.opening_samples();
+        let seen = samples
+            .iter()
+            .filter(|&&y| {
+                let back = (x - y).normalize_or_zero() * offset;
+                visibility.is_unblocked(from, y + back, [self.receiver, self.receiver])
+            })
+            .count();
+        seen as f64 / samples.len() as f64
+    }
+
     /// Whether the luminaire's centre c is visible from p (a point light's
     /// visibility, for finding shadow boundaries): p in front of the
     /// luminaire, c in front of the receiver's plane, and the segment
@@ -229,16 +349,32 @@ impl DirectField {
     #[must_use]
     pub fn sees_centre(&self, visibility: &Visibility, p: DVec2) -> bool {
         let x = self.frame.to_world(p);
-        let c = self.luminaire_frame.origin;
-        let facing =
-            x.is_finite() && self.luminaire_frame.height(x) > 0.0 && self.frame.height(c) > 0.0;
         let offset = visibility.surface_offset();
-        facing
-            && visibility.is_unblocked(
-                x + self.frame.normal * offset,
-                c + self.luminaire_frame.normal * offset,
-                [self.receiver, self.polygons[0].0],
-            )
+        let from = x + self.frame.normal * offset;
+        match &self.source {
+            FieldSource::Polygons {
+                polygons,
+                luminaire_frame,
+                ..
+            } => {
+                let c = luminaire_frame.origin;
+                let facing =
+                    x.is_finite() && luminaire_frame.height(x) > 0.0 && self.frame.height(c) > 0.0;
+                facing
+                    && visibility.is_unblocked(
+                        from,
+                        c + luminaire_frame.normal * offset,
+                        [self.receiver, polygons[0].0],
+                    )
+            }
+            FieldSource::Photometric(luminaire) => {
+                let c = luminaire.position;
+                let back = (x - c).normalize_or_zero() * offset;
+                x.is_finite()
+                    && self.frame.height(c) > 0.0
+                    && visibility.is_unblocked(from, c + back, [self.receiver, self.receiver])
+            }
+        }
     }
 
     /// Where the luminaire's plane m · (x − c) = 0 cuts the receiver's plane,
@@ -247,15 +383,23 @@ impl DirectField {
     /// m·(o − c) + a·q = 0, through q₀ = −m·(o − c) a/|a|² along (a_y, −a_x)/|a|;
     /// the lit side (in front of the luminaire) lies to the left of that
     /// direction. The field has a kink there: the light ends.
+    ///
+    /// A photometric luminaire has no such plane: `None`.
     #[must_use]
     pub fn kink_line(&self) -> Option<(DVec2, DVec2)> {
-        let m = self.luminaire_frame.normal;
+        let FieldSource::Polygons {
+            luminaire_frame, ..
+        } = &self.source
+        else {
+            return None;
+        };
+        let m = luminaire_frame.normal;
         let a = DVec2::new(m.dot(self.frame.u), m.dot(self.frame.v));
         let sine = a.length();
         if sine.is_nan() || sine < 1e-9 {
             return None;
         }
-        let offset = m.dot(self.frame.origin - self.luminaire_frame.origin);
+        let offset = m.dot(self.frame.origin - luminaire_frame.origin);
         let point = -a * (offset / (sine * sine));
         let direction = DVec2::new(a.y, -a.x) / sine;
         (point.is_finite() && direction.is_finite()).then_some((point, direction))
@@ -287,27 +431,49 @@ impl DirectField {
         peak.is_finite().then_some(peak)
     }
 
-    /// The lit starting point of the ascent: the small disc's peak if lit,
-    /// else the best projection of the luminaire's centre or vertices.
+    /// The lit starting point of the ascent: for an area luminaire the
+    /// small disc's peak if lit, else the best projection of the
+    /// luminaire's centre or vertices; for a photometric one, the best of
+    /// the foot of its centre and the point its aim meets the plane.
     fn ascent_start(&self) -> Option<DVec2> {
-        let disc = SmallDisc {
-            centre: self.luminaire_frame.origin,
-            normal: self.luminaire_frame.normal,
-            area: self.luminaire_area,
-            exitance: 1.0,
+        let candidates: Vec<DVec2> = match &self.source {
+            FieldSource::Polygons {
+                polygons,
+                luminaire_frame,
+                luminaire_area,
+                ..
+            } => {
+                let disc = SmallDisc {
+                    centre: luminaire_frame.origin,
+                    normal: luminaire_frame.normal,
+                    area: *luminaire_area,
+                    exitance: 1.0,
+                };
+                let plane = ReceiverPlane {
+                    point: self.frame.origin,
+                    normal: self.frame.normal,
+                };
+                let disc_peak = disc
+                    .maximum_on_plane(DiscModel::PointSource, &plane)
+                    .map(|w| self.frame.to_plane(w));
+                let projections = std::iter::once(luminaire_frame.origin)
+                    .chain(polygons.iter().flat_map(|(_, p)| p.iter().copied()))
+                    .map(|w| self.frame.to_plane(w));
+                disc_peak.into_iter().chain(projections).collect()
+            }
+            FieldSource::Photometric(luminaire) => {
+                let c = luminaire.position;
+                let height = self.frame.height(c);
+                let toward = -self.frame.normal.dot(luminaire.aim);
+                let along_aim = (toward > 1e-9).then(|| c + luminaire.aim * (height / toward));
+                std::iter::once(c)
+                    .chain(along_aim)
+                    .map(|w| self.frame.to_plane(w))
+                    .collect()
+            }
         };
-        let plane = ReceiverPlane {
-            point: self.frame.origin,
-            normal: self.frame.normal,
-        };
-        let disc_peak = disc
-            .maximum_on_plane(DiscModel::PointSource, &plane)
-            .map(|w| self.frame.to_plane(w));
-        let projections = std::iter::once(self.luminaire_frame.origin)
-            .chain(self.polygons.iter().flat_map(|(_, p)| p.iter().copied()))
-            .map(|w| self.frame.to_plane(w));
-        let candidates = disc_peak.into_iter().chain(projections);
         let (best, value) = candidates
+            .into_iter()
             .map(|q| (q, self.form_factor_with_gradient(q).0))
             .fold((DVec2::ZERO, 0.0), |a, b| if b.1 > a.1 { b } else { a });
         (value > 0.0).then_some(best)

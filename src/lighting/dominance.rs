@@ -104,8 +104,10 @@ impl DominanceSettings {
 pub struct ReceiverAnalysis {
     /// The receiving surface.
     pub receiver: SurfaceId,
-    /// The luminaire (index into the slice analysed) giving at least
-    /// `min_share` of the receiver's direct light, if any.
+    /// The luminaire giving at least `min_share` of the receiver's direct
+    /// light, if any: an index into the area luminaires analysed, followed
+    /// by the scene's photometric luminaires (index `luminaires.len() + k`
+    /// for `scene.luminaires[k]`; see [`dominant_field`]).
     pub dominant: Option<usize>,
     /// The strongest luminaire's share of the direct light, in [0, 1]
     /// (0 when no light arrives), whether or not it dominates.
@@ -175,10 +177,9 @@ fn analyse_receiver(
         SAMPLE_SHRINK,
         &mut random,
     );
-    let light: Vec<(f64, Option<DirectField>)> = luminaires
-        .iter()
-        .map(|luminaire| {
-            let field = DirectField::new(scene, receiver, luminaire);
+    let light: Vec<(f64, Option<DirectField>)> = (0..luminaires.len() + scene.luminaires.len())
+        .map(|k| {
+            let field = dominant_field(scene, receiver, luminaires, k);
             let direct = field.as_ref().map_or(0.0, |field| {
                 direct_light(field, visibility, &points, settings.shadow_rays)
             });
@@ -198,10 +199,22 @@ fn analyse_receiver(
         };
     };
     let share = (light[best].0 / total).clamp(0.0, 1.0);
+    let (centre, radius) = match luminaires.get(best) {
+        Some(lamp) => (lamp.centre, lamp.radius),
+        None => {
+            let luminaire = &scene.luminaires[best - luminaires.len()];
+            let radius = luminaire
+                .opening_corners()
+                .iter()
+                .map(|c| c.distance(luminaire.position))
+                .fold(0.0, f64::max);
+            (luminaire.position, radius)
+        }
+    };
     let size_ratio = light[best].1.as_ref().map_or(f64::INFINITY, |field| {
-        let distance = light_distance(field, surface, luminaires[best].centre);
+        let distance = light_distance(field, surface, centre);
         if distance > 0.0 {
-            luminaires[best].radius / distance
+            radius / distance
         } else {
             f64::INFINITY
         }
@@ -217,6 +230,25 @@ fn analyse_receiver(
 }
 
 /// D = Σ_k a_k B(x_k) V(x_k) over the sample points (x_k, a_k).
+/// The direct field on `receiver` of light `k` in the analysis's order:
+/// area luminaire `luminaires[k]`, or photometric luminaire
+/// `scene.luminaires[k − luminaires.len()]`; `None` when it cannot light the
+/// receiver or `k` is out of range.
+#[must_use]
+pub fn dominant_field(
+    scene: &Scene,
+    receiver: SurfaceId,
+    luminaires: &[Luminaire],
+    k: usize,
+) -> Option<DirectField> {
+    match luminaires.get(k) {
+        Some(lamp) => DirectField::new(scene, receiver, lamp),
+        None => {
+            DirectField::photometric(scene, receiver, scene.luminaires.get(k - luminaires.len())?)
+        }
+    }
+}
+
 fn direct_light(
     field: &DirectField,
     visibility: &Visibility,

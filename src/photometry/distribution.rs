@@ -173,27 +173,63 @@ impl IntensityDistribution {
     /// sends nothing upwards).
     #[must_use]
     pub fn intensity(&self, c: f64, gamma: f64) -> f64 {
+        self.intensity_with_derivatives(c, gamma).0
+    }
+
+    /// I(C, γ) (see [`IntensityDistribution::intensity`]) and its partial
+    /// derivatives ∂I/∂C and ∂I/∂γ, candela per degree, of the bilinear
+    /// interpolant in the cell holding (C, γ):
+    ///
+    /// ```text
+    ///   I = (1 − t_C) I_γ(C_i) + t_C I_γ(C_i+1),   I_γ(C) = (1 − t_γ) I(C, γ_j) + t_γ I(C, γ_j+1)
+    ///   ∂I/∂C = (I_γ(C_i+1) − I_γ(C_i)) / (C_i+1 − C_i)
+    ///   ∂I/∂γ = [(1 − t_C) ΔI(C_i) + t_C ΔI(C_i+1)] / (γ_j+1 − γ_j)
+    /// ```
+    ///
+    /// On a tabulated angle the cell above it is used (the interpolant has a
+    /// kink there); zero derivatives outside the tabulated range.
+    #[must_use]
+    pub fn intensity_with_derivatives(&self, c: f64, gamma: f64) -> (f64, f64, f64) {
         let n = self.gamma_angles.len();
         let (Some(&g0), Some(&g1)) = (self.gamma_angles.first(), self.gamma_angles.last()) else {
-            return 0.0;
+            return (0.0, 0.0, 0.0);
         };
         if !(c.is_finite() && gamma.is_finite()) || gamma < g0 - 1e-9 || gamma > g1 + 1e-9 {
-            return 0.0;
+            return (0.0, 0.0, 0.0);
         }
         let (j, tg) = bracket(&self.gamma_angles, gamma.clamp(g0, g1));
         let (i, tc) = bracket(&self.c_angles, c.rem_euclid(360.0));
         let at = |plane: usize, k: usize| self.candela[plane * n + k];
+        let gamma_span = if n == 1 {
+            0.0
+        } else {
+            self.gamma_angles[j + 1] - self.gamma_angles[j]
+        };
+        // I along γ in a plane, and its step over the cell.
         let along = |plane: usize| {
             if n == 1 {
-                at(plane, 0)
+                (at(plane, 0), 0.0)
             } else {
-                at(plane, j) + (at(plane, j + 1) - at(plane, j)) * tg
+                let step = at(plane, j + 1) - at(plane, j);
+                (at(plane, j) + step * tg, step)
             }
         };
+        let per_gamma = |step: f64| {
+            if gamma_span > 0.0 {
+                step / gamma_span
+            } else {
+                0.0
+            }
+        };
+        let (a, step_a) = along(i);
         if self.c_angles.len() == 1 {
-            return along(0);
+            return (a, 0.0, per_gamma(step_a));
         }
-        along(i) + (along(i + 1) - along(i)) * tc
+        let (b, step_b) = along(i + 1);
+        let c_span = self.c_angles[i + 1] - self.c_angles[i];
+        let d_c = if c_span > 0.0 { (b - a) / c_span } else { 0.0 };
+        let d_gamma = per_gamma(step_a + (step_b - step_a) * tc);
+        (a + (b - a) * tc, d_c, d_gamma)
     }
 
     /// The tabulated γ angles, degrees.

@@ -19,7 +19,7 @@ pub use load::{
     LoadSettings, LoadedScene, MergeReport, ProbePoint, builtin_names, load_obj, load_probe_points,
     load_scene, load_scene_file, load_scene_with, merge_coplanar_faces, parse_probe_points,
 };
-pub use luminaire::PhotometricLuminaire;
+pub use luminaire::{OPENING_SAMPLES, PhotometricLuminaire};
 pub use material::Material;
 pub(crate) use plane_polygon::{
     clip_segment_to_polygon, distance_to_boundary, distance_to_segment, polygon_contains,

@@ -23,7 +23,7 @@ pub use progressive::Solver;
 pub use refinement::RefinementSettings;
 pub use run::{Progress, StopReason, Until};
 pub use scene_mesh::{
-    MeshAnalysis, SceneMesh, mesh_scene, receiver_layout, scene_shadow_boundaries,
+    MeshAnalysis, SceneMesh, field_layout, mesh_scene, receiver_layout, scene_shadow_boundaries,
 };
 pub use settings::{FormFactorKernel, Settings, ShootFrom, SolverSettings};
 pub use solution::{PENUMBRA_RAY_BUDGET, Probe, ProbeMode, Solution, SurfaceTotals};

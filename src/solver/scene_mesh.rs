@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use super::mesh_settings::{MeshKind, MeshSettings};
 use crate::lighting::{
     BoundaryLimits, DirectField, EdgeNeighbours, Luminaire, ReceiverAnalysis, analyse_receivers,
-    luminaires, shadow_boundaries,
+    dominant_field, luminaires, shadow_boundaries,
 };
 use crate::mesh::{
     ContourLayout, ContourSettings, Mesh, SurfaceGuides, contour_layout, mesh_surfaces,
@@ -74,8 +74,8 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
                 .receivers
                 .iter()
                 .find(|a| a.receiver == surface && a.qualifies)?;
-            let luminaire = &analysis.luminaires[found.dominant?];
-            receiver_layout(scene, visibility, surface, luminaire, &settings.contour)
+            let field = dominant_field(scene, surface, &analysis.luminaires, found.dominant?)?;
+            field_layout(scene, visibility, surface, field, &settings.contour)
         })
         .collect();
     for ((surface, _), layout) in scene.surfaces_with_ids().zip(&layouts) {
@@ -154,10 +154,23 @@ pub fn receiver_layout(
     settings: &ContourSettings,
 ) -> Option<ContourLayout> {
     let field = DirectField::new(scene, receiver, luminaire)?;
+    field_layout(scene, visibility, receiver, field, settings)
+}
+
+/// The contour layout of `field` (an area or a photometric luminaire's
+/// direct light) on `receiver`, as [`receiver_layout`] builds it.
+#[must_use]
+pub fn field_layout(
+    scene: &Scene,
+    visibility: &Visibility,
+    receiver: SurfaceId,
+    field: DirectField,
+    settings: &ContourSettings,
+) -> Option<ContourLayout> {
     let centre = field.maximum()?;
     let outline = scene.surface(receiver).plane_vertices();
     let mut settings = settings.clone();
-    settings.orientation = tilt_angle(&field, luminaire, centre);
+    settings.orientation = tilt_angle(&field, centre);
     let diameter = outline
         .iter()
         .flat_map(|a| outline.iter().map(move |b| a.distance(*b)))
@@ -179,8 +192,8 @@ pub fn receiver_layout(
 
 /// The direction, in the receiver's plane, from the foot of the luminaire's
 /// perpendicular to the light's maximum: where a tilted lamp leans.
-fn tilt_angle(field: &DirectField, luminaire: &Luminaire, centre: DVec2) -> f64 {
-    let foot = field.frame().to_plane(luminaire.centre);
+fn tilt_angle(field: &DirectField, centre: DVec2) -> f64 {
+    let foot = field.frame().to_plane(field.centre());
     let lean = centre - foot;
     if lean.length() > 1e-9 * field.scale() {
         lean.y.atan2(lean.x)

@@ -81,7 +81,7 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
             .map(|(k, l)| {
                 let p = l.position;
                 vec![
-                    k.to_string(),
+                    format!("p{k}"),
                     l.name.clone(),
                     format!(
                         "{} {} {}",
@@ -110,7 +110,7 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
     write_table(
         &mut out,
         &header,
-        &receiver_rows(scene, &analyses, &boundaries),
+        &receiver_rows(scene, lights.len(), &analyses, &boundaries),
     )?;
     out.flush()?;
     Ok(())
@@ -135,10 +135,12 @@ fn luminaire_rows(lights: &[Luminaire]) -> Vec<Vec<String>> {
         .collect()
 }
 
-/// One row per receiver: index, name, area, dominant luminaire, share,
+/// One row per receiver: index, name, area, dominant luminaire (an area
+/// luminaire's index among the `lights`, or `p` and a photometric one's), share,
 /// size ratio, mesher, shadow boundaries.
 fn receiver_rows(
     scene: &Scene,
+    lights: usize,
     analyses: &[ReceiverAnalysis],
     boundaries: &[Vec<[DVec2; 2]>],
 ) -> Vec<Vec<String>> {
@@ -160,7 +162,14 @@ fn receiver_rows(
                 analysis.receiver.to_string(),
                 surface.name.clone(),
                 significant(surface.area()),
-                analysis.dominant.map_or("-".to_owned(), |d| d.to_string()),
+                analysis.dominant.map_or("-".to_owned(), |d| {
+                    // Photometric luminaires follow the area ones, as `p0`, `p1`, ….
+                    if d < lights {
+                        d.to_string()
+                    } else {
+                        format!("p{}", d - lights)
+                    }
+                }),
                 format!("{:.1}", 100.0 * analysis.share),
                 ratio,
                 mesher.to_owned(),
