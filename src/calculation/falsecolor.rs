@@ -729,5 +729,15 @@ mod tests {
             ..empty
         };
         write_falsecolor_grid(&path, &huge, &SCALE).unwrap();
+        let widest = GridPicture {
+            outline: &[
+                DVec2::splat(-f64::MAX),
+                DVec2::new(f64::MAX, 0.0),
+                DVec2::splat(f64::MAX),
+            ],
+            ..huge
+        };
+        write_falsecolor_grid(&path, &widest, &SCALE).unwrap();
+        assert!(::image::open(&path).is_ok());
     }
 }

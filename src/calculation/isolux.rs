@@ -164,6 +164,8 @@ const LABEL_AREAS: (u32, u32) = (55, 75);
 const TITLE_HEIGHT: u32 = 50;
 /// The margin around the data, as a share of its extent.
 const DATA_MARGIN: f64 = 0.06;
+/// The largest extent of the data drawn, metres.
+const MAX_EXTENT: f64 = 1e300;
 
 /// Level colours from the lowest level to the highest, interpolated:
 /// blue, teal, orange, red (dark enough to read on white).
@@ -202,13 +204,19 @@ pub fn write_isolux_plot(path: &Path, picture: &GridPicture, levels: &[f64]) -> 
         return Err(output_error(path, "the bundled font cannot be loaded"));
     }
     let levels = chosen_levels(picture, levels);
-    let size = canvas_size(picture);
+    let bounds = framed_bounds(picture).ok_or_else(|| {
+        output_error(
+            path,
+            "the grid, outline and luminaires lie too far apart to draw (over 1e300 m)",
+        )
+    })?;
+    let size = canvas_size(bounds);
     let draw_error = |e: String| output_error(path, format!("cannot draw the isolux plot: {e}"));
     if extension.as_deref() == Some("svg") {
         let mut svg = String::new();
         {
             let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-            draw_isolux(&root, picture, &levels).map_err(draw_error)?;
+            draw_isolux(&root, picture, bounds, &levels).map_err(draw_error)?;
             root.present().map_err(|e| draw_error(e.to_string()))?;
         }
         write_atomically(path, |writer| {
@@ -220,7 +228,7 @@ pub fn write_isolux_plot(path: &Path, picture: &GridPicture, levels: &[f64]) -> 
         let mut rgb = vec![0_u8; size.0 as usize * size.1 as usize * 3];
         {
             let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-            draw_isolux(&root, picture, &levels).map_err(draw_error)?;
+            draw_isolux(&root, picture, bounds, &levels).map_err(draw_error)?;
             root.present().map_err(|e| draw_error(e.to_string()))?;
         }
         let image = RgbImage::from_raw(size.0, size.1, rgb)
@@ -247,26 +255,28 @@ fn chosen_levels(picture: &GridPicture, levels: &[f64]) -> Vec<f64> {
     chosen
 }
 
-/// The data's box widened by [`DATA_MARGIN`] of its extent (at least
-/// 0.5 m on each side when it has none), or −1..1 m without data.
-fn framed_bounds(picture: &GridPicture) -> (DVec2, DVec2) {
+/// The data's box widened by [`DATA_MARGIN`] of its extent (at least 10⁻⁹
+/// of its coordinates, 0.5 m at the origin), or −1..1 m without data; None when
+/// it is too large to draw (its extent beyond 10³⁰⁰ m, where plotters'
+/// ticks overflow).
+fn framed_bounds(picture: &GridPicture) -> Option<(DVec2, DVec2)> {
     let Some((low, high)) = picture.bounds() else {
-        return (DVec2::splat(-1.0), DVec2::ONE);
+        return Some((DVec2::splat(-1.0), DVec2::ONE));
     };
-    let extent = high - low;
-    let margin = DATA_MARGIN * extent.max_element();
-    let margin = if margin > 0.0 && margin.is_finite() {
-        margin
-    } else {
-        0.5
-    };
-    (low - DVec2::splat(margin), high + DVec2::splat(margin))
+    let extent = (high - low).max_element();
+    if !extent.is_finite() || extent > MAX_EXTENT {
+        return None;
+    }
+    // At least a billionth of the coordinates, so that the ends differ.
+    let magnitude = low.abs().max(high.abs()).max_element();
+    let margin = (DATA_MARGIN * extent).max(1e-9 * magnitude);
+    let margin = if margin > 0.0 { margin } else { 0.5 };
+    Some((low - DVec2::splat(margin), high + DVec2::splat(margin)))
 }
 
 /// The canvas: [`PLOT_WIDTH`] wide, and as high as a plotting area of the
 /// data's aspect needs, that area held between [`PLOT_AREA_HEIGHTS`].
-fn canvas_size(picture: &GridPicture) -> (u32, u32) {
-    let (low, high) = framed_bounds(picture);
+fn canvas_size((low, high): (DVec2, DVec2)) -> (u32, u32) {
     let extent = high - low;
     let area_width = f64::from(PLOT_WIDTH - 2 * MARGIN - LABEL_AREAS.1);
     let aspect = extent.y / extent.x;
@@ -310,6 +320,7 @@ fn equal_aspect_chart<'a, DB: DrawingBackend>(
 fn draw_isolux<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     picture: &GridPicture,
+    bounds: (DVec2, DVec2),
     levels: &[f64],
 ) -> std::result::Result<(), String> {
     let text = |size: u32| (FONT_FAMILY, size).into_font();
@@ -327,7 +338,7 @@ fn draw_isolux<DB: DrawingBackend>(
     let (_, body) = root.split_vertically(TITLE_HEIGHT);
 
     // Axes in metres, equal scales.
-    let mut chart = equal_aspect_chart(&body, framed_bounds(picture))?;
+    let mut chart = equal_aspect_chart(&body, bounds)?;
     chart
         .configure_mesh()
         .x_desc("x (m)")
@@ -597,12 +608,13 @@ mod tests {
     fn the_axes_have_equal_scales() {
         let values = floor_values();
         let picture = floor(&values, &[]);
-        let (width, height) = canvas_size(&picture);
+        let bounds = framed_bounds(&picture).unwrap();
+        let (width, height) = canvas_size(bounds);
         let mut svg = String::new();
         let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
         assert!(ensure_font_registered());
         let (_, body) = root.split_vertically(TITLE_HEIGHT);
-        let chart = equal_aspect_chart(&body, framed_bounds(&picture)).unwrap();
+        let chart = equal_aspect_chart(&body, bounds).unwrap();
         let a = chart.backend_coord(&(0.0, 0.0));
         let b = chart.backend_coord(&(4.0, 3.0));
         let (across, up) = (f64::from(b.0 - a.0), f64::from(a.1 - b.1));
@@ -667,6 +679,66 @@ mod tests {
             ..floor(&values, &luminaires)
         };
         write_isolux_plot(&path, &picture, &[f64::NAN, 300.0, 300.0]).unwrap();
+    }
+
+    #[test]
+    fn extreme_coordinates_do_not_panic() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("extreme.png");
+        let values = [1.0, 2.0, 3.0, 4.0];
+        let far = 1e300;
+        let extremes: [(DVec2, DVec2, [DVec2; 3]); 5] = [
+            (
+                DVec2::splat(far),
+                DVec2::splat(1e280),
+                [
+                    DVec2::splat(far),
+                    DVec2::new(far * 1.5, far),
+                    DVec2::splat(far * 1.5),
+                ],
+            ),
+            (DVec2::splat(far), DVec2::splat(1.0), [DVec2::splat(far); 3]),
+            (
+                DVec2::ZERO,
+                DVec2::splat(1e-300),
+                [DVec2::ZERO, DVec2::new(1e-300, 0.0), DVec2::splat(1e-300)],
+            ),
+            (
+                DVec2::splat(-1e308),
+                DVec2::splat(1e308),
+                [
+                    DVec2::splat(-f64::MAX),
+                    DVec2::new(f64::MAX, 0.0),
+                    DVec2::splat(f64::MAX),
+                ],
+            ),
+            (
+                DVec2::splat(1e15),
+                DVec2::splat(1e-3),
+                [
+                    DVec2::splat(1e15),
+                    DVec2::new(1e15 + 1.0, 1e15),
+                    DVec2::splat(1e15 + 1.0),
+                ],
+            ),
+        ];
+        for (origin, spacing, outline) in extremes {
+            let picture = GridPicture {
+                origin,
+                spacing,
+                columns: 2,
+                rows: 2,
+                values: &values,
+                outline: &outline,
+                luminaires: &[],
+                title: "extreme",
+            };
+            // A valid picture or a clear error, never a panic nor a hang.
+            match write_isolux_plot(&path, &picture, &[]) {
+                Ok(()) => assert!(::image::open(&path).is_ok()),
+                Err(error) => assert!(error.to_string().contains("too far apart"), "{error}"),
+            }
+        }
     }
 
     #[test]
