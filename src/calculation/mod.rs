@@ -29,9 +29,7 @@ mod isolux;
 mod levels;
 
 pub use contour_lines::contour_polylines;
-pub use falsecolor::{
-    FalseColorScale, LOG_DECADES, write_falsecolor_grid, write_falsecolor_image,
-};
+pub use falsecolor::{FalseColorScale, LOG_DECADES, write_falsecolor_grid, write_falsecolor_image};
 pub use grid::{
     CalculationGrid, IlluminanceStatistics, MAX_GRID_POINTS, en12464_spacing, illuminance_lux,
 };
