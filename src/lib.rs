@@ -48,7 +48,7 @@
 //! The crate root holds what these steps need; the rest lives in public
 //! modules named after the pipeline ([`scene`], [`radiometry`],
 //! [`lighting`], [`mesh`], [`solver`], [`render`], [`view`], [`export`],
-//! [`study`]).
+//! [`study`], [`calculation`]).
 //!
 //! 1. **A scene.** Build it in code with [`Scene::new`],
 //!    [`Scene::add_material`] ([`Material::diffuse`], [`Material::emitter`]),

@@ -1,8 +1,37 @@
-//! Lighting calculations: calculation grids with the statistics of
-//! EN 12464-1 (Emin, Eavg, Emax, U₀), in lux.
+//! Lighting calculations: calculation grids, isolux plots and false-colour
+//! pictures, in lux (and cd/m² for a camera's view).
+//!
+//! - [`CalculationGrid`]: the points of a regular grid on a named surface
+//!   or on the work plane above it, as EN 12464-1 spaces them
+//!   ([`en12464_spacing`], at most [`MAX_GRID_POINTS`]), their illuminance
+//!   from a solution ([`illuminance_lux`]) and its statistics
+//!   ([`IlluminanceStatistics`]: Emin, Eavg, Emax, U₀).
+//! - [`GridPicture`]: a calculation grid on a plane ready to be drawn, its
+//!   illuminance, the surface's outline and the luminaires, in metres.
+//! - [`write_isolux_plot`]: its lines of equal illuminance, labelled, on
+//!   equal axes in metres (PNG or SVG).
+//! - [`FalseColorScale`], [`write_falsecolor_image`],
+//!   [`write_falsecolor_grid`]: banded viridis false colour with a legend,
+//!   as Radiance's `falsecolor` (PNG), of a camera view's luminance or of
+//!   a grid; [`LOG_DECADES`], the span of a logarithmic scale.
+//! - [`contour_polylines`]: marching squares over a value grid, joined
+//!   into polylines.
+//! - [`nice_levels`], [`nice_ceiling`], [`format_lux`]: round levels, a
+//!   round maximum, and short labels.
+//!
+//! The pictures draw plain data and solve nothing; their text is drawn
+//! with the bundled DejaVu Sans shared with [`study`](crate::study).
 
+mod contour_lines;
+mod falsecolor;
 mod grid;
+mod isolux;
+mod levels;
 
+pub use contour_lines::contour_polylines;
+pub use falsecolor::{FalseColorScale, LOG_DECADES, write_falsecolor_grid, write_falsecolor_image};
 pub use grid::{
     CalculationGrid, IlluminanceStatistics, MAX_GRID_POINTS, en12464_spacing, illuminance_lux,
 };
+pub use isolux::{GridPicture, write_isolux_plot};
+pub use levels::{format_lux, nice_ceiling, nice_levels};

@@ -13,7 +13,7 @@ use plotters::style::{FontStyle, register_font};
 
 /// The family name under which the bundled font is registered; use it in
 /// every text style.
-pub(super) const FONT_FAMILY: &str = "sans-serif";
+pub(crate) const FONT_FAMILY: &str = "sans-serif";
 
 /// DejaVu Sans Book, 0.76 MB.
 static DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
@@ -23,7 +23,7 @@ static REGISTERED: OnceLock<bool> = OnceLock::new();
 
 /// Registers the bundled font with plotters (once per process) and tells
 /// whether it is usable. Only a corrupt bundled file makes it `false`.
-pub(super) fn ensure_font_registered() -> bool {
+pub(crate) fn ensure_font_registered() -> bool {
     *REGISTERED.get_or_init(|| register_font(FONT_FAMILY, FontStyle::Normal, DEJAVU_SANS).is_ok())
 }
 
