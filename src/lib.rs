@@ -105,6 +105,7 @@
 #![warn(missing_docs)]
 
 mod error;
+mod font;
 mod fs;
 
 pub mod calculation;

@@ -47,8 +47,8 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use super::isolux::GridPicture;
 use super::levels::{format_lux, nice_ceiling};
 use crate::error::Result;
+use crate::font::{FONT_FAMILY, ensure_font_registered};
 use crate::fs::{output_error, write_atomically};
-use crate::study::font::{FONT_FAMILY, ensure_font_registered};
 
 /// The decades below the maximum a logarithmic scale spans: its bottom is
 /// maximum / 10³.
@@ -397,17 +397,18 @@ fn draw_plan(
 ) -> std::result::Result<(), String> {
     let size = image.dimensions();
     let root = BitMapBackend::with_buffer(image, size).into_drawing_area();
-    let mut outline: Vec<(i32, i32)> = picture
-        .outline
-        .iter()
-        .filter(|p| p.is_finite())
-        .map(|&p| frame.canvas_pixel(p))
-        .collect();
-    if let Some(&first) = outline.first() {
-        outline.push(first);
+    for polygon in picture.outlines {
+        let mut outline: Vec<(i32, i32)> = polygon
+            .iter()
+            .filter(|p| p.is_finite())
+            .map(|&p| frame.canvas_pixel(p))
+            .collect();
+        if let Some(&first) = outline.first() {
+            outline.push(first);
+        }
+        root.draw(&PathElement::new(outline, WHITE.stroke_width(2)))
+            .map_err(|e| e.to_string())?;
     }
-    root.draw(&PathElement::new(outline, WHITE.stroke_width(2)))
-        .map_err(|e| e.to_string())?;
     let ring = BLACK.stroke_width(2);
     for (position, label) in picture.luminaires.iter().filter(|(p, _)| p.is_finite()) {
         let (x, y) = frame.canvas_pixel(*position);
@@ -662,9 +663,10 @@ mod tests {
             columns: 20,
             rows: 15,
             values: &values,
-            outline: &outline,
+            outlines: &[outline.to_vec()],
             luminaires: &luminaires,
             title: "floor at 0.80 m",
+            axes: ["x (m)", "y (m)"],
         };
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("floor.png");
@@ -709,9 +711,10 @@ mod tests {
             columns: 0,
             rows: 0,
             values: &[],
-            outline: &[],
+            outlines: &[],
             luminaires: &[],
             title: "",
+            axes: ["x (m)", "y (m)"],
         };
         write_falsecolor_grid(&path, &empty, &SCALE).unwrap();
         assert!(::image::open(&path).is_ok());
@@ -725,16 +728,20 @@ mod tests {
             columns: 1,
             rows: 1,
             values: &[5.0],
-            outline: &[DVec2::ZERO, DVec2::splat(1e300), DVec2::new(0.0, 1e300)],
+            outlines: &[vec![
+                DVec2::ZERO,
+                DVec2::splat(1e300),
+                DVec2::new(0.0, 1e300),
+            ]],
             ..empty
         };
         write_falsecolor_grid(&path, &huge, &SCALE).unwrap();
         let widest = GridPicture {
-            outline: &[
+            outlines: &[vec![
                 DVec2::splat(-f64::MAX),
                 DVec2::new(f64::MAX, 0.0),
                 DVec2::splat(f64::MAX),
-            ],
+            ]],
             ..huge
         };
         write_falsecolor_grid(&path, &widest, &SCALE).unwrap();

@@ -17,8 +17,10 @@ use std::path::Path;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use super::isolux::GridPicture;
 use crate::error::{Error, Result};
 use crate::fs::{io_error, write_atomically};
+use crate::lighting::luminaires;
 use crate::photometry::LUMENS_PER_WATT;
 use crate::scene::{PlaneFrame, ProbePoint, Rgb, Scene, SurfaceId, polygon_contains};
 use crate::solver::{ProbeMode, Solution};
@@ -57,6 +59,9 @@ pub struct CalculationGrid {
     pub rows: usize,
     /// The outlines of the surfaces the grid covers, in plane coordinates.
     pub outlines: Vec<Vec<DVec2>>,
+    /// The names of the plane's axes u and v as world axes, with units
+    /// (`x (m)`, `−z (m)`, …; `in-plane (m)` where an axis is oblique).
+    pub axes: [String; 2],
     /// Row-major (`row * columns + column`): the world position of each point
     /// and the surface under it, `None` outside every outline.
     pub points: Vec<Option<(DVec3, SurfaceId)>>,
@@ -209,7 +214,9 @@ impl CalculationGrid {
                 Some((frame.to_world(p), *inside))
             })
             .collect();
+        let axes = [axis_name(frame.u), axis_name(frame.v)];
         Ok(CalculationGrid {
+            axes,
             name: name.to_owned(),
             height,
             frame,
@@ -309,6 +316,79 @@ impl CalculationGrid {
         lines
     }
 
+    /// The grid ready to be drawn ([`write_isolux_plot`],
+    /// [`write_falsecolor_grid`]) with its illuminance `lux`, the
+    /// luminaires' marks (see [`CalculationGrid::luminaire_marks`]) and a
+    /// title.
+    ///
+    /// [`write_isolux_plot`]: super::write_isolux_plot
+    /// [`write_falsecolor_grid`]: super::write_falsecolor_grid
+    #[must_use]
+    pub fn picture<'a>(
+        &'a self,
+        lux: &'a [f64],
+        luminaires: &'a [(DVec2, String)],
+        title: &'a str,
+    ) -> GridPicture<'a> {
+        GridPicture {
+            origin: self.origin,
+            spacing: self.spacing,
+            columns: self.columns,
+            rows: self.rows,
+            values: lux,
+            outlines: &self.outlines,
+            luminaires,
+            title,
+            axes: [self.axes[0].as_str(), self.axes[1].as_str()],
+        }
+    }
+
+    /// Where the scene's lamps stand over the grid's plane, with labels:
+    /// each area luminaire's centre (labelled by its first surface's name)
+    /// and each photometric luminaire's centre (`p0`, `p1`, … with its
+    /// file's name), projected onto the plane, for those in front of it.
+    #[must_use]
+    pub fn luminaire_marks(&self, scene: &Scene) -> Vec<(DVec2, String)> {
+        let in_front = |p: DVec3| self.frame.height(p) > 0.0;
+        let mut marks: Vec<(DVec2, String)> = luminaires(scene)
+            .iter()
+            .filter(|lamp| in_front(lamp.centre))
+            .map(|lamp| {
+                let name = scene.surface(lamp.surfaces[0]).name.clone();
+                (self.frame.to_plane(lamp.centre), name)
+            })
+            .collect();
+        marks.extend(
+            scene
+                .luminaires
+                .iter()
+                .enumerate()
+                .filter(|(_, l)| in_front(l.position))
+                .map(|(k, l)| (self.frame.to_plane(l.position), format!("p{k}"))),
+        );
+        marks
+    }
+
+    /// A title for the grid's pictures: the surface, the height and the
+    /// statistics.
+    #[must_use]
+    pub fn title(&self, lux: &[f64]) -> String {
+        let place = if self.height > 0.0 {
+            format!("{} + {} m", self.name, self.height)
+        } else {
+            self.name.clone()
+        };
+        match IlluminanceStatistics::of(lux) {
+            Some(stats) => format!(
+                "{place}: Eavg {:.0} lx, Emin {:.0} lx, U0 {:.2}",
+                stats.average,
+                stats.minimum,
+                stats.uniformity()
+            ),
+            None => place,
+        }
+    }
+
     /// Plane coordinates of point `index` (row-major).
     #[must_use]
     pub fn plane_point(&self, index: usize) -> DVec2 {
@@ -317,10 +397,27 @@ impl CalculationGrid {
     }
 }
 
+/// The name of a unit axis as a world axis with its unit: `x (m)`,
+/// `−z (m)`, …, or `in-plane (m)` where it is oblique.
+fn axis_name(axis: DVec3) -> String {
+    for (name, world) in [("x", DVec3::X), ("y", DVec3::Y), ("z", DVec3::Z)] {
+        if axis.dot(world) > 0.9999 {
+            return format!("{name} (m)");
+        }
+        if axis.dot(world) < -0.9999 {
+            return format!("−{name} (m)");
+        }
+    }
+    "in-plane (m)".to_owned()
+}
+
 /// The frame a plan shows: for a horizontal surface (|n_y| > 0.9), u along
 /// +x and v = n × u (−z on a floor seen from above); otherwise v up (+y
 /// projected onto the plane) and u = v × n, a wall seen from its front.
-fn plan_frame(origin: DVec3, normal: DVec3) -> PlaneFrame {
+/// The origin is the plane's point nearest the world's origin, so that
+/// plane coordinates along world axes are world coordinates.
+fn plan_frame(point: DVec3, normal: DVec3) -> PlaneFrame {
+    let origin = normal * normal.dot(point);
     let (u, v) = if normal.y.abs() > 0.9 {
         let u = (DVec3::X - normal * normal.x).normalize();
         (u, normal.cross(u))

@@ -36,9 +36,10 @@
 //!     columns: 20,
 //!     rows: 15,
 //!     values: &values,
-//!     outline: &outline,
+//!     outlines: &[outline.to_vec()],
 //!     luminaires: &[(DVec2::new(2.0, 1.5), "L1".to_string())],
 //!     title: "floor at 0.80 m",
+//!     axes: ["x (m)", "y (m)"],
 //! };
 //! write_isolux_plot(Path::new("floor.svg"), &picture, &[])?;
 //! # Ok::<(), isorad::Error>(())
@@ -57,8 +58,8 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use super::contour_lines::contour_polylines;
 use super::levels::{format_lux, nice_levels};
 use crate::error::Result;
+use crate::font::{FONT_FAMILY, ensure_font_registered};
 use crate::fs::{io_error, output_error, write_atomically};
-use crate::study::font::{FONT_FAMILY, ensure_font_registered};
 
 /// A calculation grid on a plane, ready to be drawn: regularly spaced
 /// points with their illuminance, the surface's outline and the luminaires,
@@ -76,12 +77,15 @@ pub struct GridPicture<'a> {
     pub rows: usize,
     /// Illuminance in lux, row-major (row * columns + column); NaN where the point lies outside the outline.
     pub values: &'a [f64],
-    /// The surface's outline in the same plane coordinates (a closed polygon, not repeated first point).
-    pub outline: &'a [DVec2],
+    /// The outlines of the surface's polygons in the same plane coordinates
+    /// (closed polygons, first point not repeated).
+    pub outlines: &'a [Vec<DVec2>],
     /// Luminaires projected onto the plane, with their labels.
     pub luminaires: &'a [(DVec2, String)],
     /// Title, e.g. "floor at 0.80 m: Eavg 512 lx, U0 0.61".
     pub title: &'a str,
+    /// The names of the plane's axes, with units, e.g. `["x (m)", "−z (m)"]`.
+    pub axes: [&'a str; 2],
 }
 
 impl GridPicture<'_> {
@@ -142,7 +146,7 @@ impl GridPicture<'_> {
         corners
             .into_iter()
             .flatten()
-            .chain(self.outline.iter().copied())
+            .chain(self.outlines.iter().flatten().copied())
             .chain(self.luminaires.iter().map(|(position, _)| *position))
             .filter(|p| p.is_finite())
             .fold(None, |bounds, p| match bounds {
@@ -341,8 +345,8 @@ fn draw_isolux<DB: DrawingBackend>(
     let mut chart = equal_aspect_chart(&body, bounds)?;
     chart
         .configure_mesh()
-        .x_desc("x (m)")
-        .y_desc("y (m)")
+        .x_desc(picture.axes[0])
+        .y_desc(picture.axes[1])
         .label_style(text(15))
         .axis_desc_style(text(17))
         .bold_line_style(BLACK.mix(0.12))
@@ -350,22 +354,23 @@ fn draw_isolux<DB: DrawingBackend>(
         .draw()
         .map_err(|e| e.to_string())?;
 
-    // The outline, closed.
-    let mut outline: Vec<(f64, f64)> = picture
-        .outline
-        .iter()
-        .filter(|p| p.is_finite())
-        .map(|p| (p.x, p.y))
-        .collect();
-    if let Some(&first) = outline.first() {
-        outline.push(first);
+    // The outlines, closed.
+    for polygon in picture.outlines {
+        let mut outline: Vec<(f64, f64)> = polygon
+            .iter()
+            .filter(|p| p.is_finite())
+            .map(|p| (p.x, p.y))
+            .collect();
+        if let Some(&first) = outline.first() {
+            outline.push(first);
+        }
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                outline,
+                BLACK.stroke_width(2),
+            )))
+            .map_err(|e| e.to_string())?;
     }
-    chart
-        .draw_series(std::iter::once(PathElement::new(
-            outline,
-            BLACK.stroke_width(2),
-        )))
-        .map_err(|e| e.to_string())?;
 
     // Iso-lux lines, then their labels over every line.
     let labels = draw_contours(&mut chart, picture, levels)?;
@@ -551,6 +556,9 @@ mod tests {
         DVec2::new(0.0, 3.0),
     ];
 
+    static FLOOR_OUTLINES: std::sync::LazyLock<Vec<Vec<DVec2>>> =
+        std::sync::LazyLock::new(|| vec![OUTLINE.to_vec()]);
+
     fn floor<'a>(values: &'a [f64], luminaires: &'a [(DVec2, String)]) -> GridPicture<'a> {
         GridPicture {
             origin: DVec2::splat(0.1),
@@ -558,9 +566,10 @@ mod tests {
             columns: 20,
             rows: 15,
             values,
-            outline: &OUTLINE,
+            outlines: &FLOOR_OUTLINES,
             luminaires,
             title: "floor at 0.80 m",
+            axes: ["x (m)", "y (m)"],
         }
     }
 
@@ -643,7 +652,7 @@ mod tests {
             columns: 0,
             rows: 0,
             values: &[],
-            outline: &[],
+            outlines: &[],
             ..floor(&nan, &[])
         };
         write_isolux_plot(&svg, &empty, &[]).unwrap();
@@ -675,7 +684,7 @@ mod tests {
         let odd = [DVec2::new(f64::INFINITY, 1.0), DVec2::ONE];
         let luminaires = [(DVec2::NAN, "lost".to_string())];
         let picture = GridPicture {
-            outline: &odd,
+            outlines: &[odd.to_vec()],
             ..floor(&values, &luminaires)
         };
         write_isolux_plot(&path, &picture, &[f64::NAN, 300.0, 300.0]).unwrap();
@@ -729,9 +738,10 @@ mod tests {
                 columns: 2,
                 rows: 2,
                 values: &values,
-                outline: &outline,
+                outlines: &[outline.to_vec()],
                 luminaires: &[],
                 title: "extreme",
+                axes: ["x (m)", "y (m)"],
             };
             // A valid picture or a clear error, never a panic nor a hang.
             match write_isolux_plot(&path, &picture, &[]) {

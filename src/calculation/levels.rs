@@ -97,13 +97,18 @@ pub fn nice_levels(min: f64, max: f64, target: usize) -> Vec<f64> {
         .collect()
 }
 
-/// The smallest nice number (1, 2, 2.5 or 5 × 10^k) at or above `value`,
-/// e.g. 512 → 1000, 480 → 500, 0.18 → 0.2. None when `value` is not finite
+/// The round maxima a scale may end at, per decade: fine enough that the
+/// top band is never much emptier than the others.
+const CEILING_MANTISSAS: [f64; 10] = [1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0];
+
+/// The smallest round number (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6 or 8 × 10^k)
+/// at or above `value`, e.g. 512 → 600, 480 → 500, 0.18 → 0.2. None when `value` is not finite
 /// and positive.
 ///
 /// ```
 /// use isorad::calculation::nice_ceiling;
 /// assert_eq!(nice_ceiling(480.0), Some(500.0));
+/// assert_eq!(nice_ceiling(553.0), Some(600.0));
 /// assert_eq!(nice_ceiling(2100.0), Some(2500.0));
 /// assert_eq!(nice_ceiling(0.0), None);
 /// ```
@@ -113,15 +118,15 @@ pub fn nice_ceiling(value: f64) -> Option<f64> {
         return None;
     }
     let exponent = value.log10().floor() as i32;
-    // The decade's nice numbers and the next decade's 1, from the one below
-    // (log10 may round across a power of ten).
+    // The decade's round numbers and the next decade's 1, from the one
+    // below (log10 may round across a power of ten).
     (exponent - 1..=exponent + 1)
         .flat_map(|exponent| {
-            MANTISSAS
+            CEILING_MANTISSAS
                 .iter()
-                .map(move |&mantissa| NiceStep { mantissa, exponent }.value())
+                .map(move |&mantissa| mantissa * 10f64.powi(exponent))
         })
-        .find(|&nice| nice >= value)
+        .find(|&nice| nice >= value * (1.0 - 1e-12))
         .filter(|nice| nice.is_finite())
 }
 
@@ -213,7 +218,8 @@ mod tests {
 
     #[test]
     fn ceilings_are_nice() {
-        assert_eq!(nice_ceiling(512.0), Some(1000.0));
+        assert_eq!(nice_ceiling(512.0), Some(600.0));
+        assert_eq!(nice_ceiling(1150.0), Some(1200.0));
         assert_eq!(nice_ceiling(480.0), Some(500.0));
         assert_eq!(nice_ceiling(500.0), Some(500.0));
         assert_eq!(nice_ceiling(1000.0), Some(1000.0));

@@ -39,8 +39,8 @@ use ::image::{Rgb as Rgb8, RgbImage, imageops};
 use glam::{DVec2, DVec3};
 use plotters::prelude::*;
 
-use super::font::{FONT_FAMILY, ensure_font_registered};
 use crate::error::Result;
+use crate::font::{FONT_FAMILY, ensure_font_registered};
 use crate::fs::{output_error, write_atomically};
 use crate::render::{RenderSettings, ShadedTriangle, ToneMap, rasterize};
 use crate::scene::{Camera, Rgb};

@@ -12,7 +12,6 @@
 //! mesh is measured"). The vertex values are exact, so the error is the
 //! mesh's alone.
 
-pub(crate) mod font;
 mod mesh_panels;
 mod plot;
 mod records;

@@ -30,8 +30,8 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use ::image::RgbImage;
 
-use super::font::{FONT_FAMILY, ensure_font_registered};
 use crate::error::Result;
+use crate::font::{FONT_FAMILY, ensure_font_registered};
 use crate::fs::{io_error, output_error, write_atomically};
 
 /// One named curve of a plot: points (x, y) in any order.

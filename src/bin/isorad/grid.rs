@@ -1,12 +1,15 @@
 //! `isorad grid`: illuminance on a calculation grid over a named surface or
 //! the work plane above it, as CSV with EN 12464-1's statistics.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 use isorad::{
     Solver, Until,
-    calculation::{CalculationGrid, IlluminanceStatistics},
+    calculation::{
+        CalculationGrid, FalseColorScale, IlluminanceStatistics, write_falsecolor_grid,
+        write_isolux_plot,
+    },
 };
 
 use crate::args::{SolveArgs, ensure_directory_exists, prepare};
@@ -30,10 +33,17 @@ pub struct GridArgs {
     /// The CSV to write: x,y,z,illuminance_lux, statistics in `#` lines.
     #[arg(long, value_name = "FILE")]
     csv: PathBuf,
+    /// Also draw labelled iso-lux lines over the outline, luminaires
+    /// marked: .png or .svg.
+    #[arg(long, value_name = "FILE")]
+    isolux: Option<PathBuf>,
+    /// Also draw the grid in false colour with a legend in lux (.png).
+    #[arg(long, value_name = "FILE")]
+    falsecolor: Option<PathBuf>,
 }
 
 pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
-    ensure_directory_exists(&args.csv)?;
+    check_outputs(args)?;
     let mut solver = prepare(&args.solve)?.solver;
     // The grid is checked before solving, so that a wrong name costs no solve.
     let grid =
@@ -58,6 +68,46 @@ pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
             args.surface
         );
     }
-    eprintln!("wrote {}", args.csv.display());
+    let marks = grid.luminaire_marks(solution.scene);
+    let title = grid.title(&lux);
+    let picture = grid.picture(&lux, &marks, &title);
+    let mut written = vec![args.csv.display().to_string()];
+    if let Some(path) = &args.isolux {
+        write_isolux_plot(path, &picture, &[])?;
+        written.push(path.display().to_string());
+    }
+    if let Some(path) = &args.falsecolor {
+        write_falsecolor_grid(path, &picture, &FalseColorScale::fitted(&lux))?;
+        written.push(path.display().to_string());
+    }
+    eprintln!("wrote {}", written.join(", "));
+    Ok(())
+}
+
+/// Refuses, before any solving, outputs that cannot be written: a missing
+/// directory, or a picture format the writers do not make.
+fn check_outputs(args: &GridArgs) -> anyhow::Result<()> {
+    let extension = |path: &Path| {
+        path.extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default()
+    };
+    ensure_directory_exists(&args.csv)?;
+    if let Some(path) = &args.isolux {
+        ensure_directory_exists(path)?;
+        anyhow::ensure!(
+            matches!(extension(path).as_str(), "png" | "svg"),
+            "--isolux {}: the plot is written as .png or .svg",
+            path.display()
+        );
+    }
+    if let Some(path) = &args.falsecolor {
+        ensure_directory_exists(path)?;
+        anyhow::ensure!(
+            extension(path) == "png",
+            "--falsecolor {}: the picture is written as .png",
+            path.display()
+        );
+    }
     Ok(())
 }

@@ -1,4 +1,5 @@
-//! The one font of the plot and picture writers, bundled with the crate.
+//! The one font of the plot and picture writers (`study`, `calculation`),
+//! bundled with the crate.
 //!
 //! plotters, built without its system-font support, draws text with
 //! ab_glyph from fonts registered by name; without one, drawing text on a
@@ -16,7 +17,7 @@ use plotters::style::{FontStyle, register_font};
 pub(crate) const FONT_FAMILY: &str = "sans-serif";
 
 /// DejaVu Sans Book, 0.76 MB.
-static DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+static DEJAVU_SANS: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 
 /// Whether registering succeeded, decided on the first call.
 static REGISTERED: OnceLock<bool> = OnceLock::new();
