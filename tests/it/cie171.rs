@@ -395,3 +395,111 @@ fn case_5_8_inter_reflections_in_a_closed_room() {
         );
     }
 }
+
+/// Runs `isorad` in `dir`.
+fn isorad(dir: &Path, args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_isorad"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn a_work_plane_grid_lists_the_exact_illuminance_and_draws_it() {
+    for file in ["asymmetric.ies", "asymmetric.ldt"] {
+        let dir = room_folder(0.0, Some(file), "");
+        let out = isorad(
+            dir.path(),
+            &[
+                "grid",
+                "scene.toml",
+                "-q",
+                "--surface",
+                "floor",
+                "--height",
+                "0.8",
+                "--csv",
+                "grid.csv",
+                "--isolux",
+                "isolux.png",
+                "--falsecolor",
+                "falsecolor.png",
+            ],
+        );
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let csv = std::fs::read_to_string(dir.path().join("grid.csv")).unwrap();
+        let mut lines = csv.lines().skip_while(|l| l.starts_with('#'));
+        assert_eq!(lines.next(), Some("x,y,z,illuminance_lux"));
+        let rows: Vec<Vec<f64>> = lines
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect();
+        // A 4 m room: EN 12464-1's p = 0.2 · 5^log10(4) ≈ 0.53 m, so 8 × 8 points.
+        assert_eq!(rows.len(), 64);
+        let mut total_error = 0.0;
+        let mut values = Vec::new();
+        for row in &rows {
+            let x = DVec3::new(row[0], row[1], row[2]);
+            assert!((x.y - 0.8).abs() < 1e-12);
+            let exact = point_source_lux(x, DVec3::Y);
+            total_error += (row[3] - exact).abs() / exact;
+            values.push(row[3]);
+        }
+        let mean_error = total_error / rows.len() as f64;
+        assert!(mean_error < 0.01, "{file}: mean error {mean_error}");
+        // The statistics in the header and on stdout.
+        let stats = IlluminanceStatistics::of(&values).unwrap();
+        for (name, value) in [
+            ("Emin", stats.minimum),
+            ("Eavg", stats.average),
+            ("Emax", stats.maximum),
+        ] {
+            let line = format!("{name} = {value:.6} lx");
+            assert!(csv.contains(&format!("# {line}")), "{csv}");
+            assert!(stdout.contains(&line), "{stdout}");
+        }
+        assert!(csv.contains(&format!("# U0 = Emin/Eavg = {:.6}", stats.uniformity())));
+        assert!(csv.contains(&format!("# Emin/Emax = {:.6}", stats.diversity())));
+        for picture in ["isolux.png", "falsecolor.png"] {
+            let image = ::image::open(dir.path().join(picture)).unwrap();
+            assert!(image.width() > 400, "{picture}");
+        }
+    }
+}
+
+#[test]
+fn a_grid_on_an_unknown_surface_or_with_a_bad_spacing_is_refused_before_solving() {
+    let dir = room_folder(0.0, Some("asymmetric.ies"), "");
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["--surface", "flor"],
+            "--surface: no surface is named `flor`; the scene has ceiling, floor",
+        ),
+        (
+            &["--surface", "floor", "--spacing", "0"],
+            "--spacing: 0 must be > 0",
+        ),
+        (
+            &["--surface", "floor", "--height", "-1"],
+            "--height: -1 must be ≥ 0",
+        ),
+        (
+            &["--surface", "floor", "--isolux", "plot.jpg"],
+            "--isolux plot.jpg: the plot is written as .png or .svg",
+        ),
+    ];
+    for (flags, message) in cases {
+        let mut args = vec!["grid", "scene.toml", "-q", "--csv", "grid.csv"];
+        args.extend_from_slice(flags);
+        let out = isorad(dir.path(), &args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert!(stderr.contains(message), "{flags:?}: {stderr}");
+        assert!(!dir.path().join("grid.csv").exists());
+    }
+}

@@ -24,7 +24,7 @@ pub struct GridArgs {
     surface: String,
     /// Height of the work plane above the surface, along its normal (0:
     /// on the surface itself; 0.8 for desks).
-    #[arg(long, default_value_t = 0.0, value_name = "H")]
+    #[arg(long, default_value_t = 0.0, value_name = "H", allow_hyphen_values = true)]
     height: f64,
     /// Largest spacing between points [default: EN 12464-1's
     /// p = 0.2 · 5^log10(d), d the longer side in metres].
@@ -47,7 +47,14 @@ pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
     let mut solver = prepare(&args.solve)?.solver;
     // The grid is checked before solving, so that a wrong name costs no solve.
     let grid =
-        CalculationGrid::on_surface(solver.scene(), &args.surface, args.height, args.spacing)?;
+        CalculationGrid::on_surface(solver.scene(), &args.surface, args.height, args.spacing)
+            .map_err(|error| match error {
+                // The library names the field; the user gave a flag.
+                isorad::Error::InvalidSetting { name, message } => {
+                    anyhow::anyhow!("--{name}: {message}")
+                }
+                other => other.into(),
+            })?;
     let no_previews = |_: &Solver| Ok(());
     solve_with_progress(
         &mut solver,
