@@ -22,6 +22,25 @@ impl Solution<'_> {
         triangle_indices(self.mesh, &self.radiosity)
     }
 
+    /// Renders the irradiance H (W/m²) the solution holds at each mesh
+    /// vertex through `camera`, interpolated as [`Solution::render`]
+    /// interpolates radiance and split along the same diagonals: a picture
+    /// of the light arriving on every visible surface (× 179 lm/W for lux).
+    #[must_use]
+    pub fn render_irradiance(&self, camera: &Camera, settings: &RenderSettings) -> Image {
+        let position = |v: u32| self.mesh.vertices[v as usize].position;
+        let irradiance = |v: u32| self.irradiance[v as usize];
+        let triangles: Vec<ShadedTriangle> = self
+            .triangle_indices()
+            .into_iter()
+            .map(|[a, b, c]| ShadedTriangle {
+                positions: [position(a), position(b), position(c)],
+                radiance: [irradiance(a), irradiance(b), irradiance(c)],
+            })
+            .collect();
+        rasterize(&triangles, camera, settings)
+    }
+
     /// Renders the solution through `camera` into an image of linear
     /// radiance that the caller owns; write it with [`crate::write_exr`] or
     /// [`crate::write_png`].

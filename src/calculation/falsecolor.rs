@@ -121,17 +121,29 @@ pub struct FalseColorScale {
 
 impl FalseColorScale {
     /// A linear scale of 8 bands (Radiance's default) up to the largest
-    /// finite value rounded up to a nice number ([`nice_ceiling`]: 1, 2,
-    /// 2.5 or 5 × 10^k), or up to 1 when no value is finite and positive.
+    /// finite value rounded up to a round number ([`nice_ceiling`]), or up
+    /// to 1 when no value is finite and positive.
     #[must_use]
     pub fn fitted(values: &[f64]) -> FalseColorScale {
-        let largest = values
-            .iter()
-            .copied()
-            .filter(|v| v.is_finite())
-            .fold(f64::NEG_INFINITY, f64::max);
+        FalseColorScale::fitted_to_quantile(values, 1.0)
+    }
+
+    /// As [`FalseColorScale::fitted`], up to the `quantile` (0 … 1) of the
+    /// finite values rather than their largest: a camera view with a lamp
+    /// in it keeps its bands for the room (0.99 clips the brightest 1 %
+    /// of pixels into the top band, as Radiance's fixed scale would).
+    #[must_use]
+    pub fn fitted_to_quantile(values: &[f64], quantile: f64) -> FalseColorScale {
+        let mut finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+        let top = if finite.is_empty() {
+            f64::NAN
+        } else {
+            let rank = ((quantile.clamp(0.0, 1.0) * finite.len() as f64).ceil() as usize)
+                .clamp(1, finite.len());
+            *finite.select_nth_unstable_by(rank - 1, f64::total_cmp).1
+        };
         FalseColorScale {
-            maximum: nice_ceiling(largest).unwrap_or(1.0),
+            maximum: nice_ceiling(top).unwrap_or(1.0),
             logarithmic: false,
             steps: 8,
         }

@@ -478,3 +478,49 @@ fn info_lists_photometric_luminaires_and_photometry_reads_their_file() {
         "{text}"
     );
 }
+
+/// `render --falsecolor` writes the view in false colour beside a legend,
+/// of luminance or of illuminance.
+#[test]
+fn render_writes_false_colour_views_of_luminance_and_illuminance() {
+    let dir = tempfile::tempdir().unwrap();
+    for quantity in ["luminance", "illuminance"] {
+        let out = isorad(
+            dir.path(),
+            &[
+                "render",
+                "cornell",
+                "-q",
+                "--width",
+                "96",
+                "--height",
+                "96",
+                "--tolerance",
+                "0.05",
+                "--falsecolor",
+                "false.png",
+                "--falsecolor-quantity",
+                quantity,
+            ],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        let picture = ::image::open(dir.path().join("false.png"))
+            .unwrap()
+            .to_rgb8();
+        // The view (96 px) and the legend beside it.
+        assert!(
+            picture.width() > 96 + 60 && picture.height() >= 96,
+            "{:?}",
+            picture.dimensions()
+        );
+        // Not one colour: the bands follow the light.
+        let colours: std::collections::HashSet<[u8; 3]> = picture.pixels().map(|p| p.0).collect();
+        assert!(colours.len() > 8, "{quantity}: {} colours", colours.len());
+    }
+    let out = isorad(
+        dir.path(),
+        &["render", "cornell", "--falsecolor", "false.jpg"],
+    );
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("--falsecolor false.jpg: the picture is written as .png"));
+}

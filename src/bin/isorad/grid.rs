@@ -24,7 +24,12 @@ pub struct GridArgs {
     surface: String,
     /// Height of the work plane above the surface, along its normal (0:
     /// on the surface itself; 0.8 for desks).
-    #[arg(long, default_value_t = 0.0, value_name = "H", allow_hyphen_values = true)]
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "H",
+        allow_hyphen_values = true
+    )]
     height: f64,
     /// Largest spacing between points [default: EN 12464-1's
     /// p = 0.2 · 5^log10(d), d the longer side in metres].

@@ -6,10 +6,15 @@ use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use anyhow::Context;
-use clap::Args;
+use clap::{Args, ValueEnum};
 use isorad::{
-    RenderSettings, Rgb, Scene, Solver, StopReason, ToneMap, Until, export::ExportFormat,
-    export_solution, lighting::luminaires, photometry::LUMENS_PER_WATT, render::auto_exposure,
+    Camera, RenderSettings, Rgb, Scene, Solution, Solver, StopReason, ToneMap, Until,
+    calculation::{FalseColorScale, write_falsecolor_image},
+    export::ExportFormat,
+    export_solution,
+    lighting::luminaires,
+    photometry::LUMENS_PER_WATT,
+    render::auto_exposure,
     write_exr, write_png,
 };
 
@@ -45,6 +50,29 @@ pub struct RenderArgs {
     /// Also export the solved mesh with baked light: .ply or .glb (repeatable).
     #[arg(long, value_name = "FILE")]
     export: Vec<PathBuf>,
+    /// Also write the view in false colour with a legend (.png), as
+    /// Radiance's falsecolor: luminance in cd/m², or illuminance in lx.
+    #[arg(long, value_name = "FILE")]
+    falsecolor: Option<PathBuf>,
+    /// What the false-colour picture shows.
+    #[arg(long, value_enum, default_value_t = FalseColorQuantity::Luminance)]
+    falsecolor_quantity: FalseColorQuantity,
+    /// The false-colour scale's top [default: the 99th percentile of the
+    /// view, rounded up].
+    #[arg(long, value_name = "VALUE")]
+    falsecolor_max: Option<f64>,
+    /// A logarithmic false-colour scale (three decades below the top).
+    #[arg(long)]
+    falsecolor_log: bool,
+}
+
+/// The quantity a false-colour picture shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FalseColorQuantity {
+    /// Luminance of what the camera sees, cd/m² (179 lm/W × Y(L)).
+    Luminance,
+    /// Illuminance on the surfaces the camera sees, lx (179 lm/W × Y(H)).
+    Illuminance,
 }
 
 pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
@@ -87,10 +115,14 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     for path in &args.export {
         export_solution(&solution, &ToneMap { exposure }, path)?;
     }
+    if let Some(path) = &args.falsecolor {
+        write_false_colour(args, &solution, &camera, &render_settings, path)?;
+    }
     print_summary(&source, &solver, solve_seconds);
     let mut written: Vec<String> = [&args.output, &args.png]
         .into_iter()
         .chain(&args.export)
+        .chain(&args.falsecolor)
         .map(|path| path.display().to_string())
         .collect();
     let last = written.pop().unwrap_or_default();
@@ -107,6 +139,48 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         "wrote {outputs} (exposure {exposure:+.2}) in {:.2} s total",
         start.elapsed().as_secs_f64()
     );
+    Ok(())
+}
+
+/// The view in false colour of luminance (cd/m²) or illuminance (lx),
+/// with its legend.
+fn write_false_colour(
+    args: &RenderArgs,
+    solution: &Solution<'_>,
+    camera: &Camera,
+    settings: &RenderSettings,
+    path: &Path,
+) -> anyhow::Result<()> {
+    let (image, unit, title) = match args.falsecolor_quantity {
+        FalseColorQuantity::Luminance => (solution.render(camera, settings), "cd/m²", "luminance"),
+        FalseColorQuantity::Illuminance => (
+            solution.render_irradiance(camera, settings),
+            "lx",
+            "illuminance",
+        ),
+    };
+    let values: Vec<f64> = image
+        .pixels()
+        .iter()
+        .map(|&[r, g, b]| {
+            let rgb = Rgb::new(f64::from(r), f64::from(g), f64::from(b));
+            rgb.luminance() * LUMENS_PER_WATT
+        })
+        .collect();
+    let mut scale = FalseColorScale::fitted_to_quantile(&values, 0.99);
+    if let Some(maximum) = args.falsecolor_max {
+        scale.maximum = maximum;
+    }
+    scale.logarithmic = args.falsecolor_log;
+    write_falsecolor_image(
+        path,
+        &values,
+        image.width(),
+        image.height(),
+        &scale,
+        unit,
+        title,
+    )?;
     Ok(())
 }
 
@@ -184,6 +258,23 @@ fn peak_memory_mib() -> Option<f64> {
 fn check_outputs(args: &RenderArgs) -> anyhow::Result<()> {
     for path in [&args.output, &args.png].into_iter().chain(&args.export) {
         ensure_directory_exists(path)?;
+    }
+    if let Some(path) = &args.falsecolor {
+        ensure_directory_exists(path)?;
+        let png = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        anyhow::ensure!(
+            png,
+            "--falsecolor {}: the picture is written as .png",
+            path.display()
+        );
+    }
+    if let Some(maximum) = args.falsecolor_max {
+        anyhow::ensure!(
+            maximum.is_finite() && maximum > 0.0,
+            "--falsecolor-max {maximum} must be a positive number"
+        );
     }
     if let Some(exposure) = args.exposure {
         anyhow::ensure!(
