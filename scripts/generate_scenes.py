@@ -185,13 +185,43 @@ def downlights():
                   for g in vertical]
         lines.append(" ".join(f"{max(v, 0.0):.2f}" for v in values))
     write(os.path.join(folder, "downlight.ies"), "\n".join(lines) + "\n")
+    write(os.path.join(folder, "washer.ldt"), wall_washer_ldt())
     luminaire = ('[[luminaire]]\nies = "downlight.ies"\nposition = [{x}, 2.75, 2.0]\n'
                  'aim = [0.0, -1.0, 0.0]\nc0 = [1.0, 0.0, 0.0]\ncolor = [1.0, 0.92, 0.82]\n')
+    washer = ('[[luminaire]]\n# A wall washer lighting the back wall (EULUMDAT, asymmetric).\n'
+              'ies = "washer.ldt"\nposition = [2.5, 2.7, 3.4]\naim = [0.0, -0.86, 0.51]\n'
+              'c0 = [1.0, 0.0, 0.0]\nmultiplier = 0.9\ncolor = [0.85, 0.92, 1.0]\n')
     write(os.path.join(folder, "downlights.toml"),
-          '# A room lit by two IES downlights (isorad scene file).\n'
+          '# A room lit by two IES downlights and an EULUMDAT wall washer (isorad scene file).\n'
           'obj = "downlights.obj"\n\n[camera]\nposition = [0.4, 1.6, 0.3]\nlook_at = [3.0, 0.5, 2.6]\n'
           'up = [0.0, 1.0, 0.0]\nvfov_deg = 65.0\nwidth = 640\nheight = 480\n\n'
-          + luminaire.format(x=1.5) + "\n" + luminaire.format(x=3.5))
+          + luminaire.format(x=1.5) + "\n" + luminaire.format(x=3.5) + "\n" + washer)
+
+
+def wall_washer_ldt():
+    """An asymmetric EULUMDAT wall washer (Isym 0, C every 30 degrees, gamma every 10):
+    I = 240 max(cos(g - 35), 0)^2 (1 + 0.6 cos(C - 270)) + 6 cd for g <= 120 (about the
+    lamps' 1500 lm times the 85 % light output ratio), its beam
+    thrown towards C270 (with aim [0, -0.86, 0.51] and c0 +x, towards the wall it faces);
+    a 300 x 80 mm luminous area; a 1500 lm lamp set, so cd/klm = I / 1.5."""
+    cs = [30 * k for k in range(12)]
+    gammas = [10 * k for k in range(19)]
+
+    def intensity(c, g):
+        if g > 120:
+            return 0.0
+        lobe = max(math.cos(math.radians(g - 35)), 0.0) ** 2
+        return 240 * lobe * (1 + 0.6 * math.cos(math.radians(c - 270))) + 6
+
+    lines = ["isorad", "1", "0", "12", "30", "19", "10", "isorad example", "Wall washer",
+             "WW-300", "washer.ldt", "isorad scripts/generate_scenes.py",
+             "320", "100", "60", "300", "80", "0", "0", "0", "0",
+             "60", "85", "1.0", "0", "1", "1", "LED module", "1500", "3000", "90", "16"]
+    lines += ["0.5"] * 10
+    lines += [str(c) for c in cs] + [str(g) for g in gammas]
+    for c in cs:
+        lines += [f"{intensity(c, g) / 1.5:.2f}" for g in gammas]
+    return "\r\n".join(lines) + "\r\n"
 
 
 def newell(points):

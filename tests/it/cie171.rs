@@ -451,6 +451,7 @@ fn a_work_plane_grid_lists_the_exact_illuminance_and_draws_it() {
             values.push(row[3]);
         }
         let mean_error = total_error / rows.len() as f64;
+        eprintln!("grid {file}: mean error {:.3} %", 100.0 * mean_error);
         assert!(mean_error < 0.01, "{file}: mean error {mean_error}");
         // The statistics in the header and on stdout.
         let stats = IlluminanceStatistics::of(&values).unwrap();
