@@ -170,6 +170,9 @@ fn command_line(case: &Case, index: usize) -> Vec<String> {
         Some("probe") => ["probe", "fine_basic.obj", "--points", &case.file]
             .map(String::from)
             .to_vec(),
+        Some("grid") => ["grid", &case.file, "--csv", &format!("out/{index}.csv")]
+            .map(String::from)
+            .to_vec(),
         _ => {
             let mut a: Vec<String> = ["render", &case.file, "--output", &exr, "--png", &png]
                 .map(String::from)
@@ -222,7 +225,8 @@ fn check(dir: &Path, case: &Case, index: usize) -> Result<f64, String> {
             if !stderr.contains("error:") {
                 return Err(say("no `error:` message".into()));
             }
-            if exr.exists() || png.exists() {
+            let csv = dir.join(format!("out/{index}.csv"));
+            if exr.exists() || png.exists() || csv.exists() {
                 return Err(say("an output was written despite the error".into()));
             }
         }

@@ -504,3 +504,61 @@ fn a_grid_on_an_unknown_surface_or_with_a_bad_spacing_is_refused_before_solving(
         assert!(!dir.path().join("grid.csv").exists());
     }
 }
+
+/// Both kinds of light in one scene: an emitting face (MTL `Ke`) and a
+/// photometric luminaire add, each exactly, and the ledger closes.
+#[test]
+fn an_emitting_face_and_a_photometric_luminaire_light_one_room_together() {
+    let [x0, x1, z0, z1] = PANEL;
+    let y = ROOM[1] - 1e-4;
+    let panel = format!(
+        "o panel\nusemtl panel\nv {x0} {y} {z0}\nv {x1} {y} {z0}\nv {x1} {y} {z1}\nv {x0} {y} {z1}\n\
+         f -4 -3 -2 -1\n"
+    );
+    let dir = room_folder(0.0, Some("asymmetric.ldt"), &panel);
+    let solver = solve(dir.path());
+    let balance = solver.energy_balance();
+    let total = balance.absorbed + balance.unshot + balance.escaped;
+    let imbalance = ((total - balance.emitted).abs() / balance.emitted).max_element();
+    assert!(imbalance < 1e-9, "ledger imbalance {imbalance}");
+    for (x, n) in probe_points() {
+        // The luminaire hangs below the panel's plane: the panel never hides it.
+        let exact = point_source_lux(x, n) + area_source_lux(x, n);
+        let got = probe_lux(&solver, x, n);
+        assert!(
+            (got - exact).abs() < 0.01 * exact,
+            "at {x} (normal {n}): {got} lx, exact {exact} lx"
+        );
+    }
+}
+
+/// `isorad probe` reads lux and cd/m² beside W/m².
+#[test]
+fn probe_lists_illuminance_in_lux_and_luminance() {
+    let dir = room_folder(0.5, Some("asymmetric.ies"), "");
+    std::fs::write(dir.path().join("points.csv"), "2.0,0,2.0\n0.5,0,3.5\n").unwrap();
+    let out = isorad(
+        dir.path(),
+        &["probe", "scene.toml", "-q", "--points", "points.csv"],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    for line in lines {
+        let row: Vec<f64> = line.split(',').map(|v| v.parse().unwrap()).collect();
+        let y =
+            |first: usize| 0.2126 * row[first] + 0.7152 * row[first + 1] + 0.0722 * row[first + 2];
+        let lux = row[column("illuminance_lux")];
+        let nits = row[column("luminance_cd_m2")];
+        assert!((lux - 179.0 * y(column("irradiance_r"))).abs() < 1e-9 * lux);
+        assert!((nits - 179.0 * y(column("radiosity_r")) / PI).abs() < 1e-9 * nits);
+        // Grey walls of ρ 0.5: L = ρ E / π.
+        assert!((nits - 0.5 * lux / PI).abs() < 1e-9 * lux);
+    }
+}

@@ -150,10 +150,12 @@ fn probe_prints_a_csv_row_per_point() {
         "x,y,z,irradiance_r,irradiance_g,irradiance_b,radiosity_r,radiosity_g,radiosity_b,grad_r_x"
     ));
     let row: Vec<f64> = lines[1].split(',').map(|v| v.parse().unwrap()).collect();
-    assert!(lines[0].ends_with(",grad_b_z,irradiance_se_r,irradiance_se_g,irradiance_se_b"));
-    assert_eq!(row.len(), 21);
+    assert!(lines[0].ends_with(
+        ",grad_b_z,irradiance_se_r,irradiance_se_g,irradiance_se_b,illuminance_lux,luminance_cd_m2"
+    ));
+    assert_eq!(row.len(), 23);
     assert!(
-        row[18..]
+        row[18..21]
             .iter()
             .all(|&se| (0.0..=0.005 * row[3]).contains(&se)),
         "the standard error is small and not negative: {csv}"
@@ -460,7 +462,7 @@ fn info_lists_photometric_luminaires_and_photometry_reads_their_file() {
     let out = isorad(dir.path(), &["info", scene.to_str().unwrap()]);
     assert!(out.status.success(), "{}", stderr(&out));
     let text = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(text.contains("2 photometric luminaire(s)"), "{text}");
+    assert!(text.contains("3 photometric luminaire(s)"), "{text}");
     let flux: f64 = text
         .lines()
         .find(|l| l.contains("downlight.ies"))

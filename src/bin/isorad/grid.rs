@@ -33,7 +33,7 @@ pub struct GridArgs {
     height: f64,
     /// Largest spacing between points [default: EN 12464-1's
     /// p = 0.2 · 5^log10(d), d the longer side in metres].
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
     spacing: Option<f64>,
     /// The CSV to write: x,y,z,illuminance_lux, statistics in `#` lines.
     #[arg(long, value_name = "FILE")]
