@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use isorad::{
     Scene, Solver, SolverSettings,
-    lighting::{analyse_receivers, luminaires},
+    lighting::{analyse_receivers, dominant_field, luminaires},
     load_scene,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
     scene::Visibility,
@@ -679,8 +679,9 @@ fn meshing_section(md: &mut String, out_dir: &Path) -> Report {
         .ok_or("the seed scene's floor is not lit by a luminaire")?;
     let settings = CompareSettings::default();
     let start = Instant::now();
-    let comparison = compare_receiver(&scene, &visibility, receiver, &lamps[lamp], &settings)
+    let field = dominant_field(&scene, receiver, &lamps, lamp)
         .ok_or("the luminaire does not light the floor")?;
+    let comparison = compare_receiver(&scene, &visibility, receiver, &field, &settings);
     let compare_seconds = start.elapsed().as_secs_f64();
     writeln!(
         md,

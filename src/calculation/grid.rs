@@ -131,8 +131,9 @@ impl CalculationGrid {
     ///
     /// # Errors
     /// [`Error::InvalidSetting`] when no surface has the name, when
-    /// `height` is negative or not finite, when `spacing` is not positive,
-    /// or when the grid would pass [`MAX_GRID_POINTS`].
+    /// `height` is negative or not finite or puts the plane beyond the
+    /// scene's bounding box, when `spacing` is not positive, or when the
+    /// grid would pass [`MAX_GRID_POINTS`].
     pub fn on_surface(
         scene: &Scene,
         name: &str,
@@ -176,6 +177,29 @@ impl CalculationGrid {
             })
             .collect();
         let frame = plan_frame(base.frame().origin + normal * height, normal);
+        let (low, high) = scene.bounds();
+        let slack = tolerance;
+        // The scene's highest point over the work plane (its bounding box's corners).
+        let highest = (0..8)
+            .map(|k| {
+                let corner = DVec3::new(
+                    if k & 1 == 0 { low.x } else { high.x },
+                    if k & 2 == 0 { low.y } else { high.y },
+                    if k & 4 == 0 { low.z } else { high.z },
+                );
+                frame.height(corner)
+            })
+            .fold(f64::NEG_INFINITY, f64::max);
+        if highest < -slack {
+            return Err(invalid(
+                "height",
+                format!(
+                    "{height} puts the work plane above `{name}` outside the scene, \
+                     which reaches {} above it",
+                    height + highest
+                ),
+            ));
+        }
         let outlines: Vec<Vec<DVec2>> = covered
             .iter()
             .map(|&id| {
@@ -232,7 +256,10 @@ impl CalculationGrid {
     /// The illuminance at every point, lx, row-major; NaN outside the
     /// outline. On the surface (height 0) each point is a gather probe of
     /// the surface under it; above it, a gather in free space facing the
-    /// surface's normal. Points are evaluated in parallel.
+    /// surface's normal, or NaN for a point inside an object (a work plane
+    /// through a bookcase: every axis ray from it meets a surface's back,
+    /// see [`inside_an_object`]), which is no place to read light. Points
+    /// are evaluated in parallel.
     #[must_use]
     pub fn illuminance(&self, solution: &Solution<'_>) -> Vec<f64> {
         let normal = self.frame.normal;
@@ -243,6 +270,9 @@ impl CalculationGrid {
                     return f64::NAN;
                 };
                 let irradiance = if self.height > 0.0 {
+                    if inside_an_object(solution, position, &self.frame) {
+                        return f64::NAN;
+                    }
                     solution.irradiance_in_space(position, normal).0
                 } else {
                     let probe = ProbePoint {
@@ -281,7 +311,7 @@ impl CalculationGrid {
             }
             writeln!(out, "x,y,z,illuminance_lux").map_err(io)?;
             for (point, &e) in self.points.iter().zip(lux) {
-                if let Some((p, _)) = point {
+                if let (Some((p, _)), true) = (point, e.is_finite()) {
                     writeln!(out, "{},{},{},{e}", p.x, p.y, p.z).map_err(io)?;
                 }
             }
@@ -302,6 +332,15 @@ impl CalculationGrid {
                 self.columns, self.rows, self.spacing.x, self.spacing.y
             ),
         ];
+        let inside = self
+            .points
+            .iter()
+            .zip(lux)
+            .filter(|(p, e)| p.is_some() && e.is_nan())
+            .count();
+        if inside > 0 {
+            lines.push(format!("inside_objects = {inside} (left out)"));
+        }
         match IlluminanceStatistics::of(lux) {
             Some(stats) => lines.extend([
                 format!("points = {}", stats.points),
@@ -395,6 +434,40 @@ impl CalculationGrid {
         let (column, row) = (index % self.columns, index / self.columns);
         self.origin + DVec2::new(column as f64, row as f64) * self.spacing
     }
+}
+
+/// Whether `x`, a point of the work plane `frame`, lies inside a closed
+/// object: each of five rays from it, along the plane's normal and along
+/// ±u and ±v in the plane (each tilted by about 1°), first meets a surface
+/// from behind (surfaces are
+/// one-sided, facing out of the solids they bound). The ray down to the
+/// surface under the plane is not cast: an object's base lies on that
+/// surface, where the two tie. A point under a table top sees the top's
+/// back above it but the room's walls sideways, so it is not inside; a
+/// point in open air whose rays escape is not either.
+fn inside_an_object(solution: &Solution<'_>, x: DVec3, frame: &PlaneFrame) -> bool {
+    let reach = 2.0 * solution.scene.diagonal();
+    let (n, u, v) = (frame.normal, frame.u, frame.v);
+    // Each ray leans a little off its axis, so that a grid point over a
+    // quad's diagonal (where a symmetric grid often falls) does not send it
+    // along the crack between the quad's two triangles.
+    [
+        n + u * 0.0131 + v * 0.0173,
+        u + v * 0.0137 + n * 0.0119,
+        -u - v * 0.0151 + n * 0.0113,
+        v - u * 0.0127 + n * 0.0109,
+        -v + u * 0.0157 + n * 0.0103,
+    ]
+    .into_iter()
+    .map(DVec3::normalize)
+    .all(|direction| {
+        solution
+            .visibility
+            .closest_hit(x, direction, reach, SurfaceId::NONE)
+            .is_some_and(|(surface, _)| {
+                solution.scene.surface(surface).normal().dot(direction) > 0.0
+            })
+    })
 }
 
 /// The name of a unit axis as a world axis with its unit: `x (m)`,

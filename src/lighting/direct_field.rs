@@ -187,6 +187,13 @@ impl DirectField {
         self.scale
     }
 
+    /// The geometry's length scale: the larger of the luminaire's height
+    /// over the receiver's plane and its radius.
+    #[must_use]
+    pub fn length_scale(&self) -> f64 {
+        self.length
+    }
+
     /// The luminaire's centre (world): its area's centroid, or the
     /// photometric centre.
     #[must_use]

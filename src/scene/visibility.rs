@@ -104,7 +104,7 @@ impl Visibility {
         let direction = (to - from) / self.scale;
         let ray = Ray::new(
             Vec3A::new(origin.x as f32, origin.y as f32, origin.z as f32),
-            Vec3A::new(direction.x as f32, direction.y as f32, direction.z as f32),
+            bvh_direction(direction),
             0.0,
             1.0,
         );
@@ -143,7 +143,7 @@ impl Visibility {
         let origin = (origin - self.centre) / self.scale;
         let ray = Ray::new(
             Vec3A::new(origin.x as f32, origin.y as f32, origin.z as f32),
-            Vec3A::new(direction.x as f32, direction.y as f32, direction.z as f32),
+            bvh_direction(direction),
             0.0,
             (reach / self.scale) as f32,
         );
@@ -168,6 +168,19 @@ impl Visibility {
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
     }
+}
+
+/// A ray direction for the BVH, in f32, with negative zeros made positive:
+/// obvhs's traversal picks a box's near and far planes by the direction's
+/// sign bits, and a −0 component (the negation of an axis, −X = (−1, −0,
+/// −0)) made it miss every box, so such a ray hit nothing at all.
+fn bvh_direction(direction: DVec3) -> Vec3A {
+    // Adding +0 turns −0 into +0 and leaves every other value as it is.
+    Vec3A::new(
+        direction.x as f32 + 0.0,
+        direction.y as f32 + 0.0,
+        direction.z as f32 + 0.0,
+    )
 }
 
 /// The world length of one BVH unit for a scene spanning `min`..`max`: the

@@ -195,7 +195,7 @@ pub fn field_layout(
 fn tilt_angle(field: &DirectField, centre: DVec2) -> f64 {
     let foot = field.frame().to_plane(field.centre());
     let lean = centre - foot;
-    if lean.length() > 1e-9 * field.scale() {
+    if lean.length() > 1e-9 * field.length_scale() {
         lean.y.atan2(lean.x)
     } else {
         0.0

@@ -308,7 +308,8 @@ impl Solution<'_> {
                 *g += in_plane * (radiosity[channel] * visible * reflectance[channel]);
             }
         }
-        let (direct, direct_gradient) = self.luminaire_light(x, normal, surface);
+        let (direct, direct_gradient) =
+            self.luminaire_light(x, normal, surface, reflectance != [0.0; 3]);
         irradiance += direct;
         for (channel, g) in gradient.iter_mut().enumerate() {
             *g += direct_gradient[channel] * reflectance[channel];
@@ -318,11 +319,17 @@ impl Solution<'_> {
     }
 
     /// The direct irradiance the photometric luminaires that have shot give
-    /// `x` on `surface` (unit `normal`), and its in-plane gradient per
-    /// channel by central differences over a ten-thousandth of the scene's
+    /// `x` on `surface` (unit `normal`), and (`with_gradient`) its in-plane
+    /// gradient per channel by central differences over a ten-thousandth of the scene's
     /// diagonal (within that of a point light's sharp shadow edge the
     /// difference spans the jump: there the gradient is not defined).
-    fn luminaire_light(&self, x: DVec3, normal: DVec3, surface: SurfaceId) -> (Rgb, [DVec3; 3]) {
+    fn luminaire_light(
+        &self,
+        x: DVec3,
+        normal: DVec3,
+        surface: SurfaceId,
+        with_gradient: bool,
+    ) -> (Rgb, [DVec3; 3]) {
         let mut total = Rgb::ZERO;
         let mut gradient = [DVec3::ZERO; 3];
         let h = 1e-4 * self.scene.diagonal();
@@ -337,6 +344,9 @@ impl Solution<'_> {
         {
             let at = |p: DVec3| luminaire.irradiance_at(p, normal, surface, self.visibility);
             total += at(x);
+            if !with_gradient {
+                continue;
+            }
             for axis in [u, v] {
                 let slope = (at(x + axis * h) - at(x - axis * h)) / (2.0 * h);
                 for (channel, g) in gradient.iter_mut().enumerate() {

@@ -25,12 +25,12 @@ use records::Built;
 use glam::DVec2;
 use std::time::Instant;
 
-use crate::lighting::{DirectField, Luminaire};
+use crate::lighting::DirectField;
 use crate::mesh::{
     ContourSettings, ErrorGrid, PlaneTriangulation, SquareMeshSettings, mesh_square,
 };
 use crate::scene::{Scene, SurfaceId, Visibility};
-use crate::solver::receiver_layout;
+use crate::solver::field_layout;
 
 /// What a comparison meshes and how finely it measures.
 #[derive(Clone, Debug, PartialEq)]
@@ -69,17 +69,17 @@ impl Default for CompareSettings {
     }
 }
 
-/// Meshes one receiver every way `settings` lists and measures each mesh.
-/// None when the luminaire does not light the receiver.
+/// Meshes one receiver every way `settings` lists and measures each mesh
+/// against `field`, the direct light of an area or a photometric luminaire
+/// on it ([`crate::lighting::dominant_field`]), with visibility.
 #[must_use]
 pub fn compare_receiver(
     scene: &Scene,
     visibility: &Visibility,
     receiver: SurfaceId,
-    luminaire: &Luminaire,
+    field: &DirectField,
     settings: &CompareSettings,
-) -> Option<ReceiverComparison> {
-    let field = DirectField::new(scene, receiver, luminaire)?;
+) -> ReceiverComparison {
     let surface = scene.surface(receiver);
     let outline = surface.plane_vertices();
     let exact =
@@ -110,7 +110,8 @@ pub fn compare_receiver(
             levels,
             ..ContourSettings::default()
         };
-        let Some(layout) = receiver_layout(scene, visibility, receiver, luminaire, &contour) else {
+        let Some(layout) = field_layout(scene, visibility, receiver, field.clone(), &contour)
+        else {
             continue;
         };
         let triangulation = layout.triangulate(&outline);
@@ -123,7 +124,7 @@ pub fn compare_receiver(
         };
         comparison.add(built, triangulation, &exact, &grid);
     }
-    Some(comparison)
+    comparison
 }
 
 /// The square N × N mesh of a receiver (a lattice of N divisions if it is

@@ -18,7 +18,7 @@ use std::path::Path;
 use glam::DVec3;
 use isorad::calculation::{CalculationGrid, IlluminanceStatistics, illuminance_lux};
 use isorad::scene::ProbePoint;
-use isorad::{ProbeMode, Settings, Solver, load_scene};
+use isorad::{ProbeMode, Settings, Solver, StopReason, load_scene};
 
 /// The room: 4 m × 4 m, 3 m high, one quad per face, facing inwards.
 const ROOM: [f64; 3] = [4.0, 3.0, 4.0];
@@ -30,13 +30,17 @@ const SCENE_MULTIPLIER: f64 = 0.75;
 
 /// The asymmetric test luminaire, candela before the scene's multiplier
 /// (the files store it divided by their own multipliers):
-/// I(C, γ) = 300 + 700 max(cos γ, 0) (1 + 0.5 cos C), smooth enough that
-/// the web's bilinear interpolation (10° in C, 2.5° in γ) is within 0.2 %.
+/// I(C, γ) = 300 + 700 max(cos γ, 0) (1 + 0.5 cos C + 0.3 sin C), smooth
+/// enough that the web's bilinear interpolation (10° in C, 2.5° in γ) is
+/// within 0.2 %; the sin C term makes it asymmetric about every plane, so a
+/// C90 turned the wrong way shows.
 fn intensity(c: f64, gamma: f64) -> f64 {
-    300.0 + 700.0 * gamma.to_radians().cos().max(0.0) * (1.0 + 0.5 * c.to_radians().cos())
+    let c = c.to_radians();
+    300.0 + 700.0 * gamma.to_radians().cos().max(0.0) * (1.0 + 0.5 * c.cos() + 0.3 * c.sin())
 }
 
-/// Its flux, lm, before the scene's multiplier: ∫ I dΩ = 1200 π + 700 π.
+/// Its flux, lm, before the scene's multiplier: ∫ I dΩ = 1200 π + 700 π
+/// (the cos C and sin C terms integrate to zero).
 const FLUX: f64 = 1900.0 * PI;
 
 fn gammas() -> Vec<f64> {
@@ -191,11 +195,17 @@ fn room_folder(rho: f64, luminaire_file: Option<&str>, extra_obj: &str) -> tempf
     dir
 }
 
+/// Solves the scene in `dir` at its default settings; the solve must
+/// converge (unshot power under the tolerance), not stop at a limit.
 fn solve(dir: &Path) -> Solver {
     let loaded = load_scene(dir.join("scene.toml").to_str().unwrap()).unwrap();
     let settings = Settings::from_scene_options(&loaded.options).unwrap();
     let mut solver = Solver::new(loaded.scene, settings).unwrap();
-    solver.run();
+    let stop = solver.run();
+    assert!(
+        matches!(stop, StopReason::Converged | StopReason::NothingToShoot),
+        "the solve stopped: {stop:?}"
+    );
     solver
 }
 
@@ -560,5 +570,76 @@ fn probe_lists_illuminance_in_lux_and_luminance() {
         assert!((nits - 179.0 * y(column("radiosity_r")) / PI).abs() < 1e-9 * nits);
         // Grey walls of ρ 0.5: L = ρ E / π.
         assert!((nits - 0.5 * lux / PI).abs() < 1e-9 * lux);
+    }
+}
+
+/// A work plane through a cabinet: the points inside it are left out
+/// (counted in the header), the others read light.
+#[test]
+fn work_plane_points_inside_furniture_are_left_out() {
+    // A closed 1 × 1.2 × 1 m cabinet, faces outwards, over x 2.5–3.5, z 0.5–1.5.
+    let mut cabinet = String::from("o cabinet\nusemtl wall\n");
+    let (x0, x1, y0, y1, z0, z1) = (2.5, 3.5, 0.0, 1.2, 0.5, 1.5);
+    for (x, y, z) in [
+        (x0, y0, z0),
+        (x1, y0, z0),
+        (x1, y0, z1),
+        (x0, y0, z1),
+        (x0, y1, z0),
+        (x1, y1, z0),
+        (x1, y1, z1),
+        (x0, y1, z1),
+    ] {
+        cabinet.push_str(&format!("v {x} {y} {z}\n"));
+    }
+    // Outward: the reverse of the room's inward faces.
+    for f in [
+        [-8, -7, -6, -5],
+        [-4, -1, -2, -3],
+        [-8, -4, -3, -7],
+        [-5, -6, -2, -1],
+        [-8, -5, -1, -4],
+        [-7, -3, -2, -6],
+    ] {
+        cabinet.push_str(&format!("f {} {} {} {}\n", f[0], f[1], f[2], f[3]));
+    }
+    let dir = room_folder(0.0, Some("asymmetric.ies"), &cabinet);
+    let solver = solve(dir.path());
+    let solution = solver.solution_with_ambient();
+    let grid = CalculationGrid::on_surface(solution.scene, "floor", 0.8, None).unwrap();
+    let lux = grid.illuminance(&solution);
+    let mut inside = 0;
+    for (point, e) in grid.points.iter().zip(&lux) {
+        let Some((p, _)) = point else { continue };
+        let in_cabinet = (x0..x1).contains(&p.x) && (z0..z1).contains(&p.z);
+        assert_eq!(e.is_nan(), in_cabinet, "at {p}: {e} lx");
+        inside += usize::from(in_cabinet);
+    }
+    assert_eq!(inside, 4);
+    assert!(
+        grid.header_lines(&lux)
+            .contains(&"inside_objects = 4 (left out)".to_owned())
+    );
+    assert_eq!(IlluminanceStatistics::of(&lux).unwrap().points, 60);
+}
+
+/// The free-space gather sees the elements' light as a probe on the
+/// surface does: in a grey room, a hair above the floor, both agree.
+#[test]
+fn a_free_space_gather_just_above_a_surface_agrees_with_its_probe() {
+    let dir = room_folder(0.6, Some("asymmetric.ies"), "");
+    let solver = solve(dir.path());
+    let solution = solver.solution_with_ambient();
+    for (x, n) in probe_points() {
+        let on_surface = probe_lux(&solver, x, n);
+        let (irradiance, _) = solution.irradiance_in_space(x + n * 1e-3, n);
+        let above = illuminance_lux(irradiance);
+        // The luminaire's direct light and the elements' reflected light, both.
+        let direct = point_source_lux(x, n);
+        assert!(on_surface > 1.2 * direct, "at {x}: little reflected light");
+        assert!(
+            (above - on_surface).abs() < 0.01 * on_surface,
+            "at {x} (normal {n}): {above} lx in space, {on_surface} lx on the surface"
+        );
     }
 }

@@ -297,7 +297,8 @@ fn every_vertex_of_an_adaptive_mesh_holds_the_luminaires_direct_light() {
 }
 
 /// A smooth asymmetric downlight, consistent at the nadir: I = 300 +
-/// 700 cos γ (1 + 0.5 sin γ cos C), every 15° in C and 5° in γ to 90°.
+/// 700 cos γ (1 + sin γ (0.5 cos C + 0.3 sin C)), every 15° in C and 5° in
+/// γ to 90°.
 fn leaning_downlight() -> String {
     let cs: Vec<f64> = (0..=24).map(|k| 15.0 * f64::from(k)).collect();
     let gammas: Vec<f64> = (0..=18).map(|k| 5.0 * f64::from(k)).collect();
@@ -319,7 +320,7 @@ fn leaning_downlight() -> String {
             .iter()
             .map(|g| {
                 let (c, g) = (c.to_radians(), g.to_radians());
-                300.0 + 700.0 * g.cos() * (1.0 + 0.5 * g.sin() * c.cos())
+                300.0 + 700.0 * g.cos() * (1.0 + g.sin() * (0.5 * c.cos() + 0.3 * c.sin()))
             })
             .collect();
         text.push_str(&join(plane));

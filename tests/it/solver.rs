@@ -209,3 +209,24 @@ fn a_blocker_casts_an_exactly_black_umbra() {
     }
     assert!(dark > 100);
 }
+
+/// Rays along a negated axis (−X is (−1, −0, −0)) hit what is there: the
+/// BVH once took their negative zeros for directions and missed every box.
+#[test]
+fn rays_along_negated_axes_hit_the_walls() {
+    let scene = crate::support::closed_cube(0.5, 0.0);
+    let visibility = isorad::scene::Visibility::new(&scene);
+    let centre = glam::DVec3::splat(0.5);
+    for axis in [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z] {
+        for direction in [axis, -axis] {
+            let hit = visibility.closest_hit(centre, direction, 10.0, isorad::SurfaceId::NONE);
+            let (_, distance) = hit.unwrap_or_else(|| panic!("{direction}: no hit"));
+            assert!((distance - 0.5).abs() < 1e-6, "{direction}: {distance}");
+            assert!(!visibility.is_unblocked(
+                centre,
+                centre + direction * 2.0,
+                [isorad::SurfaceId::NONE; 2]
+            ));
+        }
+    }
+}

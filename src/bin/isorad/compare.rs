@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use isorad::{
     Scene, Settings, SurfaceId,
-    lighting::{ReceiverAnalysis, analyse_receivers, luminaires},
+    lighting::{ReceiverAnalysis, analyse_receivers, dominant_field, luminaires},
     load_scene,
     scene::Visibility,
     study::{
@@ -67,9 +67,9 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     settings.grid = args.grid.max(200);
     let mut comparisons = Vec::new();
     for (receiver, lamp) in chosen {
-        if let Some(comparison) =
-            compare_receiver(scene, &visibility, receiver, &lamps[lamp], &settings)
-        {
+        // The dominant light: an area luminaire, or a photometric one after them.
+        if let Some(field) = dominant_field(scene, receiver, &lamps, lamp) {
+            let comparison = compare_receiver(scene, &visibility, receiver, &field, &settings);
             print_comparison(&comparison);
             comparisons.push(comparison);
         }
