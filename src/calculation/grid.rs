@@ -177,26 +177,27 @@ impl CalculationGrid {
             })
             .collect();
         let frame = plan_frame(base.frame().origin + normal * height, normal);
+        // The scene's highest point over the surface (its bounding box's
+        // corners): a work plane above it lies outside the scene.
         let (low, high) = scene.bounds();
-        let slack = tolerance;
-        // The scene's highest point over the work plane (its bounding box's corners).
-        let highest = (0..8)
+        let reach = (0..8)
             .map(|k| {
                 let corner = DVec3::new(
                     if k & 1 == 0 { low.x } else { high.x },
                     if k & 2 == 0 { low.y } else { high.y },
                     if k & 4 == 0 { low.z } else { high.z },
                 );
-                frame.height(corner)
+                base.frame().height(corner)
             })
             .fold(f64::NEG_INFINITY, f64::max);
-        if highest < -slack {
+        if height > reach + tolerance {
             return Err(invalid(
                 "height",
                 format!(
-                    "{height} puts the work plane above `{name}` outside the scene, \
+                    "{} puts the work plane above `{name}` outside the scene, \
                      which reaches {} above it",
-                    height + highest
+                    short_number(height),
+                    short_number(reach)
                 ),
             ));
         }
@@ -384,8 +385,9 @@ impl CalculationGrid {
 
     /// Where the scene's lamps stand over the grid's plane, with labels:
     /// each area luminaire's centre (labelled by its first surface's name)
-    /// and each photometric luminaire's centre (`p0`, `p1`, … with its
-    /// file's name), projected onto the plane, for those in front of it.
+    /// and each photometric luminaire's centre (`p0`, `p1`, … as `isorad
+    /// info` numbers them), projected onto the plane, for those in front of
+    /// it.
     #[must_use]
     pub fn luminaire_marks(&self, scene: &Scene) -> Vec<(DVec2, String)> {
         let in_front = |p: DVec3| self.frame.height(p) > 0.0;
@@ -503,6 +505,16 @@ fn plan_frame(point: DVec3, normal: DVec3) -> PlaneFrame {
         u,
         v,
         normal,
+    }
+}
+
+/// A number as a message shows it: plain when of everyday size, else in
+/// scientific notation (1e300, not three hundred digits).
+fn short_number(value: f64) -> String {
+    if value == 0.0 || (1e-3..1e6).contains(&value.abs()) {
+        format!("{value}")
+    } else {
+        format!("{value:e}")
     }
 }
 

@@ -1,6 +1,12 @@
 //! The direct radiosity of one luminaire on one receiver's plane: the scalar
 //! field the radial contour-level mesher meshes.
 //!
+//! A photometric luminaire ([`DirectField::photometric`]) gives
+//! B(x) = Y(ρ ⊙ tint) / 179 lm/W · I(C, γ) cos θ / r², with the gradient of
+//! [`PhotometricLuminaire::illuminance_with_gradient`] (analytic through the
+//! web's bilinear interpolation), its visibility the share of its luminous
+//! opening seen, and no kink line. An area luminaire gives the following.
+//!
 //! For a receiver of reflectance ρ (per channel) and a luminaire of exitance
 //! E made of planar polygons P_i with emitting normal m and centre c, the
 //! unoccluded direct radiosity at a point x of the receiver's plane (normal
@@ -153,12 +159,7 @@ impl DirectField {
         let surface = scene.surfaces.get(receiver.index())?;
         let frame = *surface.frame();
         let height = frame.height(luminaire.position);
-        let radius = luminaire
-            .opening_corners()
-            .iter()
-            .map(|c| c.distance(luminaire.position))
-            .fold(0.0, f64::max);
-        let length = height.max(radius);
+        let length = height.max(luminaire.opening_radius());
         let material = scene.materials.get(surface.material)?;
         let scale = (material.reflectance * luminaire.color).luminance() / LUMENS_PER_WATT;
         if !(height > 0.0 && scale.is_finite() && length.is_finite()) {
@@ -208,7 +209,8 @@ impl DirectField {
 
     /// Unoccluded direct radiosity B_S(p) = Y(ρ ⊙ E) · Σ_i F(p → P_i), W/m²,
     /// and its gradient (∂B/∂u, ∂B/∂v) in plane coordinates, W/m² per unit
-    /// length. Exact: Lambert's form factor and Arvo's gradient
+    /// length (for a photometric luminaire, Y(ρ ⊙ tint) / 179 · E_v(p) and
+    /// its analytic gradient). Exact: Lambert's form factor and Arvo's gradient
     /// ([`crate::radiometry::polygon_form_factor_with_gradient`]), the in-plane gradient
     /// projected on the frame's u and v. Zero (with a zero gradient) behind
     /// the luminaire's plane and at non-finite p.
@@ -335,17 +337,7 @@ impl DirectField {
         if !x.is_finite() || self.frame.normal.dot(luminaire.position - x) <= 0.0 {
             return 0.0;
         }
-        let offset = visibility.surface_offset();
-        let from = x + self.frame.normal * offset;
-        let samples = luminaire.opening_samples();
-        let seen = samples
-            .iter()
-            .filter(|&&y| {
-                let back = (x - y).normalize_or_zero() * offset;
-                visibility.is_unblocked(from, y + back, [self.receiver, self.receiver])
-            })
-            .count();
-        seen as f64 / samples.len() as f64
+        luminaire.visible_share(x, self.frame.normal, self.receiver, visibility)
     }
 
     /// Whether the luminaire's centre c is visible from p (a point light's

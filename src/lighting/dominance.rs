@@ -203,12 +203,7 @@ fn analyse_receiver(
         Some(lamp) => (lamp.centre, lamp.radius),
         None => {
             let luminaire = &scene.luminaires[best - luminaires.len()];
-            let radius = luminaire
-                .opening_corners()
-                .iter()
-                .map(|c| c.distance(luminaire.position))
-                .fold(0.0, f64::max);
-            (luminaire.position, radius)
+            (luminaire.position, luminaire.opening_radius())
         }
     };
     let size_ratio = light[best].1.as_ref().map_or(f64::INFINITY, |field| {
@@ -229,7 +224,6 @@ fn analyse_receiver(
     }
 }
 
-/// D = Σ_k a_k B(x_k) V(x_k) over the sample points (x_k, a_k).
 /// The direct field on `receiver` of light `k` in the analysis's order:
 /// area luminaire `luminaires[k]`, or photometric luminaire
 /// `scene.luminaires[k − luminaires.len()]`; `None` when it cannot light the
@@ -249,6 +243,7 @@ pub fn dominant_field(
     }
 }
 
+/// D = Σ_k a_k B(x_k) V(x_k) over the sample points (x_k, a_k).
 fn direct_light(
     field: &DirectField,
     visibility: &Visibility,

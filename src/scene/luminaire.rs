@@ -65,7 +65,7 @@ impl PhotometricLuminaire {
     /// luminaire, degrees: γ from `aim`, C from `c0` towards C90.
     #[must_use]
     pub fn angles(&self, direction: DVec3) -> (f64, f64) {
-        let c90 = (-self.aim).cross(self.c0);
+        let c90 = self.c90();
         let gamma = direction.dot(self.aim).clamp(-1.0, 1.0).acos().to_degrees();
         let c = direction
             .dot(c90)
@@ -123,18 +123,61 @@ impl PhotometricLuminaire {
         if intensity == Rgb::ZERO {
             return Rgb::ZERO;
         }
-        let offset = visibility.surface_offset();
-        let start = x + normal * offset;
-        let unblocked = |target: DVec3| {
-            let back = (x - target).normalize_or_zero() * offset;
-            visibility.is_unblocked(start, target + back, [surface, surface])
-        };
-        let samples = self.opening_samples();
-        let seen = samples.iter().filter(|&&p| unblocked(p)).count();
-        if seen == 0 {
+        let seen = self.visible_share(x, normal, surface, visibility);
+        if seen == 0.0 {
             return Rgb::ZERO;
         }
-        intensity * (cos / r2 * seen as f64 / samples.len() as f64)
+        intensity * (cos / r2 * seen)
+    }
+
+    /// The share of the luminous opening that `x` (on `surface`, whose
+    /// front normal is `normal`; [`SurfaceId::NONE`] in free space) sees:
+    /// the fraction of [`PhotometricLuminaire::opening_samples`] whose
+    /// shadow ray, lifted a surface offset off `x` along `normal` and
+    /// stopping that far short of its sample, is unblocked.
+    #[must_use]
+    pub fn visible_share(
+        &self,
+        x: DVec3,
+        normal: DVec3,
+        surface: SurfaceId,
+        visibility: &Visibility,
+    ) -> f64 {
+        let offset = visibility.surface_offset();
+        let start = x + normal * offset;
+        let samples = self.opening_samples();
+        let seen = samples
+            .iter()
+            .filter(|&&target| {
+                let back = (x - target).normalize_or_zero() * offset;
+                visibility.is_unblocked(start, target + back, [surface, surface])
+            })
+            .count();
+        seen as f64 / samples.len() as f64
+    }
+
+    /// The direction of the C90 half-plane, (−aim) × c0.
+    #[must_use]
+    pub fn c90(&self) -> DVec3 {
+        (-self.aim).cross(self.c0)
+    }
+
+    /// Whether the file gives no luminous opening (or none that is finite):
+    /// a point source.
+    fn is_point(&self) -> bool {
+        let opening = self.distribution.opening;
+        let (width, length) = (opening.width, opening.length.max(0.0));
+        width == 0.0 && length == 0.0 || !(width.is_finite() && length.is_finite())
+    }
+
+    /// The opening's radius: the largest distance from the centre to its
+    /// outline ([`PhotometricLuminaire::opening_corners`]); 0 for a point.
+    #[must_use]
+    pub fn opening_radius(&self) -> f64 {
+        self.opening_corners()
+            .iter()
+            .map(|c| c.distance(self.position))
+            .fold(0.0, f64::max)
     }
 
     /// The unoccluded illuminance it gives a point `x` facing the unit
@@ -173,7 +216,7 @@ impl PhotometricLuminaire {
         let r3 = r2 * r;
         let value = intensity * facing / r3;
         let mut gradient = intensity * (-normal / r3 + d * (3.0 * normal.dot(d) / (r3 * r2)));
-        let c90 = (-self.aim).cross(self.c0);
+        let c90 = self.c90();
         let (along_c0, along_c90, cos_gamma) =
             (omega.dot(self.c0), omega.dot(c90), omega.dot(self.aim));
         let sine_squared = along_c0 * along_c0 + along_c90 * along_c90;
@@ -200,9 +243,9 @@ impl PhotometricLuminaire {
     #[must_use]
     pub fn opening_samples(&self) -> Vec<DVec3> {
         let opening = self.distribution.opening;
-        let c90 = (-self.aim).cross(self.c0);
+        let c90 = self.c90();
         let (width, length) = (opening.width, opening.length.max(0.0));
-        if width == 0.0 && length == 0.0 || !(width.is_finite() && length.is_finite()) {
+        if self.is_point() {
             return vec![self.position];
         }
         (0..OPENING_SAMPLES)
@@ -226,9 +269,9 @@ impl PhotometricLuminaire {
     #[must_use]
     pub fn opening_corners(&self) -> Vec<DVec3> {
         let opening = self.distribution.opening;
-        let c90 = (-self.aim).cross(self.c0);
+        let c90 = self.c90();
         let (width, length) = (opening.width, opening.length.max(0.0));
-        if width == 0.0 && length == 0.0 || !(width.is_finite() && length.is_finite()) {
+        if self.is_point() {
             return vec![self.position];
         }
         if width < 0.0 {
@@ -361,11 +404,17 @@ mod tests {
             let law = luminaire.distribution.intensity(c, gamma) * 0.8 * normal.dot(d)
                 / d.length().powi(3);
             assert!((value - law).abs() <= 1e-12 * law);
-            // A difference straddling a tabulated angle sees the kink: skip those.
-            let (c_plus, g_plus) =
-                luminaire.angles((x + DVec3::splat(2.0 * h) - luminaire.position).normalize());
-            let straddles = (c / 30.0).floor() != (c_plus / 30.0).floor()
-                || (gamma / 15.0).floor() != (g_plus / 15.0).floor();
+            // A difference straddling a tabulated angle sees the kink: skip
+            // points whose six difference points are not all in (C, γ)'s cell.
+            let cell = |p: DVec3| {
+                let (c, gamma) = luminaire.angles((p - luminaire.position).normalize());
+                ((c / 30.0).floor(), (gamma / 15.0).floor())
+            };
+            let home = cell(x);
+            let straddles = [DVec3::X, DVec3::Y, DVec3::Z]
+                .into_iter()
+                .flat_map(|axis| [x + axis * h, x - axis * h])
+                .any(|p| cell(p) != home);
             if straddles {
                 continue;
             }

@@ -4,16 +4,13 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use isorad::{
-    Solver, Until,
-    calculation::{
-        CalculationGrid, FalseColorScale, IlluminanceStatistics, write_falsecolor_grid,
-        write_isolux_plot,
-    },
+use isorad::calculation::{
+    CalculationGrid, FalseColorScale, IlluminanceStatistics, write_falsecolor_grid,
+    write_isolux_plot,
 };
 
 use crate::args::{SolveArgs, ensure_directory_exists, prepare};
-use crate::progress::solve_with_progress;
+use crate::progress::solve_to_tolerance;
 
 #[derive(Args)]
 pub struct GridArgs {
@@ -60,14 +57,7 @@ pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
                 }
                 other => other.into(),
             })?;
-    let no_previews = |_: &Solver| Ok(());
-    solve_with_progress(
-        &mut solver,
-        &Until::default(),
-        args.solve.quiet,
-        None,
-        no_previews,
-    )?;
+    solve_to_tolerance(&mut solver, args.solve.quiet)?;
     let solution = solver.solution_with_ambient();
     let lux = grid.illuminance(&solution);
     grid.write_csv(&args.csv, &lux)?;

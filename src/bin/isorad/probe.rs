@@ -6,13 +6,12 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use isorad::{
-    Rgb, Solver, Until, calculation::illuminance_lux, photometry::LUMENS_PER_WATT,
-    scene::load_probe_points,
+    Rgb, calculation::illuminance_lux, photometry::LUMENS_PER_WATT, scene::load_probe_points,
 };
 use rayon::prelude::*;
 
 use crate::args::{ProbeModeArg, SolveArgs, prepare};
-use crate::progress::solve_with_progress;
+use crate::progress::solve_to_tolerance;
 
 #[derive(Args)]
 pub struct ProbeArgs {
@@ -32,14 +31,7 @@ pub struct ProbeArgs {
 pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
     let points = load_probe_points(&args.points)?;
     let mut solver = prepare(&args.solve)?.solver;
-    let no_previews = |_: &Solver| Ok(());
-    solve_with_progress(
-        &mut solver,
-        &Until::default(),
-        args.solve.quiet,
-        None,
-        no_previews,
-    )?;
+    solve_to_tolerance(&mut solver, args.solve.quiet)?;
     let solution = solver.solution_with_ambient();
     let mode = args.mode.into();
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());

@@ -23,6 +23,14 @@ impl std::fmt::Display for Interrupted {
 
 impl std::error::Error for Interrupted {}
 
+/// Solves to the settings' tolerance with a progress bar (none when
+/// `quiet`) and no previews: what the commands that read a solution need.
+pub fn solve_to_tolerance(solver: &mut Solver, quiet: bool) -> anyhow::Result<StopReason> {
+    let no_previews = |_: &Solver| Ok(());
+    let (stop, _) = solve_with_progress(solver, &Until::default(), quiet, None, no_previews)?;
+    Ok(stop)
+}
+
 /// Runs the solver until `until` stops it, with a progress bar of the
 /// unshot fraction on a log scale from 100 % down to the tolerance, and
 /// calls `preview` every `preview_every` shots. Returns why it stopped and
