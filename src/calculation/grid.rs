@@ -258,9 +258,9 @@ impl CalculationGrid {
     /// outline. On the surface (height 0) each point is a gather probe of
     /// the surface under it; above it, a gather in free space facing the
     /// surface's normal, or NaN for a point inside an object (a work plane
-    /// through a bookcase: every axis ray from it meets a surface's back,
-    /// see [`inside_an_object`]), which is no place to read light. Points
-    /// are evaluated in parallel.
+    /// through a bookcase: five rays from it, up and sideways, all meet a
+    /// surface's back), which is no place to read light. Points are
+    /// evaluated in parallel.
     #[must_use]
     pub fn illuminance(&self, solution: &Solution<'_>) -> Vec<f64> {
         let normal = self.frame.normal;
