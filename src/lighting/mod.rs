@@ -22,4 +22,4 @@ pub use direct_field::DirectField;
 pub use dominance::{DominanceSettings, ReceiverAnalysis, analyse_receivers, dominant_field};
 pub use luminaire::{Luminaire, luminaires};
 pub(crate) use sample_stream::SampleStream;
-pub use shadow_boundaries::{BoundaryLimits, EdgeNeighbours, shadow_boundaries};
+pub use shadow_boundaries::{BoundaryLimits, EdgeNeighbours, light_reaches, shadow_boundaries};

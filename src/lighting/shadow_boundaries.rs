@@ -27,8 +27,10 @@ use std::collections::HashMap;
 use glam::{DVec2, DVec3};
 
 use super::Luminaire;
+use super::sample_stream::SampleStream;
+use super::stratified::stratified_points;
 use crate::scene::{
-    PlaneFrame, Scene, SurfaceId, clip_segment_to_polygon, distance_to_boundary,
+    PlaneFrame, Scene, SurfaceId, Visibility, clip_segment_to_polygon, distance_to_boundary,
     distance_to_segment,
 };
 
@@ -159,6 +161,43 @@ pub fn shadow_boundaries(
         a.distance(b) >= limits.min_feature && !along_outline
     });
     merge_boundaries(found, limits)
+}
+
+/// Receiver points [`light_reaches`] tries: a 4 × 4 stratification.
+const REACH_POINTS: usize = 16;
+
+/// Whether any of the points `from` (a luminaire's centre and corners)
+/// sees some part of `receiver`: a shadow ray from one of 16 stratified
+/// points of the receiver (lifted a surface offset off it) to one of them
+/// (stopped that far short, so the luminaire's own surface `lamp` does not
+/// count) is unblocked. A receiver in another closed room, or wholly in
+/// the umbra, sees none, and casting shadow boundaries on it would only
+/// add vertices where no direct light falls. A receiver lit only through a
+/// gap narrower than the samples can be missed: its shadows are then
+/// meshed as if there were no boundaries.
+#[must_use]
+pub fn light_reaches(
+    scene: &Scene,
+    visibility: &Visibility,
+    receiver: SurfaceId,
+    from: &[DVec3],
+    lamp: SurfaceId,
+) -> bool {
+    let surface = scene.surface(receiver);
+    let (frame, n) = (surface.frame(), surface.normal());
+    let offset = visibility.surface_offset();
+    let mut random = SampleStream::new(u64::from(receiver), 0x5EE5_11A7);
+    let points = stratified_points(&surface.plane_vertices(), REACH_POINTS, 0.01, &mut random);
+    points.iter().any(|&(p, _)| {
+        let x = frame.to_world(p) + n * offset;
+        from.iter().any(|&y| {
+            let d = y - x;
+            n.dot(d) > 0.0 && {
+                let end = y - d.normalize_or_zero() * offset;
+                visibility.is_unblocked(x, end, [receiver, lamp])
+            }
+        })
+    })
 }
 
 /// A light that casts shadows: the corners they are cast from, the plane

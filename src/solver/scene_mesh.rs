@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use super::mesh_settings::{MeshKind, MeshSettings};
 use crate::lighting::{
     BoundaryLimits, DirectField, EdgeNeighbours, Luminaire, ReceiverAnalysis, analyse_receivers,
-    dominant_field, luminaires, shadow_boundaries,
+    dominant_field, light_reaches, luminaires, shadow_boundaries,
 };
 use crate::mesh::{
     ContourLayout, ContourSettings, Mesh, SurfaceGuides, contour_layout, mesh_surfaces,
@@ -55,7 +55,7 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
         luminaires: luminaires(scene),
         ..MeshAnalysis::default()
     };
-    let boundaries = scene_shadow_boundaries(scene, &analysis.luminaires, settings);
+    let boundaries = scene_shadow_boundaries(scene, visibility, &analysis.luminaires, settings);
     analysis.shadow_boundaries = boundaries.iter().map(Vec::len).sum();
     analysis.shadow_receivers = boundaries.iter().filter(|b| !b.is_empty()).count();
     if matches!(settings.kind, MeshKind::Square | MeshKind::Adaptive) {
@@ -104,10 +104,13 @@ const MAX_BOUNDARIES_PER_RECEIVER: usize = 256;
 /// quarter of an element, at most 256 per receiver, longest first. Empty
 /// for emitters, for surfaces smaller than one element (a line across would
 /// only split them into slivers), and for all when
-/// `settings.shadow_boundaries` is off. Computed in parallel.
+/// `settings.shadow_boundaries` is off. Only the lights that reach a
+/// receiver cast boundaries on it ([`light_reaches`]): a lamp in another
+/// closed room adds none. Computed in parallel.
 #[must_use]
 pub fn scene_shadow_boundaries(
     scene: &Scene,
+    visibility: &Visibility,
     luminaires: &[Luminaire],
     settings: &MeshSettings,
 ) -> Vec<Vec<[DVec2; 2]>> {
@@ -120,10 +123,24 @@ pub fn scene_shadow_boundaries(
         min_feature: BOUNDARY_MIN_FEATURE * square.max_edge,
         max_per_receiver: MAX_BOUNDARIES_PER_RECEIVER,
     };
-    let points: Vec<DVec3> = scene
+    // Each light with the points it is seen from: an area luminaire's
+    // centre and vertices, a photometric one's opening outline.
+    let area_points: Vec<Vec<DVec3>> = luminaires
+        .iter()
+        .map(|lamp| {
+            let corners = lamp
+                .surfaces
+                .iter()
+                .flat_map(|&s| scene.surface(s).vertices());
+            std::iter::once(lamp.centre)
+                .chain(corners.copied())
+                .collect()
+        })
+        .collect();
+    let photometric_points: Vec<Vec<DVec3>> = scene
         .luminaires
         .iter()
-        .flat_map(|l| l.opening_corners())
+        .map(|l| l.opening_corners())
         .collect();
     let ids: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
     ids.par_iter()
@@ -133,7 +150,20 @@ pub fn scene_shadow_boundaries(
             if emitting || surface.area() < square.max_edge * square.max_edge {
                 return Vec::new();
             }
-            shadow_boundaries(scene, &neighbours, id, luminaires, &points, limits)
+            // Only the lights that reach the receiver cast boundaries on it.
+            let lit: Vec<Luminaire> = luminaires
+                .iter()
+                .zip(&area_points)
+                .filter(|(lamp, from)| light_reaches(scene, visibility, id, from, lamp.surfaces[0]))
+                .map(|(lamp, _)| lamp.clone())
+                .collect();
+            let points: Vec<DVec3> = photometric_points
+                .iter()
+                .filter(|from| light_reaches(scene, visibility, id, from, id))
+                .flatten()
+                .copied()
+                .collect();
+            shadow_boundaries(scene, &neighbours, id, &lit, &points, limits)
         })
         .collect()
 }

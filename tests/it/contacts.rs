@@ -306,3 +306,66 @@ fn floor_shots_beside_plates_in_a_closed_room_land() {
     );
     assert!(escaped.abs() < 0.012, "escaped {escaped}");
 }
+
+/// Shadow boundaries are cast only where a light reaches: two closed rooms
+/// side by side, each with a block on its floor, the lamp in the first.
+/// The first floor follows the block's shadow; the second, in the dark,
+/// gets no boundaries (the lamp's silhouettes would project onto its plane
+/// through the walls).
+#[test]
+fn shadow_boundaries_stay_in_the_room_the_light_reaches() {
+    let mut b = SceneBuilder::default();
+    let wall = b.material("wall", 0.5, 0.0);
+    let lamp = b.material("lamp", 0.0, 10.0);
+    let size = DVec3::new(4.0, 3.0, 4.0);
+    for (room, offset) in [("a", DVec3::ZERO), ("b", DVec3::new(5.0, 0.0, 0.0))] {
+        for (k, quad) in box_faces(size).into_iter().enumerate() {
+            let name = if k == 2 {
+                format!("floor_{room}")
+            } else {
+                format!("wall_{room}")
+            };
+            b.polygon(&name, wall, quad.into_iter().map(|p| p + offset).collect());
+        }
+        // A 0.5 m block standing on the floor, faces outwards.
+        for quad in box_faces(DVec3::splat(0.5)) {
+            let mut quad: Vec<DVec3> = quad
+                .into_iter()
+                .map(|p| p + offset + DVec3::new(1.75, 0.0, 1.75))
+                .collect();
+            quad.reverse();
+            b.polygon(&format!("block_{room}"), wall, quad);
+        }
+    }
+    b.polygon_facing(
+        "lamp",
+        lamp,
+        [(1.7, 1.7), (2.3, 1.7), (2.3, 2.3), (1.7, 2.3)]
+            .map(|(x, z)| DVec3::new(x, 2.99, z))
+            .to_vec(),
+        DVec3::new(2.0, 0.0, 2.0),
+    );
+    let scene = b.scene;
+    let visibility = isorad::scene::Visibility::new(&scene);
+    let lights = isorad::lighting::luminaires(&scene);
+    let boundaries = isorad::solver::scene_shadow_boundaries(
+        &scene,
+        &visibility,
+        &lights,
+        &isorad::MeshSettings::default(),
+    );
+    let count = |name: &str| -> usize {
+        scene
+            .surfaces_with_ids()
+            .filter(|(_, s)| s.name == name)
+            .map(|(id, _)| boundaries[id.index()].len())
+            .sum()
+    };
+    assert!(
+        count("floor_a") >= 4,
+        "{} on the lit floor",
+        count("floor_a")
+    );
+    assert_eq!(count("floor_b"), 0);
+    assert_eq!(count("wall_b") + count("block_b"), 0);
+}

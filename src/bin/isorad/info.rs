@@ -58,7 +58,7 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
     let visibility = Visibility::new(scene);
     let lights = luminaires(scene);
     let analyses = analyse_receivers(scene, &visibility, &lights, &settings);
-    let boundaries = scene_shadow_boundaries(scene, &lights, &mesh_settings);
+    let boundaries = scene_shadow_boundaries(scene, &visibility, &lights, &mesh_settings);
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     writeln!(
         out,
