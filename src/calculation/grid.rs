@@ -257,10 +257,10 @@ impl CalculationGrid {
     /// The illuminance at every point, lx, row-major; NaN outside the
     /// outline. On the surface (height 0) each point is a gather probe of
     /// the surface under it; above it, a gather in free space facing the
-    /// surface's normal, or NaN for a point inside an object (a work plane
-    /// through a bookcase: five rays from it, up and sideways, all meet a
-    /// surface's back), which is no place to read light. Points are
-    /// evaluated in parallel.
+    /// surface's normal. A point inside an object is NaN (a work plane
+    /// through a bookcase, or a floor point under a cabinet standing on it:
+    /// five rays from it, up and sideways, all meet a surface's back), as
+    /// it is no place to read light. Points are evaluated in parallel.
     #[must_use]
     pub fn illuminance(&self, solution: &Solution<'_>) -> Vec<f64> {
         let normal = self.frame.normal;
@@ -270,10 +270,17 @@ impl CalculationGrid {
                 let Some((position, surface)) = *point else {
                     return f64::NAN;
                 };
+                // On the surface itself, the test runs a hair above it: a point
+                // under a cabinet standing there is inside the cabinet.
+                let lift = if self.height > 0.0 {
+                    0.0
+                } else {
+                    10.0 * solution.visibility.surface_offset()
+                };
+                if inside_an_object(solution, position + normal * lift, &self.frame) {
+                    return f64::NAN;
+                }
                 let irradiance = if self.height > 0.0 {
-                    if inside_an_object(solution, position, &self.frame) {
-                        return f64::NAN;
-                    }
                     solution.irradiance_in_space(position, normal).0
                 } else {
                     let probe = ProbePoint {

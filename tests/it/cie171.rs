@@ -621,6 +621,14 @@ fn work_plane_points_inside_furniture_are_left_out() {
             .contains(&"inside_objects = 4 (left out)".to_owned())
     );
     assert_eq!(IlluminanceStatistics::of(&lux).unwrap().points, 60);
+    // On the floor itself, the points under the cabinet are left out too.
+    let floor = CalculationGrid::on_surface(solution.scene, "floor", 0.0, None).unwrap();
+    let lux = floor.illuminance(&solution);
+    for (point, e) in floor.points.iter().zip(&lux) {
+        let Some((p, _)) = point else { continue };
+        let under = (x0..x1).contains(&p.x) && (z0..z1).contains(&p.z);
+        assert_eq!(e.is_nan(), under, "at {p}: {e} lx");
+    }
 }
 
 /// The free-space gather sees the elements' light as a probe on the
