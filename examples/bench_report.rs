@@ -737,8 +737,8 @@ fn meshing_section(md: &mut String, out_dir: &Path) -> Report {
             show(contour)
         )?;
     }
-    // Three families, as `isorad compare` plots them.
-    let series = comparison.plot_series();
+    // The mesh families, as `isorad compare` plots them.
+    let series = comparison.plot_series(|r| r.rms_rel_error);
     write_loglog_plot(
         &out_dir.join("meshing_error.png"),
         "Tilted disc over a floor: RMS error against vertices",

@@ -239,6 +239,13 @@ impl MeshSettings {
                 });
             }
         }
+        let error = self.contour.max_relative_error;
+        if !(0.0..1.0).contains(&error) {
+            return Err(crate::Error::InvalidSetting {
+                name: "contour.max_relative_error".into(),
+                message: format!("{error} is not in [0, 1)"),
+            });
+        }
         self.dominance
             .validate()
             .map_err(|e| e.within("dominance"))?;

@@ -38,8 +38,11 @@ use crate::solver::field_layout;
 pub struct CompareSettings {
     /// N of the square N × N meshes.
     pub square_sizes: Vec<usize>,
-    /// (D, K) of the contour meshes.
+    /// (D, K) of the fixed contour meshes.
     pub contour_sizes: Vec<(usize, usize)>,
+    /// Relative errors, in thousandths, that contour meshes are refined to
+    /// (`ContourSettings::max_relative_error`).
+    pub contour_errors_per_mille: Vec<u32>,
     /// The error is measured on a `grid` × `grid` lattice over the receiver.
     pub grid: usize,
     /// Shadow rays per luminaire polygon for the exact field's visibility.
@@ -47,8 +50,9 @@ pub struct CompareSettings {
 }
 
 impl Default for CompareSettings {
-    /// Square 5…40; contour the seed's sizes (10×3 … 80×12) and the
-    /// balanced D = 2K sizes that do best per vertex; a 400² grid.
+    /// Square 5…40; contour the seed's sizes (10×3 … 80×12), the
+    /// balanced D = 2K sizes that do best per vertex, and contour meshes
+    /// refined to 8, 4, 2, 1 and 0.5 %; a 400² grid.
     fn default() -> Self {
         CompareSettings {
             square_sizes: vec![5, 10, 20, 30, 40],
@@ -63,6 +67,7 @@ impl Default for CompareSettings {
                 (24, 12),
                 (32, 16),
             ],
+            contour_errors_per_mille: vec![80, 40, 20, 10, 5],
             grid: 400,
             shadow_rays: 16,
         }
@@ -103,13 +108,24 @@ pub fn compare_receiver(
         };
         comparison.add(built, triangulation, &exact, &grid);
     }
-    for &(directions, levels) in &settings.contour_sizes {
-        let start = Instant::now();
+    let fixed = settings.contour_sizes.iter().map(|&(directions, levels)| {
         let contour = ContourSettings {
             directions,
             levels,
+            max_relative_error: 0.0,
             ..ContourSettings::default()
         };
+        (MeshSpec::Contour { directions, levels }, contour)
+    });
+    let refined = settings.contour_errors_per_mille.iter().map(|&per_mille| {
+        let contour = ContourSettings {
+            max_relative_error: f64::from(per_mille) / 1000.0,
+            ..ContourSettings::default()
+        };
+        (MeshSpec::ContourToError { per_mille }, contour)
+    });
+    for (spec, contour) in fixed.chain(refined) {
+        let start = Instant::now();
         let Some(layout) = field_layout(scene, visibility, receiver, field.clone(), &contour)
         else {
             continue;
@@ -117,7 +133,7 @@ pub fn compare_receiver(
         let triangulation = layout.triangulate(&outline);
         let seconds = start.elapsed().as_secs_f64();
         let built = Built {
-            spec: MeshSpec::Contour { directions, levels },
+            spec,
             newton_iterations: layout.newton_iterations,
             shadow_points: layout.shadow_points,
             seconds,

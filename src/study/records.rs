@@ -11,9 +11,11 @@ use crate::scene::SurfaceId;
 
 /// Which mesh of a receiver: the mesher and its size.
 ///
-/// Shown as "square 10×10" or "contour 20×5"; serialized as the records'
-/// JSON has it, `{"mesher": "square", "params": {"n": 10}}` or
-/// `{"mesher": "contour", "params": {"directions": 20, "levels": 5}}`.
+/// Shown as "square 10×10", "contour 20×5" or "contour ε 1.0 %";
+/// serialized as the records' JSON has it, `{"mesher": "square", "params":
+/// {"n": 10}}`, `{"mesher": "contour", "params": {"directions": 20,
+/// "levels": 5}}` or `{"mesher": "contour_to_error", "params":
+/// {"per_mille": 10}}`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(tag = "mesher", content = "params", rename_all = "lowercase")]
 pub enum MeshSpec {
@@ -29,6 +31,13 @@ pub enum MeshSpec {
         /// K, the iso-radiosity levels.
         levels: usize,
     },
+    /// The radial contour-level mesh refined to a relative interpolation
+    /// error (`ContourSettings::max_relative_error`, from 16 × 8 up).
+    #[serde(rename = "contour_to_error")]
+    ContourToError {
+        /// The error aimed for, in thousandths.
+        per_mille: u32,
+    },
 }
 
 impl MeshSpec {
@@ -38,14 +47,20 @@ impl MeshSpec {
         match self {
             MeshSpec::Square { .. } => "square",
             MeshSpec::Contour { .. } => "contour",
+            MeshSpec::ContourToError { .. } => "contour",
         }
     }
 
-    /// The size as a table shows it: "NxN" or "DxK".
+    /// The size as a table shows it: "NxN", "DxK" or "e1.0%".
     #[must_use]
     pub fn size(&self) -> String {
-        let (a, b) = self.dimensions();
-        format!("{a}x{b}")
+        match *self {
+            MeshSpec::Square { n } => format!("{n}x{n}"),
+            MeshSpec::Contour { directions, levels } => format!("{directions}x{levels}"),
+            MeshSpec::ContourToError { per_mille } => {
+                format!("e{:.1}%", f64::from(per_mille) / 10.0)
+            }
+        }
     }
 
     /// True for a square mesh.
@@ -54,25 +69,27 @@ impl MeshSpec {
         matches!(self, MeshSpec::Square { .. })
     }
 
-    /// True for a contour mesh.
+    /// True for a contour mesh, of fixed size or refined to an error.
     #[must_use]
     pub fn is_contour(&self) -> bool {
-        matches!(self, MeshSpec::Contour { .. })
-    }
-
-    /// (N, N) or (D, K).
-    fn dimensions(&self) -> (usize, usize) {
-        match *self {
-            MeshSpec::Square { n } => (n, n),
-            MeshSpec::Contour { directions, levels } => (directions, levels),
-        }
+        matches!(
+            self,
+            MeshSpec::Contour { .. } | MeshSpec::ContourToError { .. }
+        )
     }
 }
 
 impl fmt::Display for MeshSpec {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let (a, b) = self.dimensions();
-        write!(f, "{} {a}×{b}", self.mesher())
+        match *self {
+            MeshSpec::Square { n } => write!(f, "square {n}×{n}"),
+            MeshSpec::Contour { directions, levels } => {
+                write!(f, "contour {directions}×{levels}")
+            }
+            MeshSpec::ContourToError { per_mille } => {
+                write!(f, "contour ε {:.1} %", f64::from(per_mille) / 10.0)
+            }
+        }
     }
 }
 
@@ -80,7 +97,8 @@ impl fmt::Display for MeshSpec {
 /// values and its errors.
 ///
 /// Serialized as one record of [`write_json`]: `receiver`, `mesher`,
-/// `params` (`{"n"}` or `{"directions", "levels", "newton_iterations",
+/// `params` (`{"n"}`, `{"directions", "levels", "newton_iterations",
+/// "shadow_points"}` or `{"max_relative_error", "newton_iterations",
 /// "shadow_points"}`), `vertices`, `triangles`, `rms_rel_error`,
 /// `max_rel_error`, `mean_rel_error`, `seconds`.
 #[derive(Clone, Debug, PartialEq)]
@@ -141,6 +159,11 @@ impl serde::Serialize for MeshRecord {
                 newton_iterations: usize,
                 shadow_points: usize,
             },
+            ContourToError {
+                max_relative_error: f64,
+                newton_iterations: usize,
+                shadow_points: usize,
+            },
         }
         /// The record as the JSON has it.
         #[derive(serde::Serialize)]
@@ -160,6 +183,11 @@ impl serde::Serialize for MeshRecord {
             MeshSpec::Contour { directions, levels } => Params::Contour {
                 directions,
                 levels,
+                newton_iterations: self.newton_iterations,
+                shadow_points: self.shadow_points,
+            },
+            MeshSpec::ContourToError { per_mille } => Params::ContourToError {
+                max_relative_error: f64::from(per_mille) / 1000.0,
                 newton_iterations: self.newton_iterations,
                 shadow_points: self.shadow_points,
             },
@@ -236,20 +264,23 @@ impl ReceiverComparison {
         self.records.iter().find(|r| r.spec == spec)
     }
 
-    /// The series of a log–log plot of RMS error against vertices: square
-    /// meshes, the seed paper's contour sizes, and the balanced D = 2K
-    /// contour sizes.
+    /// The series of a log–log plot of an error `measure` (such as the RMS
+    /// error) against vertices: square meshes, the seed paper's contour
+    /// sizes, the balanced D = 2K contour sizes, and contour meshes refined
+    /// to a relative error.
     #[must_use]
-    pub fn plot_series(&self) -> Vec<Series> {
-        const FAMILIES: [&str; 3] = [
+    pub fn plot_series(&self, measure: impl Fn(&MeshRecord) -> f64) -> Vec<Series> {
+        const FAMILIES: [&str; 4] = [
             "square N × N",
             "contour D × K, seed sizes",
             "contour D × K, D = 2K",
+            "contour to a relative error ε",
         ];
         let family = |spec: MeshSpec| match spec {
             MeshSpec::Square { .. } => FAMILIES[0],
             MeshSpec::Contour { directions, levels } if directions == 2 * levels => FAMILIES[2],
             MeshSpec::Contour { .. } => FAMILIES[1],
+            MeshSpec::ContourToError { .. } => FAMILIES[3],
         };
         FAMILIES
             .into_iter()
@@ -259,7 +290,7 @@ impl ReceiverComparison {
                     .records
                     .iter()
                     .filter(|r| family(r.spec) == name)
-                    .map(|r| (r.vertex_count() as f64, r.rms_rel_error))
+                    .map(|r| (r.vertex_count() as f64, measure(r)))
                     .collect(),
             })
             .collect()

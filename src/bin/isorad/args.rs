@@ -53,9 +53,15 @@ pub struct Overrides {
     /// Contour mesher: D, rays from the light's maximum.
     #[arg(long)]
     directions: Option<usize>,
-    /// Contour mesher: K, contour levels.
+    /// Contour mesher: K, contour levels (the fewest, unless
+    /// --contour-error is 0).
     #[arg(long)]
     levels: Option<usize>,
+    /// Contour mesher: the relative interpolation error to mesh the light
+    /// to, adding levels and rays where it needs them [default: 0.01]; 0
+    /// lays out exactly --directions × --levels.
+    #[arg(long, value_name = "FRACTION")]
+    contour_error: Option<f64>,
     /// Longest element edge, in scene units.
     #[arg(long)]
     max_edge: Option<f64>,
@@ -99,6 +105,9 @@ impl Overrides {
         if let Some(levels) = self.levels {
             mesh.contour.levels = levels;
         }
+        if let Some(error) = self.contour_error {
+            mesh.contour.max_relative_error = error;
+        }
         if let Some(max_edge) = self.max_edge {
             mesh.max_edge = Length::Absolute(max_edge);
         }
@@ -136,6 +145,11 @@ impl Overrides {
                 self.directions.is_some(),
             ),
             ("--levels", "mesh.contour.levels", self.levels.is_some()),
+            (
+                "--contour-error",
+                "mesh.contour.max_relative_error",
+                self.contour_error.is_some(),
+            ),
             ("--max-edge", "mesh.max_edge", self.max_edge.is_some()),
             (
                 "--elements-per-side",

@@ -30,7 +30,8 @@ pub struct CompareArgs {
     /// Write the meshes side by side: square 10×10 | contour 20×5 | square 30×30.
     #[arg(long)]
     image: Option<PathBuf>,
-    /// Write a log–log plot of RMS error against vertices (.png or .svg).
+    /// Write log–log plots of error against vertices (.png or .svg): the
+    /// RMS error to this file, the mean relative error to FILE_mean.
     #[arg(long)]
     plot: Option<PathBuf>,
     /// Error grid: N × N points over the receiver (at least 200).
@@ -111,18 +112,23 @@ fn write_pictures(args: &CompareArgs, comparisons: &[ReceiverComparison]) -> any
             )?;
         }
         if let Some(path) = &args.plot {
-            let series = comparison.plot_series();
-            let title = format!(
-                "{}: RMS error of Gouraud interpolation",
-                comparison.receiver
-            );
-            write_loglog_plot(
-                &per_receiver(path, &comparison.receiver, several),
-                &title,
-                "vertices",
-                "RMS relative error",
-                &series,
-            )?;
+            let path = per_receiver(path, &comparison.receiver, several);
+            let plots: [(PathBuf, &str, ErrorMeasure); 2] = [
+                (path.clone(), "RMS relative error", |r| r.rms_rel_error),
+                (
+                    with_suffix(&path, "_mean"),
+                    "mean relative error where B > 1 % of max",
+                    |r| r.mean_rel_error,
+                ),
+            ];
+            for (file, measure_name, measure) in plots {
+                let title = format!(
+                    "{}: {measure_name} of Gouraud interpolation",
+                    comparison.receiver
+                );
+                let series = comparison.plot_series(measure);
+                write_loglog_plot(&file, &title, "vertices", measure_name, &series)?;
+            }
         }
     }
     Ok(())
@@ -133,14 +139,6 @@ fn per_receiver(path: &Path, receiver: &str, several: bool) -> PathBuf {
     if !several {
         return path.to_path_buf();
     }
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let extension = path
-        .extension()
-        .map(|e| format!(".{}", e.to_string_lossy()))
-        .unwrap_or_default();
     let safe: String = receiver
         .chars()
         .map(|c| {
@@ -151,7 +149,20 @@ fn per_receiver(path: &Path, receiver: &str, several: bool) -> PathBuf {
             }
         })
         .collect();
-    path.with_file_name(format!("{stem}_{safe}{extension}"))
+    with_suffix(path, &format!("_{safe}"))
+}
+
+/// `out.png` → `out{suffix}.png`.
+fn with_suffix(path: &Path, suffix: &str) -> PathBuf {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let extension = path
+        .extension()
+        .map(|e| format!(".{}", e.to_string_lossy()))
+        .unwrap_or_default();
+    path.with_file_name(format!("{stem}{suffix}{extension}"))
 }
 
 /// One error figure of a measured mesh.
