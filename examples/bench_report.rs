@@ -681,7 +681,7 @@ fn meshing_section(md: &mut String, out_dir: &Path) -> Report {
     let start = Instant::now();
     let field = dominant_field(&scene, receiver, &lamps, lamp)
         .ok_or("the luminaire does not light the floor")?;
-    let comparison = compare_receiver(&scene, &visibility, receiver, &field, &settings);
+    let comparison = compare_receiver(&scene, &visibility, receiver, &[field], &settings);
     let compare_seconds = start.elapsed().as_secs_f64();
     writeln!(
         md,

@@ -55,11 +55,11 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::contour_lines::contour_polylines;
 use super::levels::{format_lux, nice_levels};
 use crate::error::Result;
 use crate::font::{FONT_FAMILY, ensure_font_registered};
 use crate::fs::{io_error, output_error, write_atomically};
+use crate::mesh::contour_polylines;
 
 /// A calculation grid on a plane, ready to be drawn: regularly spaced
 /// points with their illuminance, the surface's outline and the luminaires,

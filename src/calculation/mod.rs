@@ -15,20 +15,19 @@
 //!   as Radiance's `falsecolor` (PNG), of a camera view's luminance or of
 //!   a grid; [`LOG_DECADES`], the span of a logarithmic scale.
 //! - [`contour_polylines`]: marching squares over a value grid, joined
-//!   into polylines.
+//!   into polylines (the mesh's, which the level-line mesher uses too).
 //! - [`nice_levels`], [`nice_ceiling`], [`format_lux`]: round levels, a
 //!   round maximum, and short labels.
 //!
 //! The pictures draw plain data and solve nothing; their text is drawn
 //! with the bundled DejaVu Sans shared with [`study`](crate::study).
 
-mod contour_lines;
 mod falsecolor;
 mod grid;
 mod isolux;
 mod levels;
 
-pub use contour_lines::contour_polylines;
+pub use crate::mesh::contour_polylines;
 pub use falsecolor::{FalseColorScale, LOG_DECADES, write_falsecolor_grid, write_falsecolor_image};
 pub use grid::{
     CalculationGrid, IlluminanceStatistics, MAX_GRID_POINTS, en12464_spacing, illuminance_lux,

@@ -115,9 +115,45 @@ pub struct ReceiverAnalysis {
     /// The strongest luminaire's radius over its distance to the receiver;
     /// infinite when no light arrives.
     pub size_ratio: f64,
-    /// Dominated by a small luminaire: the contour mesher applies.
+    /// Dominated by a small luminaire: the radial contour mesher applies.
     pub qualifies: bool,
+    /// Every light giving at least 1 % of the receiver's direct light, in
+    /// the order of `dominant`'s indices: the total direct field the
+    /// level-line contour mesher follows.
+    pub lit_by: Vec<usize>,
 }
+
+/// Which contour layout a receiver gets under `MeshKind::Contour`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContourMesher {
+    /// The radial contour-level layout around the dominant small luminaire's
+    /// maximum.
+    Radial,
+    /// Level lines of the total direct field of every light that reaches it
+    /// (several luminaires, or one that is not small).
+    LevelLines,
+    /// No direct light: the square grid.
+    Square,
+}
+
+impl ReceiverAnalysis {
+    /// The contour layout this receiver gets: radial when a small luminaire
+    /// dominates it, level lines when any light reaches it, else square.
+    #[must_use]
+    pub fn contour_mesher(&self) -> ContourMesher {
+        if self.qualifies {
+            ContourMesher::Radial
+        } else if self.lit_by.is_empty() {
+            ContourMesher::Square
+        } else {
+            ContourMesher::LevelLines
+        }
+    }
+}
+
+/// A light is among a receiver's `lit_by` when it gives at least this
+/// share of the direct light.
+const LIT_BY_SHARE: f64 = 0.01;
 
 /// Analyses every non-emitting surface of the scene (in order), in parallel.
 ///
@@ -196,8 +232,12 @@ fn analyse_receiver(
             share: 0.0,
             size_ratio: f64::INFINITY,
             qualifies: false,
+            lit_by: Vec::new(),
         };
     };
+    let lit_by = (0..light.len())
+        .filter(|&k| light[k].0 >= LIT_BY_SHARE * total)
+        .collect();
     let share = (light[best].0 / total).clamp(0.0, 1.0);
     let (centre, radius) = match luminaires.get(best) {
         Some(lamp) => (lamp.centre, lamp.radius),
@@ -221,6 +261,7 @@ fn analyse_receiver(
         share,
         size_ratio,
         qualifies: dominant.is_some() && size_ratio < settings.max_size_ratio,
+        lit_by,
     }
 }
 

@@ -19,7 +19,9 @@ mod shadow_boundaries;
 mod stratified;
 
 pub use direct_field::DirectField;
-pub use dominance::{DominanceSettings, ReceiverAnalysis, analyse_receivers, dominant_field};
+pub use dominance::{
+    ContourMesher, DominanceSettings, ReceiverAnalysis, analyse_receivers, dominant_field,
+};
 pub use luminaire::{Luminaire, luminaires};
 pub(crate) use sample_stream::SampleStream;
 pub use shadow_boundaries::{BoundaryLimits, EdgeNeighbours, light_reaches, shadow_boundaries};

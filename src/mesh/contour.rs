@@ -205,7 +205,7 @@ pub fn contour_layout(
 }
 
 impl ContourLayout {
-    fn push(&mut self, p: DVec2, level: Option<usize>) {
+    pub(super) fn push(&mut self, p: DVec2, level: Option<usize>) {
         self.points.push(p);
         self.point_levels.push(level);
     }
@@ -304,6 +304,20 @@ impl ContourLayout {
                     }
                 }
             }
+        }
+    }
+
+    /// Adds shadow boundaries (already clipped to the polygon) as edges, with
+    /// vertices along them about `spacing` apart, as the assembled mesh
+    /// takes them (`SurfaceGuides::boundaries`): a layout measured on its
+    /// own then has the edges the renderer's mesh has.
+    pub fn add_boundaries(&mut self, boundaries: &[[DVec2; 2]], spacing: f64) {
+        for &[a, b] in boundaries {
+            let n = (a.distance(b) / spacing).ceil().clamp(1.0, 4096.0) as usize;
+            for k in 0..=n {
+                self.push(a.lerp(b, k as f64 / n as f64), None);
+            }
+            self.constraints.push([a, b]);
         }
     }
 
@@ -497,7 +511,7 @@ enum LevelRule {
 /// Below this fraction of the top, the relative-error rule treats the field
 /// as this fraction of the top: a receiver's light that ends at a
 /// luminaire's horizon need not be meshed to a relative error of nothing.
-const RELATIVE_FLOOR: f64 = 1e-3;
+pub(super) const RELATIVE_FLOOR: f64 = 1e-3;
 
 /// The most levels the relative-error rule adds.
 const MAX_LEVELS: usize = 64;
@@ -667,7 +681,7 @@ fn boundary_extreme(outline: &[DVec2], field: &ScalarField, largest: bool) -> f6
 
 /// Points where the field crosses `level` on the polygon's edges: sign
 /// changes between samples, refined by bisection.
-fn boundary_crossings(outline: &[DVec2], field: &ScalarField, level: f64) -> Vec<DVec2> {
+pub(super) fn boundary_crossings(outline: &[DVec2], field: &ScalarField, level: f64) -> Vec<DVec2> {
     const SAMPLES: usize = 64;
     let mut crossings = Vec::new();
     for k in 0..outline.len() {
@@ -722,7 +736,7 @@ fn segment_ray_crossing(a: DVec2, b: DVec2, ray: &Ray) -> Option<f64> {
     (t > ray.entry && s > 0.0 && s < 1.0).then_some(s)
 }
 
-fn scale_of(outline: &[DVec2]) -> f64 {
+pub(super) fn scale_of(outline: &[DVec2]) -> f64 {
     outline
         .iter()
         .map(|p| p.abs().max_element())

@@ -6,11 +6,12 @@ use rayon::prelude::*;
 
 use super::mesh_settings::{MeshKind, MeshSettings};
 use crate::lighting::{
-    BoundaryLimits, DirectField, EdgeNeighbours, Luminaire, ReceiverAnalysis, analyse_receivers,
-    dominant_field, light_reaches, luminaires, shadow_boundaries,
+    BoundaryLimits, ContourMesher, DirectField, EdgeNeighbours, Luminaire, ReceiverAnalysis,
+    analyse_receivers, dominant_field, light_reaches, luminaires, shadow_boundaries,
 };
 use crate::mesh::{
-    ContourLayout, ContourSettings, Mesh, SurfaceGuides, contour_layout, mesh_surfaces,
+    ContourLayout, ContourSettings, Mesh, SquareMeshSettings, SurfaceGuides, contour_layout,
+    level_line_layout, mesh_surfaces,
 };
 use crate::scene::{Scene, SurfaceId, Visibility};
 
@@ -22,8 +23,10 @@ pub struct MeshAnalysis {
     pub receivers: Vec<ReceiverAnalysis>,
     /// The luminaires the analysis grouped.
     pub luminaires: Vec<Luminaire>,
-    /// Surfaces meshed by the contour mesher.
+    /// Surfaces meshed by the radial contour mesher.
     pub contour_surfaces: Vec<SurfaceId>,
+    /// Surfaces meshed along the level lines of their total direct light.
+    pub level_line_surfaces: Vec<SurfaceId>,
     /// Newton iterations spent on contour vertices, over all receivers.
     pub newton_iterations: usize,
     /// Contour vertices placed by Newton's method.
@@ -44,8 +47,11 @@ pub struct SceneMesh {
 
 /// Meshes a scene as `settings` asks: for [`MeshKind::Contour`], every
 /// receiver whose direct light comes mostly from one small luminaire gets a
-/// contour layout of that luminaire's direct radiosity (with its shadow
-/// boundaries refined), the rest the square grid. With
+/// radial contour layout of that luminaire's direct radiosity (with its
+/// shadow boundaries refined), every other receiver that direct light
+/// reaches (several luminaires, or a large one) a level-line layout of the
+/// total direct field ([`level_line_layout`]); receivers smaller than
+/// 16 elements, and the rest, get the square grid. With
 /// `settings.shadow_boundaries`, every mesher's elements follow the shadow
 /// boundaries the luminaires cast (see [`scene_shadow_boundaries`]).
 #[must_use]
@@ -70,20 +76,44 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
     let layouts: Vec<Option<ContourLayout>> = scene
         .surfaces_with_ids()
         .map(|(surface, _)| {
-            let found = analysis
-                .receivers
-                .iter()
-                .find(|a| a.receiver == surface && a.qualifies)?;
-            let field = dominant_field(scene, surface, &analysis.luminaires, found.dominant?)?;
-            field_layout(scene, visibility, surface, field, &settings.contour)
+            let found = analysis.receivers.iter().find(|a| a.receiver == surface)?;
+            // A receiver of a few elements: its grid follows the light as
+            // well as contours would.
+            let spacing = square.max_edge;
+            if scene.surface(surface).area() < MIN_CONTOUR_ELEMENTS * spacing * spacing {
+                return None;
+            }
+            match found.contour_mesher() {
+                ContourMesher::Radial => {
+                    let lamps = &analysis.luminaires;
+                    let field = dominant_field(scene, surface, lamps, found.dominant?)?;
+                    field_layout(scene, visibility, surface, field, &settings.contour)
+                }
+                ContourMesher::LevelLines => {
+                    let fields: Vec<DirectField> = found
+                        .lit_by
+                        .iter()
+                        .filter_map(|&k| dominant_field(scene, surface, &analysis.luminaires, k))
+                        .collect();
+                    total_field_layout(scene, surface, &fields, &settings.contour, &square)
+                }
+                ContourMesher::Square => None,
+            }
         })
         .collect();
     for ((surface, _), layout) in scene.surfaces_with_ids().zip(&layouts) {
-        if let Some(layout) = layout {
+        let Some(layout) = layout else { continue };
+        let radial = analysis
+            .receivers
+            .iter()
+            .any(|a| a.receiver == surface && a.qualifies);
+        if radial {
             analysis.contour_surfaces.push(surface);
-            analysis.newton_iterations += layout.newton_iterations;
-            analysis.newton_solves += layout.newton_solves;
+        } else {
+            analysis.level_line_surfaces.push(surface);
         }
+        analysis.newton_iterations += layout.newton_iterations;
+        analysis.newton_solves += layout.newton_solves;
     }
     let mesh = mesh_surfaces(scene, &square, &|surface| SurfaceGuides {
         layout: layouts[surface.index()].clone(),
@@ -91,6 +121,10 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
     });
     SceneMesh { mesh, analysis }
 }
+
+/// Receivers smaller than this many square elements keep the square grid
+/// under the contour meshers.
+const MIN_CONTOUR_ELEMENTS: f64 = 16.0;
 
 /// Shadow boundaries closer than this fraction of the element spacing are
 /// one: the mesh cannot tell them apart.
@@ -123,49 +157,110 @@ pub fn scene_shadow_boundaries(
         min_feature: BOUNDARY_MIN_FEATURE * square.max_edge,
         max_per_receiver: MAX_BOUNDARIES_PER_RECEIVER,
     };
-    // Each light with the points it is seen from: an area luminaire's
-    // centre and vertices, a photometric one's opening outline.
-    let area_points: Vec<Vec<DVec3>> = luminaires
-        .iter()
-        .map(|lamp| {
-            let corners = lamp
-                .surfaces
-                .iter()
-                .flat_map(|&s| scene.surface(s).vertices());
-            std::iter::once(lamp.centre)
-                .chain(corners.copied())
-                .collect()
-        })
-        .collect();
-    let photometric_points: Vec<Vec<DVec3>> = scene
-        .luminaires
-        .iter()
-        .map(|l| l.opening_corners())
-        .collect();
     let ids: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
+    let lights = LightPoints::new(scene, luminaires);
     ids.par_iter()
         .map(|&id| {
-            let surface = scene.surface(id);
-            let emitting = scene.material_of(surface).is_emitter();
-            if emitting || surface.area() < square.max_edge * square.max_edge {
-                return Vec::new();
-            }
-            // Only the lights that reach the receiver cast boundaries on it.
-            let lit: Vec<Luminaire> = luminaires
-                .iter()
-                .zip(&area_points)
-                .filter(|(lamp, from)| light_reaches(scene, visibility, id, from, lamp.surfaces[0]))
-                .map(|(lamp, _)| lamp.clone())
-                .collect();
-            let points: Vec<DVec3> = photometric_points
-                .iter()
-                .filter(|from| light_reaches(scene, visibility, id, from, id))
-                .flatten()
-                .copied()
-                .collect();
-            shadow_boundaries(scene, &neighbours, id, &lit, &points, limits)
+            lights.boundaries_on(scene, visibility, &neighbours, id, limits, square.max_edge)
         })
         .collect()
+}
+
+/// The shadow boundaries on one receiver, as [`scene_shadow_boundaries`]
+/// finds them for every surface.
+#[must_use]
+pub fn receiver_shadow_boundaries(
+    scene: &Scene,
+    visibility: &Visibility,
+    luminaires: &[Luminaire],
+    settings: &MeshSettings,
+    receiver: SurfaceId,
+) -> Vec<[DVec2; 2]> {
+    if (luminaires.is_empty() && scene.luminaires.is_empty()) || !settings.shadow_boundaries {
+        return Vec::new();
+    }
+    let square = settings.square_for(scene);
+    let limits = BoundaryLimits {
+        min_feature: BOUNDARY_MIN_FEATURE * square.max_edge,
+        max_per_receiver: MAX_BOUNDARIES_PER_RECEIVER,
+    };
+    LightPoints::new(scene, luminaires).boundaries_on(
+        scene,
+        visibility,
+        &EdgeNeighbours::new(scene),
+        receiver,
+        limits,
+        square.max_edge,
+    )
+}
+
+/// Each light with the points it is seen from: an area luminaire's centre
+/// and vertices, a photometric one's opening outline.
+struct LightPoints<'a> {
+    luminaires: &'a [Luminaire],
+    area_points: Vec<Vec<DVec3>>,
+    photometric_points: Vec<Vec<DVec3>>,
+}
+
+impl<'a> LightPoints<'a> {
+    fn new(scene: &Scene, luminaires: &'a [Luminaire]) -> LightPoints<'a> {
+        let area_points = luminaires
+            .iter()
+            .map(|lamp| {
+                let corners = lamp
+                    .surfaces
+                    .iter()
+                    .flat_map(|&s| scene.surface(s).vertices());
+                std::iter::once(lamp.centre)
+                    .chain(corners.copied())
+                    .collect()
+            })
+            .collect();
+        let photometric_points = scene
+            .luminaires
+            .iter()
+            .map(|l| l.opening_corners())
+            .collect();
+        LightPoints {
+            luminaires,
+            area_points,
+            photometric_points,
+        }
+    }
+
+    /// The boundaries the lights that reach `id` cast on it; none on an
+    /// emitter or a surface smaller than one element of `element` size.
+    fn boundaries_on(
+        &self,
+        scene: &Scene,
+        visibility: &Visibility,
+        neighbours: &EdgeNeighbours,
+        id: SurfaceId,
+        limits: BoundaryLimits,
+        element: f64,
+    ) -> Vec<[DVec2; 2]> {
+        let surface = scene.surface(id);
+        let emitting = scene.material_of(surface).is_emitter();
+        if emitting || surface.area() < element * element {
+            return Vec::new();
+        }
+        // Only the lights that reach the receiver cast boundaries on it.
+        let lit: Vec<Luminaire> = self
+            .luminaires
+            .iter()
+            .zip(&self.area_points)
+            .filter(|(lamp, from)| light_reaches(scene, visibility, id, from, lamp.surfaces[0]))
+            .map(|(lamp, _)| lamp.clone())
+            .collect();
+        let points: Vec<DVec3> = self
+            .photometric_points
+            .iter()
+            .filter(|from| light_reaches(scene, visibility, id, from, id))
+            .flatten()
+            .copied()
+            .collect();
+        shadow_boundaries(scene, neighbours, id, &lit, &points, limits)
+    }
 }
 
 /// Shadow rays per luminaire polygon when looking for penumbrae.
@@ -218,6 +313,53 @@ pub fn field_layout(
     let mut layout = contour_layout(&outline, &value, centre, &settings, &kink);
     layout.refine_shadows(&|p: DVec2| field.visible_fraction(visibility, p, SHADOW_RAYS));
     Some(layout)
+}
+
+/// The level-line layout of the total direct field of `fields` on
+/// `receiver` (the sum of their values and gradients), with each field's
+/// horizon kept as an edge and points at the square grid's spacing filling
+/// regions no level line comes near (the indirect light needs them); None
+/// for a receiver smaller than 16 elements, whose grid already follows its
+/// light as well as lines would.
+#[must_use]
+pub fn total_field_layout(
+    scene: &Scene,
+    receiver: SurfaceId,
+    fields: &[DirectField],
+    settings: &ContourSettings,
+    square: &SquareMeshSettings,
+) -> Option<ContourLayout> {
+    let surface = scene.surface(receiver);
+    let spacing = square.max_edge;
+    if fields.is_empty() || surface.area() < MIN_CONTOUR_ELEMENTS * spacing * spacing {
+        return None;
+    }
+    let outline = surface.plane_vertices();
+    let diameter = outline
+        .iter()
+        .flat_map(|a| outline.iter().map(move |b| a.distance(*b)))
+        .fold(0.0, f64::max);
+    let horizons: Vec<[DVec2; 2]> = fields
+        .iter()
+        .filter_map(DirectField::kink_line)
+        .map(|(point, direction)| {
+            [
+                point - direction * 2.0 * diameter,
+                point + direction * 2.0 * diameter,
+            ]
+        })
+        .collect();
+    let total = |p: DVec2| {
+        fields
+            .iter()
+            .fold((0.0, DVec2::ZERO), |(value, gradient), field| {
+                let (v, g) = field.value_and_gradient(p);
+                (value + v, gradient + g)
+            })
+    };
+    Some(level_line_layout(
+        &outline, &total, settings, &horizons, spacing,
+    ))
 }
 
 /// The direction, in the receiver's plane, from the foot of the luminaire's

@@ -26,11 +26,12 @@ use glam::DVec2;
 use std::time::Instant;
 
 use crate::lighting::DirectField;
+use crate::lighting::luminaires;
 use crate::mesh::{
     ContourSettings, ErrorGrid, PlaneTriangulation, SquareMeshSettings, mesh_square,
 };
 use crate::scene::{Scene, SurfaceId, Visibility};
-use crate::solver::field_layout;
+use crate::solver::{MeshSettings, field_layout, receiver_shadow_boundaries, total_field_layout};
 
 /// What a comparison meshes and how finely it measures.
 #[derive(Clone, Debug, PartialEq)]
@@ -47,6 +48,10 @@ pub struct CompareSettings {
     pub grid: usize,
     /// Shadow rays per luminaire polygon for the exact field's visibility.
     pub shadow_rays: usize,
+    /// The contour meshes refined to an error (radial and level lines)
+    /// follow the receiver's shadow boundaries, as the renderer's meshes do
+    /// (true); the fixed D × K layouts are the seed's, without them.
+    pub shadow_boundaries: bool,
 }
 
 impl Default for CompareSettings {
@@ -70,25 +75,52 @@ impl Default for CompareSettings {
             contour_errors_per_mille: vec![80, 40, 20, 10, 5],
             grid: 400,
             shadow_rays: 16,
+            shadow_boundaries: true,
         }
     }
 }
 
+/// Shadow rays per luminaire polygon where the first `shadow_rays` find a
+/// penumbra: stratified 32 × 32, they put the visible fraction's own error
+/// near 0.1 %.
+const PENUMBRA_SHADOW_RAYS: usize = 1024;
+
 /// Meshes one receiver every way `settings` lists and measures each mesh
-/// against `field`, the direct light of an area or a photometric luminaire
-/// on it ([`crate::lighting::dominant_field`]), with visibility.
+/// against the exact direct light of `fields` on it, with visibility: the
+/// light of one area or photometric luminaire
+/// ([`crate::lighting::dominant_field`]), for which the radial contour
+/// meshes are built, or of several (only level lines and square meshes).
+/// The exact field sums each light's unoccluded field times its visible
+/// fraction, from `shadow_rays` rays per luminaire polygon, or 1024 where
+/// those find a penumbra.
 #[must_use]
 pub fn compare_receiver(
     scene: &Scene,
     visibility: &Visibility,
     receiver: SurfaceId,
-    field: &DirectField,
+    fields: &[DirectField],
     settings: &CompareSettings,
 ) -> ReceiverComparison {
     let surface = scene.surface(receiver);
     let outline = surface.plane_vertices();
-    let exact =
-        |p: DVec2| field.value(p) * field.visible_fraction(visibility, p, settings.shadow_rays);
+    let exact = |p: DVec2| {
+        fields
+            .iter()
+            .map(|field| {
+                let value = field.value(p);
+                if value <= 0.0 {
+                    return 0.0;
+                }
+                let coarse = field.visible_fraction(visibility, p, settings.shadow_rays);
+                let visible = if coarse > 0.0 && coarse < 1.0 {
+                    field.visible_fraction(visibility, p, PENUMBRA_SHADOW_RAYS)
+                } else {
+                    coarse
+                };
+                value * visible
+            })
+            .sum::<f64>()
+    };
     let grid = ErrorGrid::new(&outline, settings.grid.max(200), &exact);
     let mut comparison = ReceiverComparison {
         receiver: surface.name.clone(),
@@ -124,12 +156,29 @@ pub fn compare_receiver(
         };
         (MeshSpec::ContourToError { per_mille }, contour)
     });
-    for (spec, contour) in fixed.chain(refined) {
+    let radial: Vec<(MeshSpec, ContourSettings)> = match fields {
+        [_] => fixed.chain(refined).collect(),
+        _ => Vec::new(),
+    };
+    let mesh_settings = MeshSettings::default();
+    let square_settings = mesh_settings.square_for(scene);
+    let boundaries = if settings.shadow_boundaries {
+        let lights = luminaires(scene);
+        receiver_shadow_boundaries(scene, visibility, &lights, &mesh_settings, receiver)
+    } else {
+        Vec::new()
+    };
+    let spacing = square_settings.max_edge;
+    for (spec, contour) in radial {
         let start = Instant::now();
-        let Some(layout) = field_layout(scene, visibility, receiver, field.clone(), &contour)
+        let Some(mut layout) =
+            field_layout(scene, visibility, receiver, fields[0].clone(), &contour)
         else {
             continue;
         };
+        if matches!(spec, MeshSpec::ContourToError { .. }) {
+            layout.add_boundaries(&boundaries, spacing);
+        }
         let triangulation = layout.triangulate(&outline);
         let seconds = start.elapsed().as_secs_f64();
         let built = Built {
@@ -137,6 +186,27 @@ pub fn compare_receiver(
             newton_iterations: layout.newton_iterations,
             shadow_points: layout.shadow_points,
             seconds,
+        };
+        comparison.add(built, triangulation, &exact, &grid);
+    }
+    for &per_mille in &settings.contour_errors_per_mille {
+        let start = Instant::now();
+        let contour = ContourSettings {
+            max_relative_error: f64::from(per_mille) / 1000.0,
+            ..ContourSettings::default()
+        };
+        let Some(mut layout) =
+            total_field_layout(scene, receiver, fields, &contour, &square_settings)
+        else {
+            continue;
+        };
+        layout.add_boundaries(&boundaries, spacing);
+        let triangulation = layout.triangulate(&outline);
+        let built = Built {
+            spec: MeshSpec::LevelLines { per_mille },
+            newton_iterations: layout.newton_iterations,
+            shadow_points: layout.shadow_points,
+            seconds: start.elapsed().as_secs_f64(),
         };
         comparison.add(built, triangulation, &exact, &grid);
     }
@@ -176,8 +246,10 @@ fn square_triangulation(
     PlaneTriangulation { points, triangles }
 }
 
-/// The seed paper's Figure 5 trio, where measured: square 10×10 | contour
-/// 20×5 | square 30×30, with their exact vertex values.
+/// The seed paper's Figure 5 trio and the meshes isorad renders with,
+/// where measured: square 10×10 | contour 20×5 (the seed's) | contour
+/// refined to 1 % | level lines to 1 % | square 30×30, with their exact
+/// vertex values.
 #[must_use]
 pub fn panels_for_figure(comparison: &ReceiverComparison) -> Vec<MeshPanel> {
     [
@@ -186,6 +258,8 @@ pub fn panels_for_figure(comparison: &ReceiverComparison) -> Vec<MeshPanel> {
             directions: 20,
             levels: 5,
         },
+        MeshSpec::ContourToError { per_mille: 10 },
+        MeshSpec::LevelLines { per_mille: 10 },
         MeshSpec::Square { n: 30 },
     ]
     .into_iter()

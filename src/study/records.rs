@@ -15,7 +15,7 @@ use crate::scene::SurfaceId;
 /// serialized as the records' JSON has it, `{"mesher": "square", "params":
 /// {"n": 10}}`, `{"mesher": "contour", "params": {"directions": 20,
 /// "levels": 5}}` or `{"mesher": "contour_to_error", "params":
-/// {"per_mille": 10}}`.
+/// {"per_mille": 10}}`; level lines as `"level_lines"`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(tag = "mesher", content = "params", rename_all = "lowercase")]
 pub enum MeshSpec {
@@ -38,6 +38,13 @@ pub enum MeshSpec {
         /// The error aimed for, in thousandths.
         per_mille: u32,
     },
+    /// The level lines of the total direct field, to a relative error
+    /// (`level_line_layout`).
+    #[serde(rename = "level_lines")]
+    LevelLines {
+        /// The error aimed for, in thousandths.
+        per_mille: u32,
+    },
 }
 
 impl MeshSpec {
@@ -48,6 +55,7 @@ impl MeshSpec {
             MeshSpec::Square { .. } => "square",
             MeshSpec::Contour { .. } => "contour",
             MeshSpec::ContourToError { .. } => "contour",
+            MeshSpec::LevelLines { .. } => "level_lines",
         }
     }
 
@@ -57,7 +65,7 @@ impl MeshSpec {
         match *self {
             MeshSpec::Square { n } => format!("{n}x{n}"),
             MeshSpec::Contour { directions, levels } => format!("{directions}x{levels}"),
-            MeshSpec::ContourToError { per_mille } => {
+            MeshSpec::ContourToError { per_mille } | MeshSpec::LevelLines { per_mille } => {
                 format!("e{:.1}%", f64::from(per_mille) / 10.0)
             }
         }
@@ -69,13 +77,11 @@ impl MeshSpec {
         matches!(self, MeshSpec::Square { .. })
     }
 
-    /// True for a contour mesh, of fixed size or refined to an error.
+    /// True for a contour mesh: radial, of fixed size or refined to an
+    /// error, or along level lines.
     #[must_use]
     pub fn is_contour(&self) -> bool {
-        matches!(
-            self,
-            MeshSpec::Contour { .. } | MeshSpec::ContourToError { .. }
-        )
+        !self.is_square()
     }
 }
 
@@ -88,6 +94,9 @@ impl fmt::Display for MeshSpec {
             }
             MeshSpec::ContourToError { per_mille } => {
                 write!(f, "contour ε {:.1} %", f64::from(per_mille) / 10.0)
+            }
+            MeshSpec::LevelLines { per_mille } => {
+                write!(f, "level lines ε {:.1} %", f64::from(per_mille) / 10.0)
             }
         }
     }
@@ -186,11 +195,13 @@ impl serde::Serialize for MeshRecord {
                 newton_iterations: self.newton_iterations,
                 shadow_points: self.shadow_points,
             },
-            MeshSpec::ContourToError { per_mille } => Params::ContourToError {
-                max_relative_error: f64::from(per_mille) / 1000.0,
-                newton_iterations: self.newton_iterations,
-                shadow_points: self.shadow_points,
-            },
+            MeshSpec::ContourToError { per_mille } | MeshSpec::LevelLines { per_mille } => {
+                Params::ContourToError {
+                    max_relative_error: f64::from(per_mille) / 1000.0,
+                    newton_iterations: self.newton_iterations,
+                    shadow_points: self.shadow_points,
+                }
+            }
         };
         Json {
             receiver: &self.receiver,
@@ -270,17 +281,19 @@ impl ReceiverComparison {
     /// to a relative error.
     #[must_use]
     pub fn plot_series(&self, measure: impl Fn(&MeshRecord) -> f64) -> Vec<Series> {
-        const FAMILIES: [&str; 4] = [
+        const FAMILIES: [&str; 5] = [
             "square N × N",
             "contour D × K, seed sizes",
             "contour D × K, D = 2K",
             "contour to a relative error ε",
+            "level lines to a relative error ε",
         ];
         let family = |spec: MeshSpec| match spec {
             MeshSpec::Square { .. } => FAMILIES[0],
             MeshSpec::Contour { directions, levels } if directions == 2 * levels => FAMILIES[2],
             MeshSpec::Contour { .. } => FAMILIES[1],
             MeshSpec::ContourToError { .. } => FAMILIES[3],
+            MeshSpec::LevelLines { .. } => FAMILIES[4],
         };
         FAMILIES
             .into_iter()

@@ -208,7 +208,7 @@ fn info_lists_the_cornell_light_and_which_receivers_get_the_contour_mesher() {
     );
     let ratio: f64 = floor[5].parse().unwrap();
     assert!((ratio - 83.55 / 548.7).abs() < 0.002, "{text}");
-    assert_eq!(floor[6], "contour");
+    assert_eq!(floor[6], "radial");
     // The ceiling is behind the light: no direct light, no dominant.
     let ceiling = row("ceiling");
     assert_eq!(
@@ -216,12 +216,13 @@ fn info_lists_the_cornell_light_and_which_receivers_get_the_contour_mesher() {
         ("-", "square"),
         "{text}"
     );
-    // The walls are nearer than four radii (ratio ≈ 0.26): square.
-    assert_eq!(row("back_wall")[6], "square", "{text}");
-    // A stricter size bound takes the floor off the contour mesher.
+    // The walls are nearer than four radii (ratio ≈ 0.26): not the radial
+    // mesher, but the light's level lines.
+    assert_eq!(row("back_wall")[6], "level-lines", "{text}");
+    // A stricter size bound takes the floor off the radial mesher.
     let out = isorad(dir.path(), &["info", "--max-size-ratio", "0.1"]);
     let text = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(!text.contains("contour"), "{text}");
+    assert!(!text.contains("radial"), "{text}");
     // Out-of-range flags fail with their name.
     let out = isorad(dir.path(), &["info", "--min-share", "1.5"]);
     assert!(

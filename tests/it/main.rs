@@ -18,6 +18,7 @@ mod dominance;
 mod export;
 mod fuzz_regressions;
 mod golden;
+mod level_lines;
 mod luminaires;
 mod office;
 mod plots;

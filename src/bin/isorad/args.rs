@@ -250,9 +250,11 @@ pub fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
     let analysis = solver.mesh_analysis();
     if contour {
         eprintln!(
-            "contour mesher on {} of {} receivers ({} vertices placed in {} Newton iterations)",
-            analysis.contour_surfaces.len(),
+            "contour mesher on {} of {} receivers: {} radial, {} along level lines ({} vertices placed in {} Newton iterations)",
+            analysis.contour_surfaces.len() + analysis.level_line_surfaces.len(),
             analysis.receivers.len(),
+            analysis.contour_surfaces.len(),
+            analysis.level_line_surfaces.len(),
             analysis.newton_solves,
             analysis.newton_iterations
         );

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use isorad::{
     Scene, Settings, SurfaceId,
-    lighting::{ReceiverAnalysis, analyse_receivers, dominant_field, luminaires},
+    lighting::{ContourMesher, ReceiverAnalysis, analyse_receivers, dominant_field, luminaires},
     load_scene,
     scene::Visibility,
     study::{
@@ -60,17 +60,21 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
             loaded.source,
             match &args.receiver {
                 Some(name) => format!("named `{name}` is lit by a luminaire"),
-                None => "is lit by a dominant small luminaire (see `isorad info`)".into(),
+                None => "is lit directly (see `isorad info`)".into(),
             }
         );
     }
     let mut settings = CompareSettings::default();
     settings.grid = args.grid.max(200);
     let mut comparisons = Vec::new();
-    for (receiver, lamp) in chosen {
-        // The dominant light: an area luminaire, or a photometric one after them.
-        if let Some(field) = dominant_field(scene, receiver, &lamps, lamp) {
-            let comparison = compare_receiver(scene, &visibility, receiver, &field, &settings);
+    for (receiver, lights) in chosen {
+        // Area luminaires, then photometric ones after them.
+        let fields: Vec<_> = lights
+            .iter()
+            .filter_map(|&k| dominant_field(scene, receiver, &lamps, k))
+            .collect();
+        if !fields.is_empty() {
+            let comparison = compare_receiver(scene, &visibility, receiver, &fields, &settings);
             print_comparison(&comparison);
             comparisons.push(comparison);
         }
@@ -81,21 +85,29 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     write_pictures(args, &comparisons)
 }
 
-/// The receivers to compare, each with the luminaire to mesh for: the one
-/// named `only` (if it is lit), or every receiver a dominant small luminaire
-/// lights.
+/// The receivers to compare, each with the lights to mesh for: the
+/// dominant small luminaire of a receiver the radial mesher takes, or every
+/// light of one meshed along level lines; only the one named `only` (if
+/// any light reaches it), or every receiver the contour meshers take.
 fn receivers_to_compare(
     scene: &Scene,
     analyses: &[ReceiverAnalysis],
     only: Option<&str>,
-) -> Vec<(SurfaceId, usize)> {
+) -> Vec<(SurfaceId, Vec<usize>)> {
     analyses
         .iter()
         .filter(|analysis| match only {
             Some(name) => scene.surface(analysis.receiver).name == name,
-            None => analysis.qualifies,
+            None => analysis.contour_mesher() != ContourMesher::Square,
         })
-        .filter_map(|analysis| Some((analysis.receiver, analysis.dominant?)))
+        .filter_map(|analysis| {
+            let lights = match (analysis.contour_mesher(), analysis.dominant) {
+                (ContourMesher::Radial, Some(dominant)) => vec![dominant],
+                _ if !analysis.lit_by.is_empty() => analysis.lit_by.clone(),
+                _ => return None,
+            };
+            Some((analysis.receiver, lights))
+        })
         .collect()
 }
 
@@ -173,7 +185,7 @@ type ErrorMeasure = fn(&MeshRecord) -> f64;
 fn print_comparison(comparison: &ReceiverComparison) {
     println!("receiver {}:", comparison.receiver);
     println!(
-        "  {:<8} {:>7} {:>9} {:>10} {:>12} {:>12} {:>13} {:>9}",
+        "  {:<11} {:>7} {:>9} {:>10} {:>12} {:>12} {:>13} {:>9}",
         "mesher",
         "params",
         "vertices",
@@ -185,7 +197,7 @@ fn print_comparison(comparison: &ReceiverComparison) {
     );
     for record in &comparison.records {
         println!(
-            "  {:<8} {:>7} {:>9} {:>10} {:>12.5} {:>12.5} {:>13.5} {:>9.4}",
+            "  {:<11} {:>7} {:>9} {:>10} {:>12.5} {:>12.5} {:>13.5} {:>9.4}",
             record.spec.mesher(),
             record.spec.size(),
             record.vertex_count(),

@@ -7,7 +7,7 @@ use clap::Args;
 use glam::DVec2;
 use isorad::{
     Scene, Settings, SurfaceId,
-    lighting::{Luminaire, ReceiverAnalysis, analyse_receivers, luminaires},
+    lighting::{ContourMesher, Luminaire, ReceiverAnalysis, analyse_receivers, luminaires},
     load_scene,
     photometry::LUMENS_PER_WATT,
     scene::Visibility,
@@ -153,10 +153,10 @@ fn receiver_rows(
             } else {
                 "-".to_owned()
             };
-            let mesher = if analysis.qualifies {
-                "contour"
-            } else {
-                "square"
+            let mesher = match analysis.contour_mesher() {
+                ContourMesher::Radial => "radial",
+                ContourMesher::LevelLines => "level-lines",
+                ContourMesher::Square => "square",
             };
             vec![
                 analysis.receiver.to_string(),
