@@ -394,10 +394,17 @@ impl RingPieces<'_> {
             return;
         }
         let angle = 0.5 * (angle_a + angle_b);
-        let ray = Ray::new(self.outline, self.centre, angle, self.field);
-        let Some((t, iterations)) = ray.solve(self.field, self.level) else {
+        // The level crosses the middle ray near its neighbours' distances:
+        // a few samples there bracket it, the whole ray if they do not.
+        let (ta, tb) = (a.distance(self.centre), b.distance(self.centre));
+        let span = (0.5 * ta.min(tb), 1.5 * ta.max(tb));
+        let near = Ray::sampled(self.outline, self.centre, angle, self.field, span, 8);
+        let Some((t, iterations)) = near.solve(self.field, self.level).or_else(|| {
+            Ray::new(self.outline, self.centre, angle, self.field).solve(self.field, self.level)
+        }) else {
             return;
         };
+        let ray = near;
         layout.newton_iterations += iterations;
         layout.newton_solves += 1;
         let p = ray.at(t);
@@ -425,6 +432,27 @@ struct Ray {
 
 impl Ray {
     fn new(outline: &[DVec2], origin: DVec2, angle: f64, field: &ScalarField) -> Ray {
+        Ray::sampled(
+            outline,
+            origin,
+            angle,
+            field,
+            (0.0, f64::INFINITY),
+            RAY_SAMPLES,
+        )
+    }
+
+    /// A ray sampled at `count` + 1 points over `span` (clipped to where it
+    /// leaves the polygon): a whole ray, or the stretch where a level is
+    /// expected to cross.
+    fn sampled(
+        outline: &[DVec2],
+        origin: DVec2,
+        angle: f64,
+        field: &ScalarField,
+        span: (f64, f64),
+        count: usize,
+    ) -> Ray {
         let direction = DVec2::new(angle.cos(), angle.sin());
         let crossings = ray_polygon_crossings(outline, origin, direction);
         let exit = crossings
@@ -438,8 +466,9 @@ impl Ray {
         };
         let samples = exit
             .map(|end| {
-                (0..=RAY_SAMPLES)
-                    .map(|i| end * i as f64 / RAY_SAMPLES as f64)
+                let (start, stop) = (span.0.clamp(0.0, end), span.1.min(end));
+                (0..=count)
+                    .map(|i| start + (stop - start) * i as f64 / count as f64)
                     .map(|t| (t, field(origin + direction * t).0))
                     .collect()
             })
