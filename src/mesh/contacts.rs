@@ -299,35 +299,42 @@ fn cell_distance(cell: &[DVec2], p: DVec2) -> f64 {
 
 /// Drops the elements of the given surfaces that lie inside a closed object
 /// standing on them (under a block on a floor): no light reaches them and no
-/// viewer sees them. An element is enclosed when at least 6 of 7 rays from
-/// just above its centroid, spread over its hemisphere, hit the back of a
-/// surface (one-sided surfaces of a closed object face outwards).
+/// viewer sees them. An element is enclosed when its centroid is
+/// ([`is_enclosed`]).
 pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[SurfaceId]) {
     let visibility = Visibility::new(scene);
-    let lift = 10.0 * visibility.surface_offset();
-    let reach = scene.diagonal();
     let hidden: Vec<bool> = mesh
         .elements
         .iter()
         .map(|element| {
-            if !surfaces.contains(&element.surface) {
-                return false;
+            surfaces.contains(&element.surface) && {
+                let centroid = element.corner_mean(|v| mesh.vertices[v as usize].position);
+                is_enclosed(scene, &visibility, element.surface, centroid)
             }
-            let normal = scene.surface(element.surface).normal();
-            let centroid = element.corner_mean(|v| mesh.vertices[v as usize].position);
-            let origin = centroid + normal * lift;
-            let backs = hemisphere_directions(normal)
-                .iter()
-                .filter(|&&direction| {
-                    visibility
-                        .first_hit(origin, direction, reach, element.surface)
-                        .is_some_and(|surface| scene.surface(surface).normal().dot(direction) > 0.0)
-                })
-                .count();
-            backs >= 6
         })
         .collect();
     mesh.remove_elements(|index, _| hidden[index]);
+}
+
+/// Whether the point `x` of `surface` lies inside a closed object standing
+/// on it (under a block on a floor): at least 6 of 7 rays from just above
+/// it, spread over its hemisphere, hit the back of a surface (one-sided
+/// surfaces of a closed object face outwards).
+#[must_use]
+pub fn is_enclosed(scene: &Scene, visibility: &Visibility, surface: SurfaceId, x: DVec3) -> bool {
+    let lift = 10.0 * visibility.surface_offset();
+    let reach = scene.diagonal();
+    let normal = scene.surface(surface).normal();
+    let origin = x + normal * lift;
+    let backs = hemisphere_directions(normal)
+        .iter()
+        .filter(|&&direction| {
+            visibility
+                .first_hit(origin, direction, reach, surface)
+                .is_some_and(|hit| scene.surface(hit).normal().dot(direction) > 0.0)
+        })
+        .count();
+    backs >= 6
 }
 
 /// Seven directions over the hemisphere around `normal`: the normal and six

@@ -40,7 +40,9 @@ pub struct ErrorGrid {
 }
 
 impl ErrorGrid {
-    /// Evaluates `exact` (in parallel) at the n × n lattice points inside `outline`.
+    /// Evaluates `exact` (in parallel) at the n × n lattice points inside
+    /// `outline`. A point where `exact` is NaN is left out (a point inside
+    /// an object standing on the receiver, where no mesh has elements).
     #[must_use]
     pub fn new(outline: &[DVec2], n: usize, exact: &(dyn Fn(DVec2) -> f64 + Sync)) -> ErrorGrid {
         let n = n.max(2);
@@ -53,7 +55,9 @@ impl ErrorGrid {
             .into_par_iter()
             .map(|k| {
                 let p = min + step * DVec2::new((k % n) as f64 + 0.5, (k / n) as f64 + 0.5);
-                polygon_contains(outline, p).then(|| exact(p))
+                polygon_contains(outline, p)
+                    .then(|| exact(p))
+                    .filter(|value| !value.is_nan())
             })
             .collect();
         ErrorGrid {

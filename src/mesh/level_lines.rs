@@ -62,7 +62,8 @@ const DEFAULT_ERROR: f64 = 0.01;
 /// and saddles, and across plateaus between levels), as densely as the
 /// relative error needs in every direction, and nowhere sparser than
 /// `spacing`, so that a region the direct light leaves flat keeps vertices
-/// for the indirect light.
+/// for the indirect light. None when the lines would need more than
+/// `max_points` points (the work stops there).
 #[must_use]
 pub fn level_line_layout(
     outline: &[DVec2],
@@ -70,7 +71,8 @@ pub fn level_line_layout(
     settings: &ContourSettings,
     extra_constraints: &[[DVec2; 2]],
     spacing: f64,
-) -> ContourLayout {
+    max_points: usize,
+) -> Option<ContourLayout> {
     let target = if settings.max_relative_error > 0.0 {
         settings.max_relative_error
     } else {
@@ -78,7 +80,7 @@ pub fn level_line_layout(
     };
     let mut layout = ContourLayout::default();
     let Some(lattice) = Lattice::sample(outline, field) else {
-        return layout;
+        return Some(layout);
     };
     let inside = |p: DVec2| {
         polygon_contains(outline, p)
@@ -97,7 +99,7 @@ pub fn level_line_layout(
         .chain(lattice.inside_values(&inside))
         .fold(f64::NEG_INFINITY, f64::max);
     if !(top.is_finite() && top > 0.0) {
-        return layout;
+        return Some(layout);
     }
     layout.centre = peaks.first().copied().unwrap_or(outline[0]);
     for &p in &peaks {
@@ -129,11 +131,14 @@ pub fn level_line_layout(
         for p in boundary_crossings(outline, field, level) {
             layout.push(p, Some(k));
         }
+        if layout.points.len() > max_points {
+            return None;
+        }
     }
     layout.add_straight_constraints(extra_constraints, &inside, 4.0 * lattice.step);
     let spacings = lattice.spacings(&inside, RELATIVE_FLOOR * top, target, spacing);
     layout.fill_gaps(&lattice, &spacings);
-    layout
+    (layout.points.len() <= max_points).then_some(layout)
 }
 
 impl ContourLayout {

@@ -20,6 +20,7 @@ pub use assembly::{SurfaceGuides, mesh_square, mesh_surfaces};
 pub(crate) use budget::estimate_square_elements;
 pub(crate) use budget::{check_element_budget, estimate_contour_elements};
 pub use constrained::PlaneTriangulation;
+pub use contacts::is_enclosed;
 pub use contour::{ContourLayout, ContourSettings, ScalarField, contour_layout};
 pub use contour_lines::contour_polylines;
 pub use hierarchy::{ElementHierarchy, ElementKey, ElementNode};

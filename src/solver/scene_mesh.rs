@@ -83,7 +83,7 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
             if scene.surface(surface).area() < MIN_CONTOUR_ELEMENTS * spacing * spacing {
                 return None;
             }
-            match found.contour_mesher() {
+            let layout = match found.contour_mesher() {
                 ContourMesher::Radial => {
                     let lamps = &analysis.luminaires;
                     let field = dominant_field(scene, surface, lamps, found.dominant?)?;
@@ -98,7 +98,11 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
                     total_field_layout(scene, surface, &fields, &settings.contour, &square)
                 }
                 ContourMesher::Square => None,
-            }
+            }?;
+            // A layout that would cost more than a finer square grid does
+            // not pay: the square grid then.
+            let budget = layout_budget(scene, surface, spacing);
+            (layout.points.len() <= budget).then_some(layout)
         })
         .collect();
     for ((surface, _), layout) in scene.surfaces_with_ids().zip(&layouts) {
@@ -125,6 +129,12 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
 /// Receivers smaller than this many square elements keep the square grid
 /// under the contour meshers.
 const MIN_CONTOUR_ELEMENTS: f64 = 16.0;
+
+/// A contour layout with more points than this many times the square
+/// grid's (plus 256) is dropped for the grid: near a luminaire's plane,
+/// where the light of several lamps fans out along the receiver's edge,
+/// level lines can crowd without bound.
+const MAX_LAYOUT_GRID_RATIO: f64 = 4.0;
 
 /// Shadow boundaries closer than this fraction of the element spacing are
 /// one: the mesh cannot tell them apart.
@@ -320,7 +330,8 @@ pub fn field_layout(
 /// horizon kept as an edge and points at the square grid's spacing filling
 /// regions no level line comes near (the indirect light needs them); None
 /// for a receiver smaller than 16 elements, whose grid already follows its
-/// light as well as lines would.
+/// light as well as lines would, and where the lines would need more points
+/// than four times its square grid.
 #[must_use]
 pub fn total_field_layout(
     scene: &Scene,
@@ -357,9 +368,15 @@ pub fn total_field_layout(
                 (value + v, gradient + g)
             })
     };
-    Some(level_line_layout(
-        &outline, &total, settings, &horizons, spacing,
-    ))
+    let budget = layout_budget(scene, receiver, spacing);
+    level_line_layout(&outline, &total, settings, &horizons, spacing, budget)
+}
+
+/// The most points a contour layout of `receiver` may have:
+/// [`MAX_LAYOUT_GRID_RATIO`] times its square grid's, plus 256.
+fn layout_budget(scene: &Scene, receiver: SurfaceId, spacing: f64) -> usize {
+    let area = scene.surface(receiver).area();
+    (MAX_LAYOUT_GRID_RATIO * area / (spacing * spacing) + 256.0).min(1e9) as usize
 }
 
 /// The direction, in the receiver's plane, from the foot of the luminaire's

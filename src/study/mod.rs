@@ -28,7 +28,7 @@ use std::time::Instant;
 use crate::lighting::DirectField;
 use crate::lighting::luminaires;
 use crate::mesh::{
-    ContourSettings, ErrorGrid, PlaneTriangulation, SquareMeshSettings, mesh_square,
+    ContourSettings, ErrorGrid, PlaneTriangulation, SquareMeshSettings, is_enclosed, mesh_square,
 };
 use crate::scene::{Scene, SurfaceId, Visibility};
 use crate::solver::{MeshSettings, field_layout, receiver_shadow_boundaries, total_field_layout};
@@ -92,7 +92,9 @@ const PENUMBRA_SHADOW_RAYS: usize = 1024;
 /// meshes are built, or of several (only level lines and square meshes).
 /// The exact field sums each light's unoccluded field times its visible
 /// fraction, from `shadow_rays` rays per luminaire polygon, or 1024 where
-/// those find a penumbra.
+/// those find a penumbra; points inside an object standing on the receiver
+/// (a block's footprint, [`is_enclosed`]) are left out, as the renderer's
+/// mesh leaves out its elements there.
 #[must_use]
 pub fn compare_receiver(
     scene: &Scene,
@@ -103,6 +105,7 @@ pub fn compare_receiver(
 ) -> ReceiverComparison {
     let surface = scene.surface(receiver);
     let outline = surface.plane_vertices();
+    let frame = surface.frame();
     let exact = |p: DVec2| {
         fields
             .iter()
@@ -121,7 +124,16 @@ pub fn compare_receiver(
             })
             .sum::<f64>()
     };
-    let grid = ErrorGrid::new(&outline, settings.grid.max(200), &exact);
+    // Points inside an object standing on the receiver are left out, as the
+    // renderer's mesh leaves out the elements there.
+    let measured = |p: DVec2| {
+        if is_enclosed(scene, visibility, receiver, frame.to_world(p)) {
+            f64::NAN
+        } else {
+            exact(p)
+        }
+    };
+    let grid = ErrorGrid::new(&outline, settings.grid.max(200), &measured);
     let mut comparison = ReceiverComparison {
         receiver: surface.name.clone(),
         surface: receiver,

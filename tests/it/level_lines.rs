@@ -53,7 +53,7 @@ fn two_lamps(p: DVec2) -> (f64, DVec2) {
 fn layout_for(target: f64) -> (isorad::mesh::ContourLayout, PlaneTriangulation, Vec<f64>) {
     let mut settings = ContourSettings::default();
     settings.max_relative_error = target;
-    let layout = level_line_layout(&square(), &two_lamps, &settings, &[], 0.5);
+    let layout = level_line_layout(&square(), &two_lamps, &settings, &[], 0.5, 100_000).unwrap();
     let triangulation = layout.triangulate(&square());
     let values = triangulation
         .points
