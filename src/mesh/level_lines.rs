@@ -281,6 +281,20 @@ impl Lattice {
         maxima
     }
 
+    /// The Hessian at a lattice point, by central differences of the
+    /// gradients (one-sided at the lattice's edge): its columns ∂∇B/∂x and
+    /// ∂∇B/∂y.
+    fn hessian(&self, column: usize, row: usize) -> (DVec2, DVec2) {
+        let at = |c: usize, r: usize| r * self.columns + c;
+        let (c0, c1) = (column.saturating_sub(1), (column + 1).min(self.columns - 1));
+        let (r0, r1) = (row.saturating_sub(1), (row + 1).min(self.rows - 1));
+        let dx = (self.gradients[at(c1, row)] - self.gradients[at(c0, row)])
+            / ((c1 - c0) as f64 * self.step);
+        let dy = (self.gradients[at(column, r1)] - self.gradients[at(column, r0)])
+            / ((r1 - r0) as f64 * self.step);
+        (dx, dy)
+    }
+
     /// The value step Δ at a lattice point allowed by the relative error
     /// `target` (module notes), or None outside the polygon.
     fn allowed_step(
@@ -296,13 +310,7 @@ impl Lattice {
         if !value.is_finite() || !gradient.is_finite() {
             return None;
         }
-        // The Hessian by central differences of the gradients.
-        let (c0, c1) = (column.saturating_sub(1), (column + 1).min(self.columns - 1));
-        let (r0, r1) = (row.saturating_sub(1), (row + 1).min(self.rows - 1));
-        let dx = (self.gradients[at(c1, row)] - self.gradients[at(c0, row)])
-            / ((c1 - c0) as f64 * self.step);
-        let dy = (self.gradients[at(column, r1)] - self.gradients[at(column, r0)])
-            / ((r1 - r0) as f64 * self.step);
+        let (dx, dy) = self.hessian(column, row);
         let slope = gradient.length();
         let curvature = if slope > 0.0 {
             let n = gradient / slope;
@@ -335,12 +343,7 @@ impl Lattice {
                 if !inside(p) || !value.is_finite() {
                     continue;
                 }
-                let (c0, c1) = (column.saturating_sub(1), (column + 1).min(self.columns - 1));
-                let (r0, r1) = (row.saturating_sub(1), (row + 1).min(self.rows - 1));
-                let dx = (self.gradients[at(c1, row)] - self.gradients[at(c0, row)])
-                    / ((c1 - c0) as f64 * self.step);
-                let dy = (self.gradients[at(column, r1)] - self.gradients[at(column, r0)])
-                    / ((r1 - r0) as f64 * self.step);
+                let (dx, dy) = self.hessian(column, row);
                 // The largest |eigenvalue| of the symmetrised Hessian.
                 let (a, b, d) = (dx.x, 0.5 * (dx.y + dy.x), dy.y);
                 let largest = 0.5 * (a + d).abs() + (0.25 * (a - d) * (a - d) + b * b).sqrt();

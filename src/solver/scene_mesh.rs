@@ -306,19 +306,7 @@ pub fn field_layout(
     let outline = scene.surface(receiver).plane_vertices();
     let mut settings = settings.clone();
     settings.orientation = tilt_angle(&field, centre);
-    let diameter = outline
-        .iter()
-        .flat_map(|a| outline.iter().map(move |b| a.distance(*b)))
-        .fold(0.0, f64::max);
-    let kink: Vec<[DVec2; 2]> = field
-        .kink_line()
-        .map(|(point, direction)| {
-            vec![[
-                point - direction * 2.0 * diameter,
-                point + direction * 2.0 * diameter,
-            ]]
-        })
-        .unwrap_or_default();
+    let kink: Vec<[DVec2; 2]> = horizon_segment(&field, &outline).into_iter().collect();
     let value = |p: DVec2| field.value_and_gradient(p);
     let mut layout = contour_layout(&outline, &value, centre, &settings, &kink);
     layout.refine_shadows(&|p: DVec2| field.visible_fraction(visibility, p, SHADOW_RAYS));
@@ -346,19 +334,9 @@ pub fn total_field_layout(
         return None;
     }
     let outline = surface.plane_vertices();
-    let diameter = outline
-        .iter()
-        .flat_map(|a| outline.iter().map(move |b| a.distance(*b)))
-        .fold(0.0, f64::max);
     let horizons: Vec<[DVec2; 2]> = fields
         .iter()
-        .filter_map(DirectField::kink_line)
-        .map(|(point, direction)| {
-            [
-                point - direction * 2.0 * diameter,
-                point + direction * 2.0 * diameter,
-            ]
-        })
+        .filter_map(|field| horizon_segment(field, &outline))
         .collect();
     let total = |p: DVec2| {
         fields
@@ -370,6 +348,21 @@ pub fn total_field_layout(
     };
     let budget = layout_budget(scene, receiver, spacing);
     level_line_layout(&outline, &total, settings, &horizons, spacing, budget)
+}
+
+/// The line where the luminaire's plane cuts the receiver's, beyond which
+/// its light ends, as a segment reaching past the receiver's `outline` on
+/// both sides.
+fn horizon_segment(field: &DirectField, outline: &[DVec2]) -> Option<[DVec2; 2]> {
+    let (point, direction) = field.kink_line()?;
+    let diameter = outline
+        .iter()
+        .flat_map(|a| outline.iter().map(move |b| a.distance(*b)))
+        .fold(0.0, f64::max);
+    Some([
+        point - direction * 2.0 * diameter,
+        point + direction * 2.0 * diameter,
+    ])
 }
 
 /// The most points a contour layout of `receiver` may have:

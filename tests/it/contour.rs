@@ -84,29 +84,9 @@ fn square() -> Vec<DVec2> {
     ]
 }
 
-/// An N × N grid, each quad split along the diagonal whose ends' values are
-/// closer (as the renderer splits it).
+/// The square N × N mesh of the 10 × 10 floor.
 fn square_mesh(n: usize, value: &dyn Fn(DVec2) -> f64) -> (PlaneTriangulation, Vec<f64>) {
-    let step = 2.0 * HALF / n as f64;
-    let points: Vec<DVec2> = (0..=n)
-        .flat_map(|j| {
-            (0..=n).map(move |i| DVec2::new(-HALF + step * i as f64, -HALF + step * j as f64))
-        })
-        .collect();
-    let values: Vec<f64> = points.iter().map(|&p| value(p)).collect();
-    let id = |i: usize, j: usize| j * (n + 1) + i;
-    let mut triangles = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            if (values[a] - values[c]).abs() <= (values[b] - values[d]).abs() {
-                triangles.extend([[a, b, c], [a, c, d]]);
-            } else {
-                triangles.extend([[a, b, d], [b, c, d]]);
-            }
-        }
-    }
-    (PlaneTriangulation { points, triangles }, values)
+    crate::support::square_grid_mesh(HALF, n, value)
 }
 
 fn contour_mesh(

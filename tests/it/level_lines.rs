@@ -63,28 +63,9 @@ fn layout_for(target: f64) -> (isorad::mesh::ContourLayout, PlaneTriangulation, 
     (layout, triangulation, values)
 }
 
-/// An N × N grid split along the diagonals whose ends are closer in value.
+/// The square N × N mesh of the floor.
 fn square_mesh(n: usize) -> (PlaneTriangulation, Vec<f64>) {
-    let step = 2.0 * HALF / n as f64;
-    let points: Vec<DVec2> = (0..=n)
-        .flat_map(|j| {
-            (0..=n).map(move |i| DVec2::new(-HALF + step * i as f64, -HALF + step * j as f64))
-        })
-        .collect();
-    let values: Vec<f64> = points.iter().map(|&p| two_lamps(p).0).collect();
-    let id = |i: usize, j: usize| j * (n + 1) + i;
-    let mut triangles = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            if (values[a] - values[c]).abs() <= (values[b] - values[d]).abs() {
-                triangles.extend([[a, b, c], [a, c, d]]);
-            } else {
-                triangles.extend([[a, b, d], [b, c, d]]);
-            }
-        }
-    }
-    (PlaneTriangulation { points, triangles }, values)
+    crate::support::square_grid_mesh(HALF, n, &|p| two_lamps(p).0)
 }
 
 #[test]

@@ -1,8 +1,38 @@
 //! Scenes built in code for the integration tests.
 #![allow(dead_code)]
 
-use glam::DVec3;
-use isorad::{Material, Rgb, Scene, scene::Surface};
+use glam::{DVec2, DVec3};
+use isorad::{Material, Rgb, Scene, mesh::PlaneTriangulation, scene::Surface};
+
+/// An N × N grid over the square [−half, half]², with `value` at its
+/// points, each quad split along the diagonal whose ends' values are closer
+/// (as the renderer splits it).
+pub fn square_grid_mesh(
+    half: f64,
+    n: usize,
+    value: &dyn Fn(DVec2) -> f64,
+) -> (PlaneTriangulation, Vec<f64>) {
+    let step = 2.0 * half / n as f64;
+    let points: Vec<DVec2> = (0..=n)
+        .flat_map(|j| {
+            (0..=n).map(move |i| DVec2::new(-half + step * i as f64, -half + step * j as f64))
+        })
+        .collect();
+    let values: Vec<f64> = points.iter().map(|&p| value(p)).collect();
+    let id = |i: usize, j: usize| j * (n + 1) + i;
+    let mut triangles = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            if (values[a] - values[c]).abs() <= (values[b] - values[d]).abs() {
+                triangles.extend([[a, b, c], [a, c, d]]);
+            } else {
+                triangles.extend([[a, b, d], [b, c, d]]);
+            }
+        }
+    }
+    (PlaneTriangulation { points, triangles }, values)
+}
 
 /// A scene builder: materials by name, polygons oriented as given.
 #[derive(Default)]
