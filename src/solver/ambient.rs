@@ -43,6 +43,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use super::zones::cosine_direction;
 use crate::lighting::SampleStream;
 use crate::mesh::Mesh;
 use crate::scene::{Rgb, Scene, Visibility, distance_to_boundary, polygon_contains};
@@ -248,14 +249,7 @@ impl PatchLocator {
         surface: crate::scene::SurfaceId,
         stream: &mut SampleStream,
     ) -> u32 {
-        let (u1, u2) = (stream.next_f64(), stream.next_f64());
-        let (radius, angle) = (u1.sqrt(), std::f64::consts::TAU * u2);
-        let tangent = normal.any_orthonormal_vector();
-        let bitangent = normal.cross(tangent);
-        let direction = (tangent * (radius * angle.cos())
-            + bitangent * (radius * angle.sin())
-            + normal * (1.0 - u1).max(0.0).sqrt())
-        .normalize();
+        let direction = cosine_direction(normal, stream);
         let start = origin + normal * visibility.surface_offset();
         let Some((hit, distance)) = visibility.closest_hit(start, direction, self.reach, surface)
         else {

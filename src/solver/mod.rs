@@ -16,6 +16,7 @@ mod settings_file;
 mod shooter;
 mod solution;
 mod unshot;
+mod zones;
 
 pub use energy_balance::EnergyBalance;
 pub use mesh_settings::{Length, MeshKind, MeshSettings};

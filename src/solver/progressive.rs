@@ -13,6 +13,7 @@ use super::settings::{Settings, ShootFrom, SolverSettings};
 use super::shooter::{Receiver, Shooter, ShotRadiosity};
 use super::solution::Solution;
 use super::unshot::UnshotCorners;
+use super::zones::{ZoneMembers, Zones};
 use crate::mesh::{ElementHierarchy, Mesh};
 use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 
@@ -41,6 +42,9 @@ pub struct Solver {
     scene: Scene,
     mesh: Mesh,
     visibility: Visibility,
+    /// The closed zones a shot need not reach beyond (None: not culled),
+    /// with the mesh's members listed zone by zone.
+    zones: Option<(Zones, ZoneMembers)>,
     /// What meshing found (empty when the caller brought the mesh).
     analysis: MeshAnalysis,
     settings: SolverSettings,
@@ -136,10 +140,16 @@ impl Solver {
             .fold(0.0, f64::max);
         let unshot_len = unshot.len();
         let unshot_corners = UnshotCorners::new(&mesh, &unshot);
+        let zones = settings
+            .cull_closed_zones
+            .then(|| Zones::new(&scene, &visibility))
+            .filter(|zones| zones.count() > 1)
+            .map(|zones| (zones, ZoneMembers::default()));
         Solver {
             scene,
             mesh,
             visibility,
+            zones,
             analysis,
             settings,
             irradiance: vec![Rgb::ZERO; radiosity.len()],
@@ -157,6 +167,14 @@ impl Solver {
             shot: vec![Rgb::ZERO; unshot_len],
             refiner: None,
         }
+    }
+
+    /// How many closed zones the scene's surfaces fall into (rooms that
+    /// exchange no light; open space counts as one); 1 when the cull is off
+    /// ([`SolverSettings::cull_closed_zones`]).
+    #[must_use]
+    pub fn closed_zones(&self) -> usize {
+        self.zones.as_ref().map_or(1, |(zones, _)| zones.count())
     }
 
     /// Shoots the next photometric luminaire not yet shot, else the patch
@@ -190,8 +208,13 @@ impl Solver {
             ShotRadiosity::Field(self.unshot_corners.field(&self.mesh, patch, shot_power))
         };
         self.unshot_corners.clear(&self.mesh.patches[j]);
-        let incident = self.incident_from(j, power, radiosity);
-        self.receive(&incident);
+        // Only the shooter's closed zone can receive.
+        let zone = self.zones.as_mut().map(|(zones, members)| {
+            members.refresh(zones, &self.mesh);
+            zones.of(self.mesh.patches[j].surface)
+        });
+        let incident = self.incident_from(j, power, radiosity, zone);
+        self.receive(&incident, zone);
         self.shot_power += shot_power;
         self.shot[j] += delta;
         self.shots += 1;
@@ -210,7 +233,7 @@ impl Solver {
             self.luminaire_light(k, &(0..self.mesh.vertices.len() as u32).collect::<Vec<_>>());
         let samples = self.scene.luminaires[k].opening_samples().len();
         self.rays += (incident.len() * samples) as u64;
-        self.receive(&incident);
+        self.receive(&incident, None);
         self.shot_power += self.scene.luminaires[k].power();
         self.luminaire_shot[k] = true;
         self.shots += 1;
@@ -238,8 +261,15 @@ impl Solver {
     }
 
     /// Irradiance at every vertex from patch j shooting `radiosity`,
-    /// computed in parallel.
-    fn incident_from(&mut self, j: usize, power: f64, radiosity: ShotRadiosity) -> Vec<Rgb> {
+    /// computed in parallel: at the vertices of closed zone `zone` only
+    /// when given (the others get none).
+    fn incident_from(
+        &mut self,
+        j: usize,
+        power: f64,
+        radiosity: ShotRadiosity,
+        zone: Option<usize>,
+    ) -> Vec<Rgb> {
         let patch = &self.mesh.patches[j];
         let shooter = self.shooter(j, power, radiosity);
         let (scene, mesh, visibility) = (&self.scene, &self.mesh, &self.visibility);
@@ -248,25 +278,39 @@ impl Solver {
             self.shots as u64,
             self.settings.kernel,
         );
-        let gathered: Vec<_> = mesh
-            .vertices
-            .par_iter()
-            .enumerate()
-            .map(|(index, vertex)| {
-                if vertex.surface == patch.surface {
-                    return Default::default();
+        let gather = |index: usize| {
+            let vertex = &mesh.vertices[index];
+            // Nothing on the shooter's own plane receives from it.
+            if vertex.surface == patch.surface {
+                return Default::default();
+            }
+            let receiver = Receiver {
+                position: vertex.receiver_position,
+                normal: scene.surface(vertex.surface).normal(),
+                surface: vertex.surface,
+                key: index as u64,
+            };
+            shooter.gather(&receiver, density, shot, kernel, visibility)
+        };
+        let mut incident = vec![Rgb::ZERO; mesh.vertices.len()];
+        match zone.zip(self.zones.as_ref()) {
+            Some((zone, (_, members))) => {
+                let vertices = &members.vertices[zone];
+                let gathered: Vec<_> = vertices.par_iter().map(|&v| gather(v as usize)).collect();
+                for (&v, g) in vertices.iter().zip(gathered) {
+                    self.rays += u64::from(g.rays);
+                    incident[v as usize] = g.irradiance;
                 }
-                let receiver = Receiver {
-                    position: vertex.receiver_position,
-                    normal: scene.surface(vertex.surface).normal(),
-                    surface: vertex.surface,
-                    key: index as u64,
-                };
-                shooter.gather(&receiver, density, shot, kernel, visibility)
-            })
-            .collect();
-        self.rays += gathered.iter().map(|g| u64::from(g.rays)).sum::<u64>();
-        gathered.into_iter().map(|g| g.irradiance).collect()
+            }
+            None => {
+                let gathered: Vec<_> = (0..incident.len()).into_par_iter().map(gather).collect();
+                for (h, g) in incident.iter_mut().zip(gathered) {
+                    self.rays += u64::from(g.rays);
+                    *h = g.irradiance;
+                }
+            }
+        }
+        incident
     }
 
     /// Patch j prepared to shoot `radiosity`, of `power` in all (sum of
@@ -289,16 +333,29 @@ impl Solver {
     }
 
     /// Adds a shot's irradiance to vertices, and what elements reflect to
-    /// their corners' and their patches' unshot radiosity.
-    fn receive(&mut self, incident: &[Rgb]) {
-        for (v, &h) in incident.iter().enumerate() {
+    /// their corners' and their patches' unshot radiosity: over the
+    /// elements of closed zone `zone` only when given (no other receives).
+    fn receive(&mut self, incident: &[Rgb], zone: Option<usize>) {
+        let members = zone.zip(self.zones.take());
+        let (all_vertices, all_elements): (Vec<u32>, Vec<u32>);
+        let (vertices, elements): (&[u32], &[u32]) = match &members {
+            Some((zone, (_, members))) => (&members.vertices[*zone], &members.elements[*zone]),
+            None => {
+                all_vertices = (0..incident.len() as u32).collect();
+                all_elements = (0..self.mesh.elements.len() as u32).collect();
+                (&all_vertices, &all_elements)
+            }
+        };
+        for &v in vertices {
+            let (v, h) = (v as usize, incident[v as usize]);
             if h != Rgb::ZERO {
                 self.irradiance[v] += h;
                 let reflected = self.reflectance(v) * h;
                 self.radiosity[v] += reflected;
             }
         }
-        for (e, element) in self.mesh.elements.iter().enumerate() {
+        for &e in elements {
+            let (e, element) = (e as usize, &self.mesh.elements[e as usize]);
             let mean = element.corner_mean(|v| incident[v as usize]);
             if mean == Rgb::ZERO {
                 continue;
@@ -313,6 +370,9 @@ impl Solver {
             self.unshot[patch] += reflectance * incident_power / self.mesh.patches[patch].area;
             self.unshot_corners
                 .add(e, element, |v| reflectance * incident[v as usize]);
+        }
+        if let Some((_, zones)) = members {
+            self.zones = Some(zones);
         }
     }
 

@@ -68,6 +68,11 @@ pub struct SolverSettings {
     /// Where on a patch its unshot light leaves from (emitters always shoot
     /// uniformly).
     pub shoot_from: ShootFrom,
+    /// Skip the receivers a shot cannot reach because they lie in another
+    /// closed zone (a room whose doors are shut; see `solver/zones.rs`):
+    /// the same radiosity, without the shadow rays that would all be
+    /// blocked (true).
+    pub cull_closed_zones: bool,
 }
 
 impl Default for SolverSettings {
@@ -80,6 +85,7 @@ impl Default for SolverSettings {
             sample_density: 3.0,
             kernel: FormFactorKernel::default(),
             shoot_from: ShootFrom::default(),
+            cull_closed_zones: true,
         }
     }
 }

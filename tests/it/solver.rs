@@ -230,3 +230,84 @@ fn rays_along_negated_axes_hit_the_walls() {
         }
     }
 }
+
+/// Two closed rooms side by side, each with its own lamp and a block, and
+/// a third box outside both: `Settings::default()` for one of them.
+fn two_closed_rooms() -> Scene {
+    let mut b = SceneBuilder::default();
+    let wall = b.material("wall", 0.5, 0.0);
+    let lamp = b.material("lamp", 0.0, 10.0);
+    let size = DVec3::new(4.0, 3.0, 4.0);
+    for offset in [DVec3::ZERO, DVec3::new(5.0, 0.0, 0.0)] {
+        for quad in box_faces(size) {
+            b.polygon("wall", wall, quad.into_iter().map(|p| p + offset).collect());
+        }
+        for quad in box_faces(DVec3::splat(0.5)) {
+            let mut quad: Vec<DVec3> = quad
+                .into_iter()
+                .map(|p| p + offset + DVec3::new(1.75, 0.0, 1.75))
+                .collect();
+            quad.reverse();
+            b.polygon("block", wall, quad);
+        }
+        b.polygon_facing(
+            "lamp",
+            lamp,
+            [(1.7, 1.7), (2.3, 1.7), (2.3, 2.3), (1.7, 2.3)]
+                .map(|(x, z)| offset + DVec3::new(x, 2.99, z))
+                .to_vec(),
+            offset + DVec3::new(2.0, 0.0, 2.0),
+        );
+    }
+    b.scene
+}
+
+/// Shots skip the receivers of the other closed rooms: the radiosity is
+/// the same bit for bit as when every vertex gathers (those rays were all
+/// blocked), with fewer shadow rays (those of the other room's vertices
+/// that face the shooter). Three zones: the two rooms, and the blocks'
+/// bottoms pressed on the floors, whose rays leave the rooms through the
+/// floors' backs and which receive nothing either way.
+#[test]
+fn closed_rooms_exchange_no_rays() {
+    let solve = |cull: bool| {
+        let mut settings = isorad::Settings::default();
+        settings.solver.cull_closed_zones = cull;
+        settings.solver.tolerance = 0.05;
+        let mut solver = isorad::Solver::new(two_closed_rooms(), settings).unwrap();
+        solver.run();
+        (
+            solver.closed_zones(),
+            solver.rays(),
+            solver.radiosity().to_vec(),
+        )
+    };
+    let (zones, culled_rays, culled) = solve(true);
+    let (one, all_rays, all) = solve(false);
+    println!("two rooms: {zones} zones, {culled_rays} rays culled against {all_rays}");
+    assert_eq!((zones, one), (3, 1));
+    assert_eq!(culled, all, "the same radiosity");
+    assert!(
+        (culled_rays as f64) < 0.8 * all_rays as f64,
+        "{culled_rays} rays against {all_rays}"
+    );
+}
+
+/// In the open no zone is closed: two plates that face each other far
+/// apart, whose 64 rays each may all miss the other, stay in one zone.
+#[test]
+fn open_scenes_are_one_zone() {
+    let mut b = SceneBuilder::default();
+    let grey = b.material("grey", 0.5, 0.0);
+    let lamp = b.material("lamp", 0.0, 10.0);
+    let plate = |x: f64| {
+        [(-0.05, -0.05), (0.05, -0.05), (0.05, 0.05), (-0.05, 0.05)]
+            .map(|(y, z)| DVec3::new(x, y + 1.0, z))
+            .to_vec()
+    };
+    b.polygon_facing("left", grey, plate(-5.0), DVec3::new(5.0, 1.0, 0.0));
+    b.polygon_facing("right", grey, plate(5.0), DVec3::new(-5.0, 1.0, 0.0));
+    b.polygon_facing("lamp", lamp, plate(0.0), DVec3::new(5.0, 1.0, 0.0));
+    let solver = isorad::Solver::new(b.scene, isorad::Settings::default()).unwrap();
+    assert_eq!(solver.closed_zones(), 1);
+}

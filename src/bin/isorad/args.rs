@@ -265,6 +265,12 @@ pub fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
             analysis.shadow_boundaries, analysis.shadow_receivers
         );
     }
+    if solver.closed_zones() > 1 {
+        eprintln!(
+            "closed zones: {} (shots skip the receivers of the others)",
+            solver.closed_zones()
+        );
+    }
     Ok(Prepared {
         solver,
         source: loaded.source,

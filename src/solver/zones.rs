@@ -1,0 +1,175 @@
+//! Closed zones: groups of surfaces that exchange light only among
+//! themselves, such as the rooms of a building whose doors are shut.
+//!
+//! A shot from a patch in one closed zone cannot reach a vertex in another:
+//! every shadow ray between them is blocked. Casting those rays is all the
+//! work a building of separate rooms wastes, since each shot would otherwise
+//! gather at every vertex of every room that faces it. The zones are found
+//! once, before solving: every surface casts [`RAYS_PER_SURFACE`]
+//! cosine-weighted rays from stratified points of its front, and two
+//! surfaces one of whose rays hits the other are joined (union–find). A
+//! zone any of whose rays leaves the scene is open, and all open zones are
+//! one: in the open, two small plates that see each other may miss each
+//! other with every ray, but neither then counts as closed.
+//!
+//! The cull is conservative where the rays are: surfaces that see each
+//! other are joined unless every one of the many rays cast from both their
+//! groups misses every surface of the other (an opening smaller than the
+//! rays can find). Everything else is exact: a vertex skipped would have
+//! received nothing, so a solve with and without the cull gives the same
+//! radiosity, bit for bit.
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use crate::lighting::{SampleStream, stratified_points};
+use crate::mesh::Mesh;
+use crate::scene::{Scene, SurfaceId, Visibility};
+
+/// Rays each surface casts to find what it sees: 16 stratified points, 4
+/// cosine-weighted directions from each.
+pub const RAYS_PER_SURFACE: usize = 64;
+
+/// Points per surface the rays leave from.
+const POINTS: usize = 16;
+
+/// The closed zone of every surface.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Zones {
+    /// Zone index per surface.
+    zone: Vec<u32>,
+    /// How many zones there are (open ones counted as one).
+    count: usize,
+}
+
+impl Zones {
+    /// Finds the zones of `scene` by casting [`RAYS_PER_SURFACE`] rays from
+    /// every surface, in parallel.
+    #[must_use]
+    pub fn new(scene: &Scene, visibility: &Visibility) -> Zones {
+        let surfaces = scene.surfaces.len();
+        let reach = 2.0 * scene.diagonal();
+        // What each surface's rays hit (None: the ray left the scene).
+        let hits: Vec<Vec<Option<SurfaceId>>> = scene
+            .surfaces_with_ids()
+            .collect::<Vec<_>>()
+            .par_iter()
+            .map(|&(id, surface)| {
+                let frame = surface.frame();
+                let normal = surface.normal();
+                let mut random = SampleStream::new(u64::from(id), 0x20_4E5);
+                let points =
+                    stratified_points(&surface.plane_vertices(), POINTS, 0.01, &mut random);
+                let mut hits = Vec::with_capacity(RAYS_PER_SURFACE);
+                for (point, _) in points {
+                    let origin = frame.to_world(point) + normal * visibility.surface_offset();
+                    for _ in 0..RAYS_PER_SURFACE / POINTS {
+                        let direction = cosine_direction(normal, &mut random);
+                        let hit = visibility.closest_hit(origin, direction, reach, id);
+                        hits.push(hit.map(|(surface, _)| surface));
+                    }
+                }
+                hits
+            })
+            .collect();
+        // Join what sees what; every surface with an escaping ray joins
+        // the one open zone (index `surfaces`).
+        let mut parents: Vec<usize> = (0..=surfaces).collect();
+        for (k, surface_hits) in hits.iter().enumerate() {
+            for hit in surface_hits {
+                let other = hit.map_or(surfaces, SurfaceId::index);
+                union(&mut parents, k, other);
+            }
+        }
+        let mut index = vec![u32::MAX; surfaces + 1];
+        let mut count = 0;
+        let zone = (0..surfaces)
+            .map(|k| {
+                let root = find(&mut parents, k);
+                if index[root] == u32::MAX {
+                    index[root] = count;
+                    count += 1;
+                }
+                index[root]
+            })
+            .collect();
+        Zones {
+            zone,
+            count: count as usize,
+        }
+    }
+
+    /// How many zones the surfaces fall into.
+    #[must_use]
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// The zone of `surface`.
+    #[must_use]
+    pub fn of(&self, surface: SurfaceId) -> usize {
+        self.zone.get(surface.index()).map_or(0, |&z| z as usize)
+    }
+}
+
+/// The vertices and elements of a mesh, zone by zone, so that a shot
+/// visits only its own zone's. Rebuilt when the mesh grows (adaptive
+/// refinement adds vertices and splits elements).
+#[derive(Clone, Debug, Default)]
+pub struct ZoneMembers {
+    /// Vertex indices per zone.
+    pub vertices: Vec<Vec<u32>>,
+    /// Element indices per zone.
+    pub elements: Vec<Vec<u32>>,
+    /// The mesh's vertex and element counts when these were listed.
+    listed: (usize, usize),
+}
+
+impl ZoneMembers {
+    /// Lists `mesh`'s members by zone again if it changed size since.
+    pub fn refresh(&mut self, zones: &Zones, mesh: &Mesh) {
+        let counts = (mesh.vertices.len(), mesh.elements.len());
+        if counts == self.listed && !self.vertices.is_empty() {
+            return;
+        }
+        self.vertices = vec![Vec::new(); zones.count().max(1)];
+        self.elements = vec![Vec::new(); zones.count().max(1)];
+        for (v, vertex) in mesh.vertices.iter().enumerate() {
+            self.vertices[zones.of(vertex.surface)].push(v as u32);
+        }
+        for (e, element) in mesh.elements.iter().enumerate() {
+            self.elements[zones.of(element.surface)].push(e as u32);
+        }
+        self.listed = counts;
+    }
+}
+
+/// A cosine-weighted direction about the unit `normal` (Malley's method:
+/// a uniform point of the unit disc lifted onto the hemisphere).
+pub(super) fn cosine_direction(normal: DVec3, random: &mut SampleStream) -> DVec3 {
+    let (u1, u2) = (random.next_f64(), random.next_f64());
+    let (radius, angle) = (u1.sqrt(), std::f64::consts::TAU * u2);
+    let tangent = normal.any_orthonormal_vector();
+    let bitangent = normal.cross(tangent);
+    (tangent * (radius * angle.cos())
+        + bitangent * (radius * angle.sin())
+        + normal * (1.0 - u1).max(0.0).sqrt())
+    .normalize()
+}
+
+fn find(parents: &mut [usize], mut k: usize) -> usize {
+    while parents[k] != k {
+        parents[k] = parents[parents[k]];
+        k = parents[k];
+    }
+    k
+}
+
+fn union(parents: &mut [usize], a: usize, b: usize) {
+    let (ra, rb) = (find(parents, a), find(parents, b));
+    if ra != rb {
+        // The open zone (the largest index) stays a root.
+        let (low, high) = if ra < rb { (ra, rb) } else { (rb, ra) };
+        parents[low] = high;
+    }
+}
