@@ -336,7 +336,8 @@ impl Solver {
     /// their corners' and their patches' unshot radiosity: over the
     /// elements of closed zone `zone` only when given (no other receives).
     fn receive(&mut self, incident: &[Rgb], zone: Option<usize>) {
-        let members = zone.zip(self.zones.take());
+        // The zone's lists, taken out of `self` while its fields change.
+        let members = zone.and_then(|zone| Some((zone, self.zones.take()?)));
         let (all_vertices, all_elements): (Vec<u32>, Vec<u32>);
         let (vertices, elements): (&[u32], &[u32]) = match &members {
             Some((zone, (_, members))) => (&members.vertices[*zone], &members.elements[*zone]),

@@ -391,3 +391,68 @@ fn a_floor_under_one_photometric_luminaire_gets_the_contour_mesher() {
     assert!(square < 0.02, "square mesh RMS error {square}");
     assert!(contour_vertices < square_vertices);
 }
+
+/// Two closed rooms, each under its own downlight: the luminaires' shots
+/// reach every vertex (they are not culled), and the patches' shots after
+/// them still skip the other room: the same radiosity as without the cull,
+/// with fewer rays, and both zones still known at the end.
+#[test]
+fn closed_rooms_lit_by_luminaires_keep_their_zones() {
+    let room = |x: f64| {
+        let v = |p: [f64; 3]| format!("v {} {} {}\n", p[0] + x, p[1], p[2]);
+        [
+            [-2.0, 0.0, -2.0],
+            [2.0, 0.0, -2.0],
+            [2.0, 0.0, 2.0],
+            [-2.0, 0.0, 2.0],
+            [-2.0, 3.0, -2.0],
+            [2.0, 3.0, -2.0],
+            [2.0, 3.0, 2.0],
+            [-2.0, 3.0, 2.0],
+        ]
+        .map(v)
+        .concat()
+    };
+    let faces = |k: usize| {
+        let f = |a: usize, b: usize, c: usize, d: usize| {
+            format!("f {} {} {} {}\n", a + k, b + k, c + k, d + k)
+        };
+        format!(
+            "usemtl grey\n{}usemtl white\n{}{}{}{}{}",
+            f(1, 4, 3, 2),
+            f(5, 6, 7, 8),
+            f(1, 2, 6, 5),
+            f(2, 3, 7, 6),
+            f(3, 4, 8, 7),
+            f(4, 1, 5, 8)
+        )
+    };
+    let obj = format!(
+        "mtllib scene.mtl\n{}{}{}{}",
+        room(0.0),
+        faces(0),
+        room(5.0),
+        faces(8)
+    );
+    let lamp = |x: f64| LUMINAIRE.replace("[0.0, 2.5, 0.0]", &format!("[{x:.1}, 2.9, 0.0]"));
+    let luminaires = format!("{}\n\n[[luminaire]]\n{}", lamp(0.0), lamp(5.0));
+    let dir = scene_folder(&obj, &luminaires);
+    let solve = |cull: bool| {
+        let loaded = load_scene(dir.path().join("scene.toml").to_str().unwrap()).unwrap();
+        let mut settings = Settings::from_scene_options(&loaded.options).unwrap();
+        settings.solver.cull_closed_zones = cull;
+        let mut solver = Solver::new(loaded.scene, settings).unwrap();
+        solver.run();
+        (
+            solver.closed_zones(),
+            solver.rays(),
+            solver.radiosity().to_vec(),
+        )
+    };
+    let (zones, culled_rays, culled) = solve(true);
+    let (_, all_rays, all) = solve(false);
+    println!("two lit rooms: {zones} zones, {culled_rays} rays against {all_rays}");
+    assert_eq!(zones, 2);
+    assert_eq!(culled, all, "the same radiosity");
+    assert!(culled_rays < all_rays);
+}
