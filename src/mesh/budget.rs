@@ -2,7 +2,6 @@
 //! absurd request (an element edge of a nanometre on a room) is refused up
 //! front instead of exhausting memory.
 
-use super::contour::ContourSettings;
 use super::square::{SquareMeshSettings, convex_quad, lattice_size, quad_grid_size};
 use crate::error::{Error, Result};
 use crate::scene::Scene;
@@ -29,17 +28,24 @@ pub fn estimate_square_elements(scene: &Scene, settings: &SquareMeshSettings) ->
         .sum()
 }
 
-/// The most elements the contour mesher makes of `scene`'s receivers: two
-/// triangles per direction and level on every non-emitting surface (any of
-/// them might qualify).
+/// The most elements the contour meshers add to `scene`'s receivers, given
+/// the square grid's `square_elements`: a layout keeps at most
+/// `max_grid_ratio` times its receiver's grid points plus
+/// `extra_points` (the solver drops a larger one for the grid), and each
+/// point makes about two triangles.
 #[must_use]
-pub fn estimate_contour_elements(scene: &Scene, settings: &ContourSettings) -> f64 {
+pub fn estimate_contour_elements(
+    scene: &Scene,
+    square_elements: f64,
+    max_grid_ratio: f64,
+    extra_points: f64,
+) -> f64 {
     let receivers = scene
         .surfaces
         .iter()
         .filter(|s| !scene.material_of(s).is_emitter())
         .count();
-    2.0 * settings.directions as f64 * settings.levels as f64 * receivers as f64
+    2.0 * (max_grid_ratio * square_elements + extra_points * receivers as f64)
 }
 
 /// Refuses a mesh of `estimate` elements when that is more than `limit`,

@@ -181,7 +181,8 @@ impl ContourLayout {
         order.sort_by(|a, b| a.1.total_cmp(&b.1));
         for &(p, h) in order {
             let radius = 0.7 * h;
-            let reach = (radius / step).ceil() as i32;
+            let widest = lattice.columns.max(lattice.rows) as f64;
+            let reach = (radius / step).ceil().min(widest) as i32;
             let centre = bucket(p);
             let near = (-reach..=reach).any(|dx| {
                 (-reach..=reach).any(|dy| {

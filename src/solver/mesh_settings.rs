@@ -5,6 +5,7 @@ use serde::ser::SerializeMap;
 use serde::{Deserialize, Serialize, de};
 
 use super::refinement::RefinementSettings;
+use super::scene_mesh::{LAYOUT_EXTRA_POINTS, MAX_LAYOUT_GRID_RATIO};
 use crate::error::Result;
 use crate::lighting::DominanceSettings;
 use crate::mesh::{
@@ -263,7 +264,8 @@ impl MeshSettings {
 
     /// The elements [`super::mesh_scene`] would make at most (see
     /// `mesh/budget.rs`): the square grid's count, plus for the contour
-    /// mesher its triangles on every receiver that might qualify.
+    /// meshers the triangles of the largest layouts they keep on every
+    /// receiver.
     #[must_use]
     pub fn estimate_elements(&self, scene: &Scene) -> f64 {
         let square = estimate_square_elements(scene, &self.square_for(scene));
@@ -271,7 +273,9 @@ impl MeshSettings {
             // Adaptive meshing starts from the square grid; its splits stop
             // at `refinement.max_vertices`.
             MeshKind::Square | MeshKind::Adaptive => 0.0,
-            MeshKind::Contour => estimate_contour_elements(scene, &self.contour),
+            MeshKind::Contour => {
+                estimate_contour_elements(scene, square, MAX_LAYOUT_GRID_RATIO, LAYOUT_EXTRA_POINTS)
+            }
         };
         square + contour
     }

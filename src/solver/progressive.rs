@@ -623,6 +623,10 @@ impl Solver {
             }
         }
         self.refiner = Some(refiner);
+        // The mesh changed: its members are listed by zone again.
+        if let Some((_, members)) = &mut self.zones {
+            members.invalidate();
+        }
     }
 
     /// The unshot corners of the mesh's new elements after a split (see

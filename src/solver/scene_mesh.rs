@@ -134,7 +134,11 @@ const MIN_CONTOUR_ELEMENTS: f64 = 16.0;
 /// grid's (plus 256) is dropped for the grid: near a luminaire's plane,
 /// where the light of several lamps fans out along the receiver's edge,
 /// level lines can crowd without bound.
-const MAX_LAYOUT_GRID_RATIO: f64 = 4.0;
+pub(crate) const MAX_LAYOUT_GRID_RATIO: f64 = 4.0;
+
+/// Points a contour layout may have beyond [`MAX_LAYOUT_GRID_RATIO`] times
+/// its grid's: room for the levels on a receiver of a few elements.
+pub(crate) const LAYOUT_EXTRA_POINTS: f64 = 256.0;
 
 /// Shadow boundaries closer than this fraction of the element spacing are
 /// one: the mesh cannot tell them apart.
@@ -366,10 +370,11 @@ fn horizon_segment(field: &DirectField, outline: &[DVec2]) -> Option<[DVec2; 2]>
 }
 
 /// The most points a contour layout of `receiver` may have:
-/// [`MAX_LAYOUT_GRID_RATIO`] times its square grid's, plus 256.
+/// [`MAX_LAYOUT_GRID_RATIO`] times its square grid's, plus
+/// [`LAYOUT_EXTRA_POINTS`].
 fn layout_budget(scene: &Scene, receiver: SurfaceId, spacing: f64) -> usize {
     let area = scene.surface(receiver).area();
-    (MAX_LAYOUT_GRID_RATIO * area / (spacing * spacing) + 256.0).min(1e9) as usize
+    (MAX_LAYOUT_GRID_RATIO * area / (spacing * spacing) + LAYOUT_EXTRA_POINTS).min(1e9) as usize
 }
 
 /// The direction, in the receiver's plane, from the foot of the luminaire's

@@ -113,8 +113,9 @@ impl Zones {
 }
 
 /// The vertices and elements of a mesh, zone by zone, so that a shot
-/// visits only its own zone's. Rebuilt when the mesh grows (adaptive
-/// refinement adds vertices and splits elements).
+/// visits only its own zone's. Rebuilt after [`ZoneMembers::invalidate`]
+/// (adaptive refinement renumbers the elements) or when the mesh's counts
+/// changed since.
 #[derive(Clone, Debug, Default)]
 pub struct ZoneMembers {
     /// Vertex indices per zone.
@@ -126,7 +127,13 @@ pub struct ZoneMembers {
 }
 
 impl ZoneMembers {
-    /// Lists `mesh`'s members by zone again if it changed size since.
+    /// Marks the lists stale: the mesh changed.
+    pub fn invalidate(&mut self) {
+        self.vertices.clear();
+    }
+
+    /// Lists `mesh`'s members by zone again if they are stale or the mesh
+    /// changed size since.
     pub fn refresh(&mut self, zones: &Zones, mesh: &Mesh) {
         let counts = (mesh.vertices.len(), mesh.elements.len());
         if counts == self.listed && !self.vertices.is_empty() {

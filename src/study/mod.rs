@@ -52,6 +52,10 @@ pub struct CompareSettings {
     /// follow the receiver's shadow boundaries, as the renderer's meshes do
     /// (true); the fixed D × K layouts are the seed's, without them.
     pub shadow_boundaries: bool,
+    /// The mesh settings the renderer would use (a scene file's `[mesh]`):
+    /// the element spacing the level lines fill gaps to and the shadow
+    /// boundaries are merged at.
+    pub mesh: MeshSettings,
 }
 
 impl Default for CompareSettings {
@@ -76,6 +80,7 @@ impl Default for CompareSettings {
             grid: 400,
             shadow_rays: 16,
             shadow_boundaries: true,
+            mesh: MeshSettings::default(),
         }
     }
 }
@@ -172,11 +177,11 @@ pub fn compare_receiver(
         [_] => fixed.chain(refined).collect(),
         _ => Vec::new(),
     };
-    let mesh_settings = MeshSettings::default();
+    let mesh_settings = &settings.mesh;
     let square_settings = mesh_settings.square_for(scene);
     let boundaries = if settings.shadow_boundaries {
         let lights = luminaires(scene);
-        receiver_shadow_boundaries(scene, visibility, &lights, &mesh_settings, receiver)
+        receiver_shadow_boundaries(scene, visibility, &lights, mesh_settings, receiver)
     } else {
         Vec::new()
     };

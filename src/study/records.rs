@@ -11,11 +11,11 @@ use crate::scene::SurfaceId;
 
 /// Which mesh of a receiver: the mesher and its size.
 ///
-/// Shown as "square 10×10", "contour 20×5" or "contour ε 1.0 %";
-/// serialized as the records' JSON has it, `{"mesher": "square", "params":
-/// {"n": 10}}`, `{"mesher": "contour", "params": {"directions": 20,
-/// "levels": 5}}` or `{"mesher": "contour_to_error", "params":
-/// {"per_mille": 10}}`; level lines as `"level_lines"`.
+/// Shown as "square 10×10", "contour 20×5", "contour ε 1.0 %" or "level
+/// lines ε 1.0 %"; in the records' JSON ([`MeshRecord`]) as `"mesher":
+/// "square"` with `"params": {"n": 10}`, `"contour"` with `{"directions":
+/// 20, "levels": 5, …}` or `{"max_relative_error": 0.01, …}`, and
+/// `"level_lines"` with `{"max_relative_error": 0.01, …}`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(tag = "mesher", content = "params", rename_all = "lowercase")]
 pub enum MeshSpec {

@@ -1,5 +1,5 @@
-//! `isorad compare`: contour meshes against square meshes on the receivers
-//! lit by a dominant small emitter.
+//! `isorad compare`: contour meshes (radial, and level lines) against
+//! square meshes on the receivers the contour meshers take.
 
 use std::path::{Path, PathBuf};
 
@@ -27,7 +27,8 @@ pub struct CompareArgs {
     /// Write one JSON record per mesh.
     #[arg(long)]
     json: Option<PathBuf>,
-    /// Write the meshes side by side: square 10×10 | contour 20×5 | square 30×30.
+    /// Write the meshes side by side: square 10×10 | contour 20×5 | contour
+    /// ε 1 % | level lines ε 1 % | square 30×30 (those measured).
     #[arg(long)]
     image: Option<PathBuf>,
     /// Write log–log plots of error against vertices (.png or .svg): the
@@ -46,9 +47,8 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     let loaded = load_scene(&args.scene)?;
     // The scene file's [mesh.dominance] decides which receivers qualify, as
     // for `isorad info` and `render --mesh contour`.
-    let dominance = Settings::from_scene_options(&loaded.options)?
-        .mesh
-        .dominance;
+    let mesh = Settings::from_scene_options(&loaded.options)?.mesh;
+    let dominance = mesh.dominance.clone();
     let scene = &loaded.scene;
     let visibility = Visibility::new(scene);
     let lamps = luminaires(scene);
@@ -66,6 +66,7 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     }
     let mut settings = CompareSettings::default();
     settings.grid = args.grid.max(200);
+    settings.mesh = mesh;
     let mut comparisons = Vec::new();
     for (receiver, lights) in chosen {
         // Area luminaires, then photometric ones after them.
