@@ -149,6 +149,17 @@ impl ReceiverAnalysis {
             ContourMesher::LevelLines
         }
     }
+
+    /// The lights whose direct field this receiver's contour layout
+    /// follows: the dominant one for [`ContourMesher::Radial`], every one
+    /// in `lit_by` for [`ContourMesher::LevelLines`], none for the grid.
+    #[must_use]
+    pub fn contour_lights(&self) -> Vec<usize> {
+        match (self.contour_mesher(), self.dominant) {
+            (ContourMesher::Radial, Some(dominant)) => vec![dominant],
+            _ => self.lit_by.clone(),
+        }
+    }
 }
 
 /// A light is among a receiver's `lit_by` when it gives at least this

@@ -83,18 +83,17 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
             if scene.surface(surface).area() < MIN_CONTOUR_ELEMENTS * spacing * spacing {
                 return None;
             }
+            let fields: Vec<DirectField> = found
+                .contour_lights()
+                .into_iter()
+                .filter_map(|k| dominant_field(scene, surface, &analysis.luminaires, k))
+                .collect();
             let layout = match found.contour_mesher() {
                 ContourMesher::Radial => {
-                    let lamps = &analysis.luminaires;
-                    let field = dominant_field(scene, surface, lamps, found.dominant?)?;
+                    let field = fields.into_iter().next()?;
                     field_layout(scene, visibility, surface, field, &settings.contour)
                 }
                 ContourMesher::LevelLines => {
-                    let fields: Vec<DirectField> = found
-                        .lit_by
-                        .iter()
-                        .filter_map(|&k| dominant_field(scene, surface, &analysis.luminaires, k))
-                        .collect();
                     total_field_layout(scene, surface, &fields, &settings.contour, &square)
                 }
                 ContourMesher::Square => None,

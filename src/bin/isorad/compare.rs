@@ -101,14 +101,8 @@ fn receivers_to_compare(
             Some(name) => scene.surface(analysis.receiver).name == name,
             None => analysis.contour_mesher() != ContourMesher::Square,
         })
-        .filter_map(|analysis| {
-            let lights = match (analysis.contour_mesher(), analysis.dominant) {
-                (ContourMesher::Radial, Some(dominant)) => vec![dominant],
-                _ if !analysis.lit_by.is_empty() => analysis.lit_by.clone(),
-                _ => return None,
-            };
-            Some((analysis.receiver, lights))
-        })
+        .map(|analysis| (analysis.receiver, analysis.contour_lights()))
+        .filter(|(_, lights)| !lights.is_empty())
         .collect()
 }
 
