@@ -317,25 +317,8 @@ fn shadow_boundaries_stay_in_the_room_the_light_reaches() {
     let mut b = SceneBuilder::default();
     let wall = b.material("wall", 0.5, 0.0);
     let lamp = b.material("lamp", 0.0, 10.0);
-    let size = DVec3::new(4.0, 3.0, 4.0);
     for (room, offset) in [("a", DVec3::ZERO), ("b", DVec3::new(5.0, 0.0, 0.0))] {
-        for (k, quad) in box_faces(size).into_iter().enumerate() {
-            let name = if k == 2 {
-                format!("floor_{room}")
-            } else {
-                format!("wall_{room}")
-            };
-            b.polygon(&name, wall, quad.into_iter().map(|p| p + offset).collect());
-        }
-        // A 0.5 m block standing on the floor, faces outwards.
-        for quad in box_faces(DVec3::splat(0.5)) {
-            let mut quad: Vec<DVec3> = quad
-                .into_iter()
-                .map(|p| p + offset + DVec3::new(1.75, 0.0, 1.75))
-                .collect();
-            quad.reverse();
-            b.polygon(&format!("block_{room}"), wall, quad);
-        }
+        room_with_block(&mut b, wall, room, offset);
     }
     b.polygon_facing(
         "lamp",

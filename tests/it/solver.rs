@@ -231,25 +231,13 @@ fn rays_along_negated_axes_hit_the_walls() {
     }
 }
 
-/// Two closed rooms side by side, each with its own lamp and a block, and
-/// a third box outside both: `Settings::default()` for one of them.
+/// Two closed rooms side by side, each with its own lamp and a block.
 fn two_closed_rooms() -> Scene {
     let mut b = SceneBuilder::default();
     let wall = b.material("wall", 0.5, 0.0);
     let lamp = b.material("lamp", 0.0, 10.0);
-    let size = DVec3::new(4.0, 3.0, 4.0);
-    for offset in [DVec3::ZERO, DVec3::new(5.0, 0.0, 0.0)] {
-        for quad in box_faces(size) {
-            b.polygon("wall", wall, quad.into_iter().map(|p| p + offset).collect());
-        }
-        for quad in box_faces(DVec3::splat(0.5)) {
-            let mut quad: Vec<DVec3> = quad
-                .into_iter()
-                .map(|p| p + offset + DVec3::new(1.75, 0.0, 1.75))
-                .collect();
-            quad.reverse();
-            b.polygon("block", wall, quad);
-        }
+    for (room, offset) in [("a", DVec3::ZERO), ("b", DVec3::new(5.0, 0.0, 0.0))] {
+        room_with_block(&mut b, wall, room, offset);
         b.polygon_facing(
             "lamp",
             lamp,

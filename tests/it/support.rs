@@ -174,3 +174,25 @@ impl Rng {
         )
     }
 }
+
+/// A closed 4 × 3 × 4 room at `offset`, faces inwards (the floor named
+/// `floor_{room}`, the rest `wall_{room}`), with a 0.5 m block standing in
+/// the middle of its floor (`block_{room}`, faces outwards).
+pub fn room_with_block(b: &mut SceneBuilder, wall: usize, room: &str, offset: DVec3) {
+    for (k, quad) in box_faces(DVec3::new(4.0, 3.0, 4.0)).into_iter().enumerate() {
+        let name = if k == 2 {
+            format!("floor_{room}")
+        } else {
+            format!("wall_{room}")
+        };
+        b.polygon(&name, wall, quad.into_iter().map(|p| p + offset).collect());
+    }
+    for quad in box_faces(DVec3::splat(0.5)) {
+        let mut quad: Vec<DVec3> = quad
+            .into_iter()
+            .map(|p| p + offset + DVec3::new(1.75, 0.0, 1.75))
+            .collect();
+        quad.reverse();
+        b.polygon(&format!("block_{room}"), wall, quad);
+    }
+}
