@@ -124,7 +124,7 @@ fn write_pictures(args: &CompareArgs, comparisons: &[ReceiverComparison]) -> any
                 (path.clone(), "RMS relative error", |r| r.rms_rel_error),
                 (
                     with_suffix(&path, "_mean"),
-                    "mean relative error where B > 1 % of max",
+                    "mean relative error (B > 1 % of max)",
                     |r| r.mean_rel_error,
                 ),
             ];
