@@ -47,6 +47,16 @@ impl Visibility {
     /// Builds the BVH over every surface of the scene.
     #[must_use]
     pub fn new(scene: &Scene) -> Visibility {
+        Visibility::of_surfaces(scene, |_| true)
+    }
+
+    /// Builds the BVH over the surfaces of the scene that `keep` selects,
+    /// in the whole scene's coordinates: the same triangles, to the bit, as
+    /// [`Visibility::new`] holds for them, and the same surface offset. A
+    /// segment that only these surfaces can block (inside a closed room of
+    /// them) gets the same answer from both, from a smaller tree.
+    #[must_use]
+    pub fn of_surfaces(scene: &Scene, keep: impl Fn(SurfaceId) -> bool) -> Visibility {
         let (min, max) = scene.bounds();
         let centre = 0.5 * (min + max);
         let scale = unit_scale(min, max);
@@ -56,7 +66,7 @@ impl Visibility {
         };
         let mut triangles = Vec::new();
         let mut surfaces = Vec::new();
-        for (id, surface) in scene.surfaces_with_ids() {
+        for (id, surface) in scene.surfaces_with_ids().filter(|&(id, _)| keep(id)) {
             let points = surface.occluder_vertices();
             for [a, b, c] in surface.triangles() {
                 triangles.push(Triangle {

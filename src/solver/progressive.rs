@@ -58,6 +58,12 @@ pub struct Solver {
     /// Unshot radiosity at every element's corners: where on each patch the
     /// unshot light lies.
     unshot_corners: UnshotCorners,
+    /// Each patch's area, side by side: the next shooter is found by
+    /// scanning ΔB_p A_p over every patch at every shot.
+    patch_areas: Vec<f64>,
+    /// A shot's irradiance per vertex, kept between shots (a building's
+    /// closed rooms each write only their own vertices, and clear them).
+    incident: Vec<Rgb>,
     emitted_power: Rgb,
     shot_power: Rgb,
     received_power: Rgb,
@@ -140,6 +146,7 @@ impl Solver {
             .fold(0.0, f64::max);
         let unshot_len = unshot.len();
         let unshot_corners = UnshotCorners::new(&mesh, &unshot);
+        let patch_areas = mesh.patches.iter().map(|p| p.area).collect();
         let zones = settings
             .cull_closed_zones
             .then(|| Zones::new(&scene, &visibility))
@@ -156,6 +163,8 @@ impl Solver {
             radiosity,
             unshot,
             unshot_corners,
+            patch_areas,
+            incident: Vec::new(),
             emitted_power,
             shot_power: Rgb::ZERO,
             received_power: Rgb::ZERO,
@@ -184,12 +193,12 @@ impl Solver {
             self.shoot_luminaire(k);
             return true;
         }
-        let power = |(p, b): (usize, &Rgb)| (p, b.element_sum() * self.mesh.patches[p].area);
         let Some((j, power)) = self
             .unshot
             .iter()
+            .zip(&self.patch_areas)
+            .map(|(b, area)| b.element_sum() * area)
             .enumerate()
-            .map(power)
             .max_by(|a, b| a.1.total_cmp(&b.1))
         else {
             return false;
@@ -213,8 +222,19 @@ impl Solver {
             members.refresh(zones, &self.mesh);
             zones.of(self.mesh.patches[j].surface)
         });
-        let incident = self.incident_from(j, power, radiosity, zone);
+        let mut incident = std::mem::take(&mut self.incident);
+        self.incident_from(j, power, radiosity, zone, &mut incident);
         self.receive(&incident, zone);
+        // Cleared where it was written, for the next shot.
+        match zone.zip(self.zones.as_ref()) {
+            Some((zone, (_, members))) => {
+                for &v in &members.vertices[zone] {
+                    incident[v as usize] = Rgb::ZERO;
+                }
+            }
+            None => incident.fill(Rgb::ZERO),
+        }
+        self.incident = incident;
         self.shot_power += shot_power;
         self.shot[j] += delta;
         self.shots += 1;
@@ -261,18 +281,25 @@ impl Solver {
     }
 
     /// Irradiance at every vertex from patch j shooting `radiosity`,
-    /// computed in parallel: at the vertices of closed zone `zone` only
-    /// when given (the others get none).
+    /// computed in parallel, into `incident` (all zero on entry, resized to
+    /// the vertices): at the vertices of closed zone `zone` only when given
+    /// (the others get none).
     fn incident_from(
         &mut self,
         j: usize,
         power: f64,
         radiosity: ShotRadiosity,
         zone: Option<usize>,
-    ) -> Vec<Rgb> {
+        incident: &mut Vec<Rgb>,
+    ) {
         let patch = &self.mesh.patches[j];
         let shooter = self.shooter(j, power, radiosity);
-        let (scene, mesh, visibility) = (&self.scene, &self.mesh, &self.visibility);
+        let (scene, mesh) = (&self.scene, &self.mesh);
+        // A closed zone's rays traverse its own, smaller BVH.
+        let visibility = zone
+            .zip(self.zones.as_ref())
+            .and_then(|(zone, (zones, _))| zones.visibility(zone))
+            .unwrap_or(&self.visibility);
         let (density, shot, kernel) = (
             self.settings.sample_density,
             self.shots as u64,
@@ -292,7 +319,7 @@ impl Solver {
             };
             shooter.gather(&receiver, density, shot, kernel, visibility)
         };
-        let mut incident = vec![Rgb::ZERO; mesh.vertices.len()];
+        incident.resize(mesh.vertices.len(), Rgb::ZERO);
         match zone.zip(self.zones.as_ref()) {
             Some((zone, (_, members))) => {
                 let vertices = &members.vertices[zone];
@@ -310,7 +337,6 @@ impl Solver {
                 }
             }
         }
-        incident
     }
 
     /// Patch j prepared to shoot `radiosity`, of `power` in all (sum of

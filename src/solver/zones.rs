@@ -12,6 +12,14 @@
 //! one: in the open, two small plates that see each other may miss each
 //! other with every ray, but neither then counts as closed.
 //!
+//! Each closed zone also gets a BVH of its own surfaces alone
+//! ([`Visibility::of_surfaces`]), which its shots' shadow rays traverse: a
+//! segment between two surfaces of a closed zone can only be blocked by
+//! surfaces of that zone (to reach another's, it would have to cross the
+//! zone's own boundary), so the answer is the same, from a tree the size
+//! of one room instead of the building. In a floor of 16 rooms the same
+//! rays cost about half as much.
+//!
 //! The cull is conservative where the rays are: surfaces that see each
 //! other are joined unless every one of the many rays cast from both their
 //! groups misses every surface of the other (an opening smaller than the
@@ -33,13 +41,15 @@ pub const RAYS_PER_SURFACE: usize = 64;
 /// Points per surface the rays leave from.
 const POINTS: usize = 16;
 
-/// The closed zone of every surface.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// The closed zone of every surface, and each zone's shadow-ray BVH.
 pub struct Zones {
     /// Zone index per surface.
     zone: Vec<u32>,
     /// How many zones there are (open ones counted as one).
     count: usize,
+    /// Per zone, a BVH over its surfaces only (empty while there is one
+    /// zone: the scene's own BVH serves).
+    visibility: Vec<Visibility>,
 }
 
 impl Zones {
@@ -83,7 +93,7 @@ impl Zones {
         }
         let mut index = vec![u32::MAX; surfaces + 1];
         let mut count = 0;
-        let zone = (0..surfaces)
+        let zone: Vec<u32> = (0..surfaces)
             .map(|k| {
                 let root = find(&mut parents, k);
                 if index[root] == u32::MAX {
@@ -93,10 +103,27 @@ impl Zones {
                 index[root]
             })
             .collect();
+        let count = count as usize;
+        let visibility = if count > 1 {
+            (0..count as u32)
+                .into_par_iter()
+                .map(|z| Visibility::of_surfaces(scene, |id| zone[id.index()] == z))
+                .collect()
+        } else {
+            Vec::new()
+        };
         Zones {
             zone,
-            count: count as usize,
+            count,
+            visibility,
         }
+    }
+
+    /// The shadow-ray BVH of zone `zone`'s surfaces alone, if there is more
+    /// than one zone.
+    #[must_use]
+    pub fn visibility(&self, zone: usize) -> Option<&Visibility> {
+        self.visibility.get(zone)
     }
 
     /// How many zones the surfaces fall into.
