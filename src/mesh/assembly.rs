@@ -12,7 +12,7 @@ use super::contacts::{contact_segments, remesh_surface, remove_hidden_elements};
 use super::contour::ContourLayout;
 use super::square::{SquareMeshSettings, square_grid};
 use super::topology::Mesh;
-use crate::scene::{Scene, Surface, SurfaceId};
+use crate::scene::{Scene, Surface, SurfaceBoxes, SurfaceId};
 
 /// How close to a plane, as a fraction of the scene's diagonal, another
 /// surface's edge must lie to stand on it.
@@ -76,9 +76,10 @@ pub fn mesh_surfaces(
     let tolerance = CONTACT_TOLERANCE * scene.diagonal();
     let inset = receiver_inset(scene);
     let mut touched = Vec::new();
+    let boxes = SurfaceBoxes::new(scene);
     for (id, surface) in scene.surfaces_with_ids() {
         let grid = square_grid(surface, id, settings);
-        let contacts = contact_segments(scene, id, tolerance, inset);
+        let contacts = contact_segments(scene, &boxes, id, tolerance, inset);
         let guides = guides(id);
         if contacts.is_empty() && guides.layout.is_none() && guides.boundaries.is_empty() {
             mesh.append(grid);

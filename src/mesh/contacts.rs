@@ -6,13 +6,14 @@
 //! meshers put element edges along contact lines instead.
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use super::constrained::triangulate_constrained;
 use super::contour::ContourLayout;
 use super::patch::Cell;
 use super::topology::Mesh;
 use crate::scene::{
-    PlaneFrame, Scene, Surface, SurfaceId, Visibility, clip_segment_to_polygon,
+    PlaneFrame, Scene, Surface, SurfaceBoxes, SurfaceId, Visibility, clip_segment_to_polygon,
     distance_to_boundary, distance_to_segment, polygon_contains,
 };
 
@@ -49,9 +50,14 @@ const BESIDE_CONTACT_ROWS: [f64; 2] = [0.125, 0.5];
 /// A contact farther in, such as a screen's foot a centimetre from a desk's
 /// edge, is kept however close: without it the desk's edge vertices would
 /// gather under the screen, in the dark, and darken a whole row of elements.
+///
+/// Only the surfaces whose bounding boxes come within `tolerance` of the
+/// receiver's are looked at, found through `boxes` (built once for the
+/// scene).
 #[must_use]
 pub fn contact_segments(
     scene: &Scene,
+    boxes: &SurfaceBoxes,
     receiver: SurfaceId,
     tolerance: f64,
     inset: f64,
@@ -59,8 +65,15 @@ pub fn contact_segments(
     let target = scene.surface(receiver);
     let frame = target.frame();
     let outline = target.plane_vertices();
+    let vertices = target.vertices();
+    let min = vertices.iter().copied().fold(DVec3::INFINITY, DVec3::min);
+    let max = vertices
+        .iter()
+        .copied()
+        .fold(DVec3::NEG_INFINITY, DVec3::max);
     let mut contacts = Vec::new();
-    for (id, other) in scene.surfaces_with_ids() {
+    for id in boxes.near(min, max, tolerance) {
+        let other = scene.surface(id);
         if id == receiver || other.normal().dot(target.normal()).abs() > 0.999 {
             continue;
         }
@@ -303,11 +316,15 @@ fn cell_distance(cell: &[DVec2], p: DVec2) -> f64 {
 /// ([`is_enclosed`]).
 pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[SurfaceId]) {
     let visibility = Visibility::new(scene);
+    let mut touched = vec![false; scene.surfaces.len()];
+    for id in surfaces {
+        touched[id.index()] = true;
+    }
     let hidden: Vec<bool> = mesh
         .elements
-        .iter()
+        .par_iter()
         .map(|element| {
-            surfaces.contains(&element.surface) && {
+            touched[element.surface.index()] && {
                 let centroid = element.corner_mean(|v| mesh.vertices[v as usize].position);
                 is_enclosed(scene, &visibility, element.surface, centroid)
             }
@@ -323,7 +340,7 @@ pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[Surfac
 #[must_use]
 pub fn is_enclosed(scene: &Scene, visibility: &Visibility, surface: SurfaceId, x: DVec3) -> bool {
     let lift = 10.0 * visibility.surface_offset();
-    let reach = scene.diagonal();
+    let reach = visibility.diagonal();
     let normal = scene.surface(surface).normal();
     let origin = x + normal * lift;
     let backs = hemisphere_directions(normal)

@@ -9,6 +9,7 @@ pub(crate) mod plane_polygon;
 pub(crate) mod polygon;
 mod rgb;
 pub(crate) mod surface;
+mod surface_boxes;
 mod surface_id;
 pub(crate) mod triangulate;
 mod visibility;
@@ -27,6 +28,7 @@ pub(crate) use plane_polygon::{
 
 pub use rgb::Rgb;
 pub use surface::{PlaneFrame, Surface};
+pub use surface_boxes::SurfaceBoxes;
 pub use surface_id::SurfaceId;
 pub(crate) use triangulate::triangulate_polygon;
 pub use visibility::Visibility;

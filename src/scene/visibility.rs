@@ -41,6 +41,8 @@ pub struct Visibility {
     /// half-diagonal.
     scale: f64,
     surface_offset: f64,
+    /// The whole scene's bounding-box diagonal.
+    diagonal: f64,
 }
 
 impl Visibility {
@@ -95,6 +97,7 @@ impl Visibility {
             centre,
             scale,
             surface_offset: 1e-5 * (max - min).length().max(f64::MIN_POSITIVE),
+            diagonal: (max - min).length(),
         }
     }
 
@@ -104,6 +107,13 @@ impl Visibility {
     #[must_use]
     pub fn surface_offset(&self) -> f64 {
         self.surface_offset
+    }
+
+    /// The diagonal of the whole scene's bounding box (of every surface,
+    /// whichever this BVH holds): a reach no ray inside the scene exceeds.
+    #[must_use]
+    pub fn diagonal(&self) -> f64 {
+        self.diagonal
     }
 
     /// True when no surface but the two given ones blocks the segment from

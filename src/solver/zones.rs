@@ -7,10 +7,14 @@
 //! gather at every vertex of every room that faces it. The zones are found
 //! once, before solving: every surface casts [`RAYS_PER_SURFACE`]
 //! cosine-weighted rays from stratified points of its front, and two
-//! surfaces one of whose rays hits the other are joined (union–find). A
-//! zone any of whose rays leaves the scene is open, and all open zones are
-//! one: in the open, two small plates that see each other may miss each
-//! other with every ray, but neither then counts as closed.
+//! surfaces are joined (union–find) when one of their rays lands on the
+//! other's front. A ray that lands on a back joins nothing: backs are
+//! black, so no light passes that way, and a ray that slipped through the
+//! seam where two faces of a room meet lands on the back of the next room's
+//! wall. A group at least [`MIN_ESCAPES`] of whose rays leave the scene is
+//! open, and all open groups are one zone: in the open, two small plates
+//! that see each other may miss each other with every ray, but neither then
+//! counts as closed.
 //!
 //! Each closed zone also gets a BVH of its own surfaces alone
 //! ([`Visibility::of_surfaces`]), which its shots' shadow rays traverse: a
@@ -23,9 +27,10 @@
 //! The cull is conservative where the rays are: surfaces that see each
 //! other are joined unless every one of the many rays cast from both their
 //! groups misses every surface of the other (an opening smaller than the
-//! rays can find). Everything else is exact: a vertex skipped would have
-//! received nothing, so a solve with and without the cull gives the same
-//! radiosity, bit for bit.
+//! rays can find). A face that sees only backs (a table leg's top, hidden
+//! under the table) is a zone of its own and receives nothing, as it
+//! should. Everything else is exact: a vertex skipped would have received
+//! nothing, so a solve with and without the cull gives the same radiosity.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -40,6 +45,22 @@ pub const RAYS_PER_SURFACE: usize = 64;
 
 /// Points per surface the rays leave from.
 const POINTS: usize = 16;
+
+/// Rays of a group that must leave the scene for it to be open: fewer
+/// slipped through a seam between a closed room's faces (a ray that meets
+/// an edge shared by two triangles may hit neither).
+const MIN_ESCAPES: usize = 4;
+
+/// Where one of a surface's zone rays ended.
+#[derive(Clone, Copy, Debug)]
+enum Hit {
+    /// On the front of this surface: the two exchange light.
+    Front(SurfaceId),
+    /// On the back of a surface, which is black.
+    Back,
+    /// Nowhere: it left the scene.
+    Escaped,
+}
 
 /// The closed zone of every surface, and each zone's shadow-ray BVH.
 pub struct Zones {
@@ -59,8 +80,9 @@ impl Zones {
     pub fn new(scene: &Scene, visibility: &Visibility) -> Zones {
         let surfaces = scene.surfaces.len();
         let reach = 2.0 * scene.diagonal();
-        // What each surface's rays hit (None: the ray left the scene).
-        let hits: Vec<Vec<Option<SurfaceId>>> = scene
+        // What each surface's rays hit: a surface's front, a surface's
+        // back, or nothing (the ray left the scene).
+        let hits: Vec<Vec<Hit>> = scene
             .surfaces_with_ids()
             .collect::<Vec<_>>()
             .par_iter()
@@ -75,20 +97,49 @@ impl Zones {
                     let origin = frame.to_world(point) + normal * visibility.surface_offset();
                     for _ in 0..RAYS_PER_SURFACE / POINTS {
                         let direction = cosine_direction(normal, &mut random);
-                        let hit = visibility.closest_hit(origin, direction, reach, id);
-                        hits.push(hit.map(|(surface, _)| surface));
+                        let hit = match visibility.closest_hit(origin, direction, reach, id) {
+                            None => Hit::Escaped,
+                            Some((other, _))
+                                if scene.surface(other).normal().dot(direction) < 0.0 =>
+                            {
+                                Hit::Front(other)
+                            }
+                            Some(_) => Hit::Back,
+                        };
+                        hits.push(hit);
                     }
                 }
                 hits
             })
             .collect();
-        // Join what sees what; every surface with an escaping ray joins
-        // the one open zone (index `surfaces`).
+        // Join what sees what: a ray that lands on a surface's front joins
+        // the two surfaces. A back is black: light does not pass it, and a
+        // ray that slips through the seam where two faces of a room meet
+        // lands on the back of the next room's wall, which must not join
+        // the rooms.
         let mut parents: Vec<usize> = (0..=surfaces).collect();
         for (k, surface_hits) in hits.iter().enumerate() {
             for hit in surface_hits {
-                let other = hit.map_or(surfaces, SurfaceId::index);
-                union(&mut parents, k, other);
+                if let Hit::Front(other) = hit {
+                    union(&mut parents, k, other.index());
+                }
+            }
+        }
+        // A group whose rays leave the scene joins the open zone (index
+        // `surfaces`), unless fewer than MIN_ESCAPES do: those slipped
+        // through a seam of a closed room's walls.
+        let mut escapes = vec![0usize; surfaces + 1];
+        for (k, surface_hits) in hits.iter().enumerate() {
+            let root = find(&mut parents, k);
+            escapes[root] += surface_hits
+                .iter()
+                .filter(|h| matches!(h, Hit::Escaped))
+                .count();
+        }
+        for k in 0..surfaces {
+            let root = find(&mut parents, k);
+            if escapes[root] >= MIN_ESCAPES {
+                union(&mut parents, k, surfaces);
             }
         }
         let mut index = vec![u32::MAX; surfaces + 1];

@@ -352,3 +352,52 @@ fn shadow_boundaries_stay_in_the_room_the_light_reaches() {
     assert_eq!(count("floor_b"), 0);
     assert_eq!(count("wall_b") + count("block_b"), 0);
 }
+
+/// The surface grid that meshing asks what stands on a surface finds
+/// exactly the surfaces whose bounding boxes come within the margin, as
+/// checking every surface does: small triangles scattered in a box, a
+/// floor and a wall spanning it, boxes queried small and large.
+#[test]
+fn surface_boxes_find_what_brute_force_finds() {
+    let mut b = SceneBuilder::default();
+    let grey = b.material("grey", 0.5, 0.0);
+    let mut random = Rng(17);
+    for k in 0..400 {
+        let centre = random.point(5.0);
+        let size = if k % 50 == 0 { 3.0 } else { 0.2 };
+        let (u, v) = (random.direction(), random.direction());
+        let triangle = vec![centre, centre + u * size, centre + v * size];
+        if u.cross(v).length() > 0.1 {
+            b.polygon(&format!("t{k}"), grey, triangle);
+        }
+    }
+    b.polygon("floor", grey, square_z(-6.0, 6.0, -5.0, true));
+    let scene = b.scene;
+    let boxes = isorad::scene::SurfaceBoxes::new(&scene);
+    let bounds: Vec<(DVec3, DVec3)> = scene
+        .surfaces
+        .iter()
+        .map(|s| {
+            let v = s.vertices();
+            let min = v.iter().copied().fold(DVec3::INFINITY, DVec3::min);
+            let max = v.iter().copied().fold(DVec3::NEG_INFINITY, DVec3::max);
+            (min, max)
+        })
+        .collect();
+    for query in 0..200 {
+        let centre = random.point(6.0);
+        let half = DVec3::splat(if query % 20 == 0 { 4.0 } else { 0.3 });
+        let margin = 0.05;
+        let (min, max) = (centre - half, centre + half);
+        let expected: Vec<SurfaceId> = bounds
+            .iter()
+            .enumerate()
+            .filter(|(_, (a, b))| {
+                a.cmple(max + DVec3::splat(margin)).all()
+                    && b.cmpge(min - DVec3::splat(margin)).all()
+            })
+            .map(|(k, _)| SurfaceId::new(k))
+            .collect();
+        assert_eq!(boxes.near(min, max, margin), expected, "query {query}");
+    }
+}

@@ -281,6 +281,48 @@ fn closed_rooms_exchange_no_rays() {
     );
 }
 
+/// Two rooms that share one wall, a single face turned toward the second:
+/// the first room's rays land on its back, which is black and passes no
+/// light, so the rooms are two zones (they were one while any hit joined),
+/// and culling changes nothing.
+#[test]
+fn a_wall_seen_from_behind_joins_no_rooms() {
+    let mut b = SceneBuilder::default();
+    let wall = b.material("wall", 0.5, 0.0);
+    let lamp = b.material("lamp", 0.0, 10.0);
+    for (k, quad) in box_faces(DVec3::new(4.0, 3.0, 4.0)).into_iter().enumerate() {
+        // Face 1 is the x = 4 side, which room b's x = 4 side replaces.
+        let moved: Vec<DVec3> = quad.iter().map(|&p| p + DVec3::X * 4.0).collect();
+        if k != 1 {
+            b.polygon(&format!("a{k}"), wall, quad);
+        }
+        b.polygon(&format!("b{k}"), wall, moved);
+    }
+    for x in [2.0, 6.0] {
+        b.polygon_facing(
+            "lamp",
+            lamp,
+            [(-0.3, -0.3), (0.3, -0.3), (0.3, 0.3), (-0.3, 0.3)]
+                .map(|(dx, dz)| DVec3::new(x + dx, 2.99, 2.0 + dz))
+                .to_vec(),
+            DVec3::new(x, 0.0, 2.0),
+        );
+    }
+    let scene = b.scene;
+    let solve = |cull: bool| {
+        let mut settings = isorad::Settings::default();
+        settings.solver.cull_closed_zones = cull;
+        settings.solver.tolerance = 0.05;
+        let mut solver = isorad::Solver::new(scene.clone(), settings).unwrap();
+        solver.run();
+        (solver.closed_zones(), solver.radiosity().to_vec())
+    };
+    let (zones, culled) = solve(true);
+    let (one, all) = solve(false);
+    assert_eq!((zones, one), (2, 1));
+    assert_eq!(culled, all, "the same radiosity");
+}
+
 /// In the open no zone is closed: two plates that face each other far
 /// apart, whose 64 rays each may all miss the other, stay in one zone.
 #[test]
