@@ -121,6 +121,9 @@ fn main() -> Report {
     } else {
         md.push_str(&kept_section(&old, 'd'));
     }
+    // (e), buildings, is measured by hand with `bench/generate_building.py`
+    // and `bench/pathtracer_comparison.py` (its text says how), and kept.
+    md.push_str(&kept_section(&old, 'e'));
     std::fs::write("BENCHMARKS.md", md)?;
     eprintln!("wrote BENCHMARKS.md and docs/bench/*.png");
     Ok(())
