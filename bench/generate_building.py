@@ -25,7 +25,9 @@ Usage:
 writes /tmp/building/building.{obj,mtl,toml} and prints the quad count.
 Nothing but the Python standard library is needed. The books' sizes and
 colours come from a seeded generator, so the same arguments always give the
-same file.
+same file. The scene file meshes in metres (``max_edge = 0.2``,
+``patch_max_edge = 1.0``, about one office's defaults), so that a floor of
+many offices is meshed as finely as one.
 """
 
 import argparse
@@ -199,7 +201,13 @@ def main():
                 "up = [0.0, 1.0, 0.0]\n"
                 "vfov_deg = 65.0\n"
                 "width = 256\n"
-                "height = 160\n")
+                "height = 160\n\n"
+                "# Elements and patches in metres, so that a floor of offices\n"
+                "# is meshed as finely as one office (the defaults scale with the\n"
+                "# scene's diagonal).\n"
+                "[mesh]\n"
+                "max_edge = 0.2\n"
+                "patch_max_edge = 1.0\n")
     print(f"{stem}.obj: {nx * nz} offices, {len(obj.faces)} quads")
 
 

@@ -58,8 +58,8 @@ pub struct Solver {
     /// Unshot radiosity at every element's corners: where on each patch the
     /// unshot light lies.
     unshot_corners: UnshotCorners,
-    /// Each patch's area, side by side: the next shooter is found by
-    /// scanning ΔB_p A_p over every patch at every shot.
+    /// Each patch's area, side by side: the next shooter and the unshot
+    /// power are found by scanning ΔB_p A_p over every patch at every shot.
     patch_areas: Vec<f64>,
     /// A shot's irradiance per vertex, kept between shots (a building's
     /// closed rooms each write only their own vertices, and clear them).
@@ -428,11 +428,10 @@ impl Solver {
             .filter(|(_, shot)| !**shot)
             .map(|(l, _)| l.power())
             .sum();
-        self.mesh
-            .patches
+        self.patch_areas
             .iter()
             .zip(&self.unshot)
-            .map(|(p, b)| *b * p.area)
+            .map(|(area, b)| *b * *area)
             .sum::<Rgb>()
             + luminaires
     }
