@@ -65,12 +65,7 @@ pub fn contact_segments(
     let target = scene.surface(receiver);
     let frame = target.frame();
     let outline = target.plane_vertices();
-    let vertices = target.vertices();
-    let min = vertices.iter().copied().fold(DVec3::INFINITY, DVec3::min);
-    let max = vertices
-        .iter()
-        .copied()
-        .fold(DVec3::NEG_INFINITY, DVec3::max);
+    let (min, max) = boxes.bounds(receiver);
     let mut contacts = Vec::new();
     for id in boxes.near(min, max, tolerance) {
         let other = scene.surface(id);

@@ -79,6 +79,12 @@ impl SurfaceBoxes {
         grid
     }
 
+    /// The bounding box (min, max) of surface `id`.
+    #[must_use]
+    pub fn bounds(&self, id: SurfaceId) -> (DVec3, DVec3) {
+        self.boxes[id.index()]
+    }
+
     /// The cell holding `p`, clamped far from overflow.
     fn index(&self, p: DVec3) -> [i64; 3] {
         let q = (p - self.origin) / self.cell;
