@@ -29,8 +29,10 @@
 //! groups misses every surface of the other (an opening smaller than the
 //! rays can find). A face that sees only backs (a table leg's top, hidden
 //! under the table) is a zone of its own and receives nothing, as it
-//! should. Everything else is exact: a vertex skipped would have received
-//! nothing, so a solve with and without the cull gives the same radiosity.
+//! should; without the cull it may catch a little light through the seams,
+//! which nobody sees. Everything else is exact: a vertex skipped would have
+//! received nothing, so a solve with and without the cull gives the same
+//! radiosity, bit for bit where no face is hidden so.
 
 use glam::DVec3;
 use rayon::prelude::*;
