@@ -169,7 +169,10 @@ def main():
     parser.add_argument("-o", "--output", required=True, help="directory to write into")
     parser.add_argument("--name", default="building", help="file name stem")
     args = parser.parse_args()
-    nx, nz = (int(n) for n in args.rooms.lower().split("x"))
+    try:
+        nx, nz = (int(n) for n in args.rooms.lower().split("x"))
+    except ValueError:
+        parser.error(f"--rooms {args.rooms!r}: expected two counts such as 4x4")
     if nx < 1 or nz < 1:
         parser.error("--rooms needs at least 1x1")
     rng = random.Random(1651)
