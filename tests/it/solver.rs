@@ -323,6 +323,30 @@ fn a_wall_seen_from_behind_joins_no_rooms() {
     assert_eq!(culled, all, "the same radiosity");
 }
 
+/// A BVH over some of a scene's surfaces answers as the whole scene's does
+/// for segments only those can block, and one over none blocks nothing.
+#[test]
+fn a_bvh_over_some_surfaces_blocks_only_with_them() {
+    let scene = closed_cube(0.5, 1.0);
+    let some = isorad::scene::Visibility::of_surfaces(&scene, |id| id.index() == 0);
+    let none = isorad::scene::Visibility::of_surfaces(&scene, |_| false);
+    let whole = isorad::scene::Visibility::new(&scene);
+    let (inside, outside) = (DVec3::splat(0.5), DVec3::new(0.5, 0.5, 3.0));
+    let ends = [isorad::SurfaceId::NONE; 2];
+    assert!(!whole.is_unblocked(inside, outside, ends));
+    assert!(none.is_unblocked(inside, outside, ends));
+    assert_eq!(some.diagonal(), whole.diagonal());
+    let through_face_0 = (0..6)
+        .map(|k| {
+            let mut p = [0.5; 3];
+            p[k / 2] = if k % 2 == 0 { -2.0 } else { 3.0 };
+            DVec3::from_array(p)
+        })
+        .filter(|&far| !some.is_unblocked(inside, far, ends))
+        .count();
+    assert_eq!(through_face_0, 1, "only the kept face blocks");
+}
+
 /// In the open no zone is closed: two plates that face each other far
 /// apart, whose 64 rays each may all miss the other, stay in one zone.
 #[test]
