@@ -258,23 +258,14 @@ fn two_closed_rooms() -> Scene {
 /// floors' backs and which receive nothing either way.
 #[test]
 fn closed_rooms_exchange_no_rays() {
-    let solve = |cull: bool| {
-        let mut settings = isorad::Settings::default();
-        settings.solver.cull_closed_zones = cull;
-        settings.solver.tolerance = 0.05;
-        let mut solver = isorad::Solver::new(two_closed_rooms(), settings).unwrap();
-        solver.run();
-        (
-            solver.closed_zones(),
-            solver.rays(),
-            solver.radiosity().to_vec(),
-        )
-    };
-    let (zones, culled_rays, culled) = solve(true);
-    let (one, all_rays, all) = solve(false);
+    let mut settings = isorad::Settings::default();
+    settings.solver.tolerance = 0.05;
+    let culled = solve_with_cull(two_closed_rooms(), settings.clone(), true);
+    let all = solve_with_cull(two_closed_rooms(), settings, false);
+    let (zones, culled_rays, all_rays) = (culled.zones, culled.rays, all.rays);
     println!("two rooms: {zones} zones, {culled_rays} rays culled against {all_rays}");
-    assert_eq!((zones, one), (3, 1));
-    assert_eq!(culled, all, "the same radiosity");
+    assert_eq!((zones, all.zones), (3, 1));
+    assert_eq!(culled.radiosity, all.radiosity, "the same radiosity");
     assert!(
         (culled_rays as f64) < 0.8 * all_rays as f64,
         "{culled_rays} rays against {all_rays}"
@@ -308,19 +299,12 @@ fn a_wall_seen_from_behind_joins_no_rooms() {
             DVec3::new(x, 0.0, 2.0),
         );
     }
-    let scene = b.scene;
-    let solve = |cull: bool| {
-        let mut settings = isorad::Settings::default();
-        settings.solver.cull_closed_zones = cull;
-        settings.solver.tolerance = 0.05;
-        let mut solver = isorad::Solver::new(scene.clone(), settings).unwrap();
-        solver.run();
-        (solver.closed_zones(), solver.radiosity().to_vec())
-    };
-    let (zones, culled) = solve(true);
-    let (one, all) = solve(false);
-    assert_eq!((zones, one), (2, 1));
-    assert_eq!(culled, all, "the same radiosity");
+    let mut settings = isorad::Settings::default();
+    settings.solver.tolerance = 0.05;
+    let culled = solve_with_cull(b.scene.clone(), settings.clone(), true);
+    let all = solve_with_cull(b.scene, settings, false);
+    assert_eq!((culled.zones, all.zones), (2, 1));
+    assert_eq!(culled.radiosity, all.radiosity, "the same radiosity");
 }
 
 /// A BVH over some of a scene's surfaces answers as the whole scene's does

@@ -196,3 +196,23 @@ pub fn room_with_block(b: &mut SceneBuilder, wall: usize, room: &str, offset: DV
         b.polygon(&format!("block_{room}"), wall, quad);
     }
 }
+
+/// What a solve with or without the closed-zone cull found.
+pub struct ZonedSolve {
+    pub zones: usize,
+    pub rays: u64,
+    pub radiosity: Vec<isorad::Rgb>,
+}
+
+/// Solves `scene` to the settings' tolerance with the closed-zone cull on
+/// or off: the zones it found, its shadow rays and its radiosity.
+pub fn solve_with_cull(scene: Scene, mut settings: isorad::Settings, cull: bool) -> ZonedSolve {
+    settings.solver.cull_closed_zones = cull;
+    let mut solver = isorad::Solver::new(scene, settings).unwrap();
+    solver.run();
+    ZonedSolve {
+        zones: solver.closed_zones(),
+        rays: solver.rays(),
+        radiosity: solver.radiosity().to_vec(),
+    }
+}
