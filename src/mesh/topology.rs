@@ -20,6 +20,8 @@ pub struct MeshVertex {
     /// surface's interior when it lies on the surface's boundary. Radiosity
     /// on a boundary is the limit from inside the polygon; exactly on an edge
     /// shared with a perpendicular wall, that wall would be seen edge-on.
+    /// On a surface only one element across, it moves to the element's
+    /// Gauss points instead (see [`Mesh::inset_boundary_receivers`]).
     pub receiver_position: DVec3,
     /// The surface it lies on.
     pub surface: SurfaceId,
@@ -218,7 +220,9 @@ impl Mesh {
 
     /// Moves every vertex on a surface's boundary (on an edge used by only
     /// one element) by `distance` towards the interior, into
-    /// [`MeshVertex::receiver_position`].
+    /// [`MeshVertex::receiver_position`]; where a surface is one element
+    /// across, further, to that element's Gauss points, so that its shading
+    /// shows the element's mean light rather than its edges'.
     pub fn inset_boundary_receivers(&mut self, distance: f64) {
         let edge_uses = self.edge_uses();
         // Sum, per boundary vertex, the inward normals of its boundary edges:
@@ -241,9 +245,88 @@ impl Mesh {
                 }
             }
         }
-        for (vertex, direction) in self.vertices.iter_mut().zip(inward) {
-            vertex.receiver_position = vertex.position + direction.normalize_or_zero() * distance;
+        let gauss = self.gauss_offsets(&edge_uses);
+        for ((vertex, direction), gauss) in self.vertices.iter_mut().zip(inward).zip(gauss) {
+            vertex.receiver_position =
+                vertex.position + direction.normalize_or_zero() * distance + gauss;
         }
+    }
+
+    /// Per vertex, how far it gathers off its position because its surface
+    /// is only one element across: a quad whose two opposite edges both lie
+    /// on the boundary (a book's spine, a table leg) moves those edges'
+    /// vertices across it to the two-point Gauss–Legendre abscissae
+    /// (1 ∓ 1/√3)/2 of its width, and a triangle that is a whole surface
+    /// moves each corner to the three-point rule's point (2/3, 1/6, 1/6).
+    ///
+    /// Gouraud shading of such an element shows the mean of its corners'
+    /// values; gathered at the corners themselves, that mean is the field's
+    /// along the boundary only, where the neighbours standing beside a thin
+    /// face shade it most (the shelved books' spines came out 10–20 % dark).
+    /// At the Gauss points, the mean of the corners is the Gauss rule's
+    /// estimate of the element's mean, exact for a cubic across the width.
+    /// Where two elements on a side agree on a direction, a vertex takes
+    /// their mean; offsets across different directions add.
+    ///
+    /// # References
+    /// G. Strang, G. Fix, "An Analysis of the Finite Element Method", 1973,
+    /// ch. 4.3 (numerical integration).
+    fn gauss_offsets(&self, edge_uses: &HashMap<(u32, u32), u32>) -> Vec<DVec3> {
+        /// (1 − 1/√3)/2: the lower two-point Gauss–Legendre abscissa on [0, 1].
+        const GAUSS_ABSCISSA: f64 = 0.211_324_865_405_187_1;
+        let is_boundary = |a: u32, b: u32| edge_uses[&(a.min(b), a.max(b))] == 1;
+        // Per vertex: the offsets found, each with how many elements gave it.
+        let mut found: HashMap<u32, Vec<(DVec3, u32)>> = HashMap::new();
+        let mut add = |v: u32, offset: DVec3| {
+            let offsets = found.entry(v).or_default();
+            let direction = offset.normalize_or_zero();
+            match offsets
+                .iter_mut()
+                .find(|(o, _)| o.normalize_or_zero().dot(direction) > 0.99)
+            {
+                Some((sum, count)) => {
+                    *sum += offset;
+                    *count += 1;
+                }
+                None => offsets.push((offset, 1)),
+            }
+        };
+        for element in &self.elements {
+            let c = element.corners();
+            let p = |k: usize| self.vertices[c[k] as usize].position;
+            if element.is_triangle {
+                if (0..3).all(|k| is_boundary(c[k], c[(k + 1) % 3])) {
+                    for (k, &corner) in c.iter().enumerate() {
+                        add(corner, (p((k + 1) % 3) + p((k + 2) % 3) - 2.0 * p(k)) / 6.0);
+                    }
+                }
+                continue;
+            }
+            let normal = (p(1) - p(0)).cross(p(2) - p(0)).normalize_or_zero();
+            for k in 0..4 {
+                let (a, b) = (c[k], c[(k + 1) % 4]);
+                let (d, e) = (c[(k + 2) % 4], c[(k + 3) % 4]);
+                if !(is_boundary(a, b) && is_boundary(d, e)) {
+                    continue;
+                }
+                let edge = p((k + 1) % 4) - p(k);
+                let left = normal.cross(edge).normalize_or_zero();
+                let width = element.area / edge.length().max(f64::MIN_POSITIVE);
+                let offset = left * (GAUSS_ABSCISSA * width);
+                if offset.is_finite() {
+                    add(a, offset);
+                    add(b, offset);
+                }
+            }
+        }
+        let mut offsets = vec![DVec3::ZERO; self.vertices.len()];
+        for (v, found) in found {
+            offsets[v as usize] = found
+                .iter()
+                .map(|&(sum, count)| sum / f64::from(count))
+                .sum();
+        }
+        offsets
     }
 
     /// Checks the mesh's invariants: indices in range, elements on one

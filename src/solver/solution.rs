@@ -368,11 +368,15 @@ impl Solution<'_> {
         // around it: 0 not yet cast, 1 none possible, 2 blocked, 3 unblocked.
         let mut vertex_witnesses = vec![0u8; self.mesh.vertices.len()];
         let offset = self.visibility.surface_offset();
+        let inset = receiver_inset(self.scene);
         let mut vertex_witness = |v: u32| {
             let slot = &mut vertex_witnesses[v as usize];
             if *slot == 0 {
                 let vertex = &self.mesh.vertices[v as usize];
-                let y = vertex.receiver_position;
+                // The corner itself, a hair inside its surface: not where a
+                // thin surface's vertex gathers, at its Gauss point.
+                let y = vertex.position
+                    + (vertex.receiver_position - vertex.position).clamp_length_max(inset);
                 let source_normal = self.scene.surface(vertex.surface).normal();
                 let d = y - x;
                 *slot = if normal.dot(d) > 0.0 && source_normal.dot(d) < 0.0 {

@@ -31,3 +31,4 @@ mod solver;
 mod source_refinement;
 mod square_mesh;
 mod strata;
+mod thin_faces;
