@@ -8,7 +8,9 @@
 
 use glam::DVec2;
 
-use super::contacts::{contact_segments, remesh_surface, remove_hidden_elements};
+use super::contacts::{
+    Contact, contact_segments, gather_beside_lying_outlines, remesh_surface, remove_hidden_elements,
+};
 use super::contour::ContourLayout;
 use super::square::{SquareMeshSettings, square_grid};
 use super::topology::Mesh;
@@ -76,10 +78,19 @@ pub fn mesh_surfaces(
     let tolerance = CONTACT_TOLERANCE * scene.diagonal();
     let inset = receiver_inset(scene);
     let mut touched = Vec::new();
+    let mut lying = Vec::new();
     let boxes = SurfaceBoxes::new(scene);
     for (id, surface) in scene.surfaces_with_ids() {
         let grid = square_grid(surface, id, settings);
         let contacts = contact_segments(scene, &boxes, id, tolerance, inset);
+        let lying_here: Vec<Contact> = contacts
+            .iter()
+            .filter(|c| c.clearance > 0.0)
+            .copied()
+            .collect();
+        if !lying_here.is_empty() {
+            lying.push((id, lying_here));
+        }
         let guides = guides(id);
         if contacts.is_empty() && guides.layout.is_none() && guides.boundaries.is_empty() {
             mesh.append(grid);
@@ -101,5 +112,6 @@ pub fn mesh_surfaces(
         remove_hidden_elements(&mut mesh, scene, &touched);
     }
     mesh.inset_boundary_receivers(inset);
+    gather_beside_lying_outlines(&mut mesh, scene, &lying, settings.max_edge);
     mesh
 }

@@ -1,5 +1,6 @@
 //! Contact lines: where another surface meets a receiver's plane in front of
-//! it, as a block standing on a floor or a partition against a wall.
+//! it, as a block standing on a floor or a partition against a wall, or
+//! lies just in front of it, as a lamp panel under a ceiling.
 //!
 //! Light is discontinuous across such a line (bright on one side, nothing
 //! under the block), which no interpolation across it can represent. The
@@ -27,8 +28,14 @@ pub struct Contact {
     /// The touching surface.
     pub surface: SurfaceId,
     /// The side the touching surface faces: its normal projected into the
-    /// receiver's plane, unit length.
+    /// receiver's plane, unit length; for a surface lying on the receiver,
+    /// away from its footprint.
     pub facing: DVec2,
+    /// How far to its `facing` side the receiver's vertices on the line
+    /// gather: 0 for a surface standing on the receiver (the dark corner
+    /// beside a block's foot is real and as wide as the block is high),
+    /// twice the gap for one lying on it (see [`lying_outline`]).
+    pub clearance: f64,
 }
 
 /// The rows of vertices a mesh puts beside a contact line, on the side the
@@ -50,6 +57,8 @@ const BESIDE_CONTACT_ROWS: [f64; 2] = [0.125, 0.5];
 /// A contact farther in, such as a screen's foot a centimetre from a desk's
 /// edge, is kept however close: without it the desk's edge vertices would
 /// gather under the screen, in the dark, and darken a whole row of elements.
+/// A parallel surface lying just in front of the receiver (a ceiling panel
+/// hung a centimetre below it) adds its outline ([`lying_outline`]).
 ///
 /// Only the surfaces whose bounding boxes come within `tolerance` of the
 /// receiver's are looked at, found through `boxes` (built once for the
@@ -67,9 +76,25 @@ pub fn contact_segments(
     let outline = target.plane_vertices();
     let (min, max) = boxes.bounds(receiver);
     let mut contacts = Vec::new();
-    for id in boxes.near(min, max, tolerance) {
+    let lying_gap = LYING_GAP * target.area().sqrt();
+    for id in boxes.near(min, max, tolerance.max(lying_gap)) {
         let other = scene.surface(id);
-        if id == receiver || other.normal().dot(target.normal()).abs() > 0.999 {
+        if id == receiver {
+            continue;
+        }
+        if other.normal().dot(target.normal()) > 0.999 {
+            let gap = lying_gap.min(LYING_GAP * other.area().sqrt());
+            contacts.extend(lying_outline(
+                other,
+                id,
+                frame,
+                &outline,
+                (tolerance, gap),
+                inset,
+            ));
+            continue;
+        }
+        if other.normal().dot(target.normal()) < -0.999 {
             continue;
         }
         let heights: Vec<f64> = other.vertices().iter().map(|&p| frame.height(p)).collect();
@@ -95,11 +120,107 @@ pub fn contact_segments(
                     ends: clipped,
                     surface: id,
                     facing,
+                    clearance: 0.0,
                 });
             }
         }
     }
     contacts
+}
+
+/// How far in front of a receiver, as a fraction of the smaller one's size
+/// (√area), a surface parallel to it and facing the same way lies on it:
+/// a ceiling panel hung a centimetre below a ceiling, a picture on a wall.
+const LYING_GAP: f64 = 0.05;
+
+/// The contact lines of a surface lying on the receiver: parallel to it,
+/// facing the same way, its whole polygon in front of the receiver's plane
+/// by more than `tolerance` and at most `gap`. The receiver under it is
+/// hidden and unlit, like the floor under a block, so its outline,
+/// projected onto the receiver's plane and clipped to `outline`, bounds
+/// the elements: without it, the vertices in the gap behind a ceiling
+/// panel spread their darkness a whole element round the panel. Each side
+/// faces away from the footprint, where a viewer sees the receiver. Right
+/// beside the footprint the receiver darkens over a band as wide as the
+/// gap (half its light at the line, all of it a gap away), too narrow to
+/// see where it is far narrower than an element: the vertices on the line
+/// then gather two gaps out, so that the elements beside it are not dimmed
+/// across their width ([`gather_beside_lying_outlines`]).
+fn lying_outline(
+    other: &Surface,
+    id: SurfaceId,
+    frame: &PlaneFrame,
+    outline: &[DVec2],
+    (tolerance, gap): (f64, f64),
+    inset: f64,
+) -> Vec<Contact> {
+    let vertices = other.vertices();
+    let heights: Vec<f64> = vertices.iter().map(|&p| frame.height(p)).collect();
+    if !heights.iter().all(|h| (tolerance..=gap).contains(h)) {
+        return Vec::new();
+    }
+    let height = heights.iter().copied().fold(0.0, f64::max);
+    let footprint: Vec<DVec2> = vertices.iter().map(|&p| frame.to_plane(p)).collect();
+    let centre = footprint.iter().sum::<DVec2>() / footprint.len() as f64;
+    let mut contacts = Vec::new();
+    for k in 0..footprint.len() {
+        let (a, b) = (footprint[k], footprint[(k + 1) % footprint.len()]);
+        let Some(clipped) = clip_segment_to_polygon([a, b], outline) else {
+            continue;
+        };
+        let along_outline = [clipped[0], clipped[1], clipped[0].lerp(clipped[1], 0.5)]
+            .iter()
+            .all(|&p| distance_to_boundary(outline, p) <= inset);
+        if clipped[0].distance(clipped[1]) <= tolerance || along_outline {
+            continue;
+        }
+        let mut facing = (b - a).perp().normalize_or_zero();
+        if facing.dot(a - centre) < 0.0 {
+            facing = -facing;
+        }
+        contacts.push(Contact {
+            ends: clipped,
+            surface: id,
+            facing,
+            clearance: 2.0 * height,
+        });
+    }
+    contacts
+}
+
+/// Moves the receivers of the vertices on the lines of surfaces lying on
+/// a receiver (`lying`: per receiver, its contacts) by each line's
+/// `clearance` to its facing side (both sides' at a footprint's corner),
+/// where that stays short of the first row of vertices beside the line
+/// ([`BESIDE_CONTACT_ROWS`] of the element `spacing`). A wider dark band,
+/// behind a window set 4 cm in front of a wall, is one the rows draw and
+/// a viewer sees.
+pub fn gather_beside_lying_outlines(
+    mesh: &mut Mesh,
+    scene: &Scene,
+    lying: &[(SurfaceId, Vec<Contact>)],
+    spacing: f64,
+) {
+    let first_row = BESIDE_CONTACT_ROWS[0] * spacing;
+    let on_line = 1e-6 * scene.diagonal();
+    let mut of_surface: Vec<Option<&[Contact]>> = vec![None; scene.surfaces.len()];
+    for (id, contacts) in lying {
+        of_surface[id.index()] = Some(contacts);
+    }
+    for vertex in &mut mesh.vertices {
+        let Some(contacts) = of_surface[vertex.surface.index()] else {
+            continue;
+        };
+        let frame = scene.surface(vertex.surface).frame();
+        let p = frame.to_plane(vertex.position);
+        let offset: DVec2 = contacts
+            .iter()
+            .filter(|c| c.clearance <= first_row)
+            .filter(|c| distance_to_segment(p, c.ends[0], c.ends[1]) <= on_line)
+            .map(|c| c.facing * c.clearance)
+            .sum();
+        vertex.receiver_position += frame.u * offset.x + frame.v * offset.y;
+    }
 }
 
 /// Where a polygon meets a plane: the extreme points, along the line of
