@@ -86,8 +86,10 @@ fn the_cornell_box_matches_the_path_tracer() {
 
 /// The room with a table under a tilted lamp (contour mesher, refined to
 /// 1 % relative error), against Mitsuba's 4096-spp render (its noise about
-/// √2 times the Cornell reference's): 1.97 % per pixel and ×0.989 on
-/// average (3.79 % and ×0.979 with the least-squares levels alone).
+/// √2 times the Cornell reference's): 1.83 % per pixel and ×0.990 on
+/// average (1.97 % while shadow boundaries merged at a quarter of an
+/// element, which left dark wedges beside the table legs' shadows; 3.79 %
+/// and ×0.979 with the least-squares levels alone).
 #[test]
 fn the_room_stays_near_the_path_tracer() {
     let (mean_ratio, per_pixel) = errors_against_reference("room/room.toml", "room_256.exr");
@@ -95,7 +97,7 @@ fn the_room_stays_near_the_path_tracer() {
         (mean_ratio - 1.0).abs() < 0.02,
         "mean radiance ×{mean_ratio}"
     );
-    assert!(per_pixel < 0.03, "per-pixel error {per_pixel}");
+    assert!(per_pixel < 0.022, "per-pixel error {per_pixel}");
 }
 
 /// The seed's discs with the contour mesher they ship with, and the table
