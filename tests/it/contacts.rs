@@ -1,12 +1,12 @@
-//! Objects standing on surfaces: contact lines in the mesh, nothing hidden
-//! kept, no darkness bleeding out from under a block.
+//! Objects standing on surfaces, or lying just in front of them: contact
+//! lines in the mesh, nothing hidden kept, no darkness bleeding out from
+//! under a block or from behind a ceiling panel.
 
 use crate::support::*;
 use glam::DVec3;
 use isorad::{
-    ProbeMode, Scene, Solver, SolverSettings, SurfaceId,
+    Scene, Solver, SolverSettings, SurfaceId,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
-    scene::ProbePoint,
 };
 
 /// A 4 × 4 floor (z = 0) with a unit cube standing on it, centred at the
@@ -38,6 +38,26 @@ fn block_on_floor() -> Scene {
     b.scene
 }
 
+/// Checks the mesh's invariants and returns the area of `surface`'s elements.
+fn valid_area_of(scene: &Scene, mesh: &Mesh, surface: SurfaceId) -> f64 {
+    let areas: Vec<f64> = scene.surfaces.iter().map(|s| s.area()).collect();
+    mesh.validate(&areas).unwrap();
+    mesh.elements
+        .iter()
+        .filter(|e| e.surface == surface)
+        .map(|e| e.area)
+        .sum()
+}
+
+/// A solver of `scene` on `mesh`, run to 0.1 % unshot power.
+fn solved_to_a_thousandth(scene: Scene, mesh: Mesh) -> Solver {
+    let mut settings = SolverSettings::default();
+    settings.tolerance = 1e-3;
+    let mut solver = Solver::with_mesh(scene, mesh, settings).unwrap();
+    solver.run();
+    solver
+}
+
 fn mesh_of(scene: &Scene) -> Mesh {
     let mut settings = SquareMeshSettings::for_scene(scene);
     settings.max_edge = 0.2;
@@ -49,14 +69,7 @@ fn mesh_of(scene: &Scene) -> Mesh {
 fn the_floor_under_a_block_is_cut_out_along_the_contact_lines() {
     let scene = block_on_floor();
     let mesh = mesh_of(&scene);
-    let areas: Vec<f64> = scene.surfaces.iter().map(|s| s.area()).collect();
-    mesh.validate(&areas).unwrap();
-    let floor: f64 = mesh
-        .elements
-        .iter()
-        .filter(|e| e.surface == SurfaceId::new(0))
-        .map(|e| e.area)
-        .sum();
+    let floor = valid_area_of(&scene, &mesh, SurfaceId::new(0));
     assert!(
         (floor - (16.0 - 1.0)).abs() < 1e-9,
         "floor elements cover {floor}"
@@ -91,33 +104,19 @@ fn the_floor_under_a_block_is_cut_out_along_the_contact_lines() {
 fn no_darkness_bleeds_out_from_under_a_block() {
     let scene = block_on_floor();
     let mesh = mesh_of(&scene);
-    let mut settings = SolverSettings::default();
-    settings.tolerance = 1e-3;
-    let mut solver = Solver::with_mesh(scene, mesh, settings).unwrap();
-    solver.run();
+    let solver = solved_to_a_thousandth(scene, mesh);
     let solution = solver.solution_with_ambient();
     // Just outside each side of the block, the rendered mesh agrees with an
     // exact gather: the dark floor under the block no longer exists.
-    let mut worst: f64 = 0.0;
+    let mut points = Vec::new();
     for k in 0..4 {
         let a = 20f64.to_radians() + std::f64::consts::FRAC_PI_2 * k as f64;
         for along in [-0.3, 0.0, 0.3] {
             let (c, s) = (a.cos(), a.sin());
-            let p = DVec3::new(c * 0.52 - s * along, s * 0.52 + c * along, 0.0);
-            let point = ProbePoint {
-                position: p,
-                normal: None,
-                line: 1,
-            };
-            let exact = solution
-                .probe(&point, ProbeMode::Gather)
-                .unwrap()
-                .radiosity
-                .r;
-            let shown = solution.probe(&point, ProbeMode::Mesh).unwrap().radiosity.r;
-            worst = worst.max((shown - exact).abs() / exact);
+            points.push(DVec3::new(c * 0.52 - s * along, s * 0.52 + c * along, 0.0));
         }
     }
+    let worst = worst_mesh_against_gather(&solution, &points);
     assert!(
         worst < 0.1,
         "mesh vs gather just outside the block: {worst}"
@@ -236,14 +235,7 @@ fn a_desk_keeps_its_light_beside_a_screen_standing_near_its_edge() {
         for i in 0..n {
             let x = -1.0 + width * (i as f64 + next()) / n as f64;
             let y = -0.4 + depth * (j as f64 + next()) / n as f64;
-            let point = ProbePoint {
-                position: DVec3::new(x, y, 0.0),
-                normal: None,
-                line: 1,
-            };
-            sum += solution
-                .probe(&point, ProbeMode::Gather)
-                .unwrap()
+            sum += gather_at(&solution, DVec3::new(x, y, 0.0), None)
                 .irradiance
                 .r;
         }
@@ -423,48 +415,26 @@ fn panel_under_a_ceiling() -> Scene {
 fn a_ceiling_is_cut_out_round_a_panel_hung_just_below_it() {
     let scene = panel_under_a_ceiling();
     let mesh = mesh_of(&scene);
-    let areas: Vec<f64> = scene.surfaces.iter().map(|s| s.area()).collect();
-    mesh.validate(&areas).unwrap();
-    let ceiling: f64 = mesh
-        .elements
-        .iter()
-        .filter(|e| e.surface == SurfaceId::new(1))
-        .map(|e| e.area)
-        .sum();
+    let ceiling = valid_area_of(&scene, &mesh, SurfaceId::new(1));
     assert!(
         (ceiling - (16.0 - 0.36)).abs() < 1e-6,
         "the ceiling keeps {ceiling} m² of elements"
     );
-    let mut settings = SolverSettings::default();
-    settings.tolerance = 1e-3;
-    let mut solver = Solver::with_mesh(scene, mesh, settings).unwrap();
-    solver.run();
+    let solver = solved_to_a_thousandth(scene, mesh);
     let solution = solver.solution_with_ambient();
     // Just round the panel, the rendered ceiling agrees with an exact
     // gather: the dark gap behind the panel no longer spreads (a whole
     // element's width, -30 % at 1 cm, before the panel's outline was cut;
     // 14 % with the vertices on the outline gathering in the dark band
     // right beside it).
-    let mut worst: f64 = 0.0;
-    for (x, y) in [
+    let points = [
         (0.45, 0.07),
         (-0.19, 0.07),
         (0.13, 0.39),
         (0.13, -0.25),
         (0.45, 0.39),
-    ] {
-        let point = ProbePoint {
-            position: DVec3::new(x, y, 3.0),
-            normal: None,
-            line: 1,
-        };
-        let exact = solution
-            .probe(&point, ProbeMode::Gather)
-            .unwrap()
-            .radiosity
-            .r;
-        let shown = solution.probe(&point, ProbeMode::Mesh).unwrap().radiosity.r;
-        worst = worst.max((shown - exact).abs() / exact);
-    }
+    ]
+    .map(|(x, y)| DVec3::new(x, y, 3.0));
+    let worst = worst_mesh_against_gather(&solution, &points);
     assert!(worst < 0.08, "mesh vs gather round the panel: {worst}");
 }

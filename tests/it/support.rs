@@ -216,3 +216,40 @@ pub fn solve_with_cull(scene: Scene, mut settings: isorad::Settings, cull: bool)
         radiosity: solver.radiosity().to_vec(),
     }
 }
+
+/// What a gather probe reads at `position` on a surface (facing `normal`
+/// when given).
+pub fn gather_at(
+    solution: &isorad::Solution<'_>,
+    position: DVec3,
+    normal: Option<DVec3>,
+) -> isorad::Probe {
+    let point = isorad::scene::ProbePoint {
+        position,
+        normal,
+        line: 1,
+    };
+    solution.probe(&point, isorad::ProbeMode::Gather).unwrap()
+}
+
+/// The largest relative difference of radiosity (red) between the mesh's
+/// interpolation and a gather, over `points` (no normals).
+pub fn worst_mesh_against_gather(solution: &isorad::Solution<'_>, points: &[DVec3]) -> f64 {
+    points
+        .iter()
+        .map(|&position| {
+            let point = isorad::scene::ProbePoint {
+                position,
+                normal: None,
+                line: 1,
+            };
+            let exact = gather_at(solution, position, None).radiosity.r;
+            let shown = solution
+                .probe(&point, isorad::ProbeMode::Mesh)
+                .unwrap()
+                .radiosity
+                .r;
+            (shown - exact).abs() / exact
+        })
+        .fold(0.0, f64::max)
+}

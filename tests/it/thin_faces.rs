@@ -4,9 +4,8 @@
 use crate::support::*;
 use glam::DVec3;
 use isorad::{
-    ProbeMode, Scene, Solver, SolverSettings, SurfaceId,
+    Scene, Solver, SolverSettings, SurfaceId,
     mesh::{SquareMeshSettings, mesh_square},
-    scene::ProbePoint,
 };
 
 /// Width and height of the spine.
@@ -49,14 +48,7 @@ fn probed_mean(solution: &isorad::Solution<'_>, (x0, x1): (f64, f64), n: usize) 
         for j in 0..n {
             let x = WIDTH * (x0 + (x1 - x0) * (i as f64 + 0.5) / n as f64);
             let y = HEIGHT * (j as f64 + 0.5) / n as f64;
-            let point = ProbePoint {
-                position: DVec3::new(x, y, 0.0),
-                normal: Some(DVec3::NEG_Z),
-                line: 1,
-            };
-            sum += solution
-                .probe(&point, ProbeMode::Gather)
-                .unwrap()
+            sum += gather_at(solution, DVec3::new(x, y, 0.0), Some(DVec3::NEG_Z))
                 .irradiance
                 .r;
         }
