@@ -82,7 +82,8 @@ pub fn contact_segments(
         if id == receiver {
             continue;
         }
-        if other.normal().dot(target.normal()) > 0.999 {
+        let alignment = other.normal().dot(target.normal());
+        if alignment > 0.999 {
             let gap = lying_gap.min(LYING_GAP * other.area().sqrt());
             contacts.extend(lying_outline(
                 other,
@@ -94,7 +95,7 @@ pub fn contact_segments(
             ));
             continue;
         }
-        if other.normal().dot(target.normal()) < -0.999 {
+        if alignment < -0.999 {
             continue;
         }
         let heights: Vec<f64> = other.vertices().iter().map(|&p| frame.height(p)).collect();

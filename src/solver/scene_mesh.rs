@@ -145,10 +145,12 @@ pub(crate) const LAYOUT_EXTRA_POINTS: f64 = 256.0;
 /// quarter of an element, the strip kept one edge over most of its length,
 /// and the triangles from that edge's dark vertices across the lit side
 /// left a dark wedge beside each leg's shadow in `scenes/room` (the room's
-/// per-pixel error against Mitsuba 1.99 %, and 1.82 % at 3/16). Finer
-/// merging costs vertices for little: an eighth gives the room 1.86 % and
-/// the gather probes in the table's umbra 1.5 % too much light (0.5 % at
-/// 3/16), a twentieth 1.74 % for twice the office's time.
+/// per-pixel error against Mitsuba 1.99 %, and 1.82 % at 3/16, by
+/// `bench/compare_images.py`; the golden test's 1.97 % and 1.83 %). Finer
+/// merging costs vertices for little (measured once each, by hand): an
+/// eighth gives the room 1.86 % and the gather probes in the table's umbra
+/// 1.5 % too much light (0.5 % at 3/16, the golden test's figure), a
+/// twentieth 1.74 % for twice the office's time.
 const BOUNDARY_MIN_FEATURE: f64 = 0.1875;
 
 /// The most shadow boundaries one receiver gets, longest first.
