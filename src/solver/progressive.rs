@@ -72,6 +72,10 @@ pub struct Solver {
     ambient_rays: Mutex<AmbientRays>,
     /// Whether each of the scene's photometric luminaires has shot.
     luminaire_shot: Vec<bool>,
+    /// The emitting patches whose emission has not been shot yet: they
+    /// shoot before any patch that only reflects, and a solve has not
+    /// converged while one is left.
+    emission_pending: Vec<u32>,
     /// The largest power a single patch or photometric luminaire emits (sum
     /// of channels): the scale for the number of samples a shot gets.
     reference_power: f64,
@@ -138,6 +142,9 @@ impl Solver {
         let emitted_power =
             powers.clone().sum::<Rgb>() + scene.luminaires.iter().map(|l| l.power()).sum::<Rgb>();
         let luminaire_shot = vec![false; scene.luminaires.len()];
+        let emission_pending = (0..unshot.len() as u32)
+            .filter(|&p| unshot[p as usize].element_sum() * mesh.patches[p as usize].area > 0.0)
+            .collect();
         // Photometric luminaires count as emitters: a room lit only by them
         // scales its shots' samples by their power.
         let reference_power = powers
@@ -170,6 +177,7 @@ impl Solver {
             received_power: Rgb::ZERO,
             ambient_rays: Mutex::new(AmbientRays::default()),
             luminaire_shot,
+            emission_pending,
             reference_power,
             shots: 0,
             rays: 0,
@@ -186,21 +194,36 @@ impl Solver {
         self.zones.as_ref().map_or(1, |(zones, _)| zones.count())
     }
 
-    /// Shoots the next photometric luminaire not yet shot, else the patch
+    /// Shoots the next photometric luminaire not yet shot, else the
+    /// emitting patch with the most emission not yet shot, else the patch
     /// with the most unshot power. Returns false when nothing has any.
+    ///
+    /// Emission goes first because it is direct light: shot, it draws sharp
+    /// shadows at every vertex; left unshot when the solve stops, only the
+    /// ambient term's few rays per vertex would find it. A lamp split into
+    /// small patches (the slivers of a many-sided disc) could otherwise
+    /// carry less power per patch than the floor it lights, and wait.
     pub fn step(&mut self) -> bool {
         if let Some(k) = self.luminaire_shot.iter().position(|&shot| !shot) {
             self.shoot_luminaire(k);
             return true;
         }
-        let Some((j, power)) = self
-            .unshot
+        let power = |p: usize| self.unshot[p].element_sum() * self.patch_areas[p];
+        let pending = self
+            .emission_pending
             .iter()
-            .zip(&self.patch_areas)
-            .map(|(b, area)| b.element_sum() * area)
             .enumerate()
-            .max_by(|a, b| a.1.total_cmp(&b.1))
-        else {
+            .max_by(|a, b| power(*a.1 as usize).total_cmp(&power(*b.1 as usize)));
+        let chosen = match pending {
+            Some((k, &j)) => {
+                self.emission_pending.swap_remove(k);
+                Some((j as usize, power(j as usize)))
+            }
+            None => (0..self.unshot.len())
+                .map(|p| (p, power(p)))
+                .max_by(|a, b| a.1.total_cmp(&b.1)),
+        };
+        let Some((j, power)) = chosen else {
             return false;
         };
         if power.is_nan() || power <= 0.0 {
@@ -406,6 +429,14 @@ impl Solver {
     fn reflectance(&self, vertex: usize) -> Rgb {
         let surface = self.scene.surface(self.mesh.vertices[vertex].surface);
         self.scene.material_of(surface).reflectance
+    }
+
+    /// Whether some emission (a photometric luminaire, or an emitting
+    /// patch's first shot) has not been shot yet: a solve is not converged
+    /// before it has.
+    #[must_use]
+    pub fn emission_pending(&self) -> bool {
+        !self.emission_pending.is_empty() || self.luminaire_shot.contains(&false)
     }
 
     /// Unshot power over emitted power (sums of channels); 0 for a dark scene.

@@ -110,7 +110,7 @@ impl Solver {
             if until.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                 return StopReason::Cancelled;
             }
-            if self.unshot_fraction() <= tolerance {
+            if self.unshot_fraction() <= tolerance && !self.emission_pending() {
                 return StopReason::Converged;
             }
             if self.shots() >= total_shots {
