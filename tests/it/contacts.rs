@@ -216,7 +216,11 @@ fn screen_on_desk() -> Scene {
 #[test]
 fn a_desk_keeps_its_light_beside_a_screen_standing_near_its_edge() {
     let scene = screen_on_desk();
-    let mut solver = Solver::new(scene, isorad::Settings::default()).unwrap();
+    // Solved to 1 %: the mesh's light, without the ambient term, is
+    // compared with gathers of the same shots.
+    let mut settings = isorad::Settings::default();
+    settings.solver.tolerance = 0.01;
+    let mut solver = Solver::new(scene, settings).unwrap();
     solver.run();
     let solution = solver.solution();
     let desk = SurfaceId::new(1);
