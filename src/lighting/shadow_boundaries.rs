@@ -15,7 +15,18 @@
 //! way, or that has none) is cut to the part in front of the receiver, below
 //! v and in front of the luminaire, and projected centrally from v:
 //! p ↦ v + (p − v) h_v / (h_v − h_p), with h the height over the receiver's
-//! plane. The projected segment is clipped to the receiver's outline.
+//! plane. The projected segment is clipped to the receiver's outline, and
+//! to the parts of it where the event is real: where the receiver point
+//! sees the edge point and the edge point sees v (shadow rays at
+//! [`EVENT_SAMPLES`] + 1 points along the edge). An edge whose shadow falls
+//! inside another occluder's umbra, or that v sees only through other
+//! objects, bounds no penumbra there: a desk top's underside edges, a
+//! chair's legs beneath its seat. In the furnished office of
+//! `bench/generate_building.py` the check takes a wall's boundaries from
+//! 163 to 122 and the room's render from 1.84 % to 1.82 % off per pixel;
+//! its floor keeps the cap of 256 (`isorad compare` on it: 3,299 vertices
+//! for level lines at ε 8 % instead of 3,663, RMS error 0.046 instead of
+//! 0.049).
 //!
 //! # References
 //! P. Heckbert, "Discontinuity meshing for radiosity", Eurographics Workshop
@@ -44,6 +55,10 @@ const HEIGHT_TOLERANCE: f64 = 1e-3;
 /// An edge is kept up to this fraction of its projection centre's height: a
 /// point level with the corner would project to infinity.
 const MAX_HEIGHT_FRACTION: f64 = 0.999;
+
+/// Steps along an edge at which a boundary's event is checked by shadow
+/// rays: a boundary is kept where the checks pass, to half a step beyond.
+const EVENT_SAMPLES: usize = 8;
 
 /// The boundaries a receiver keeps and what they may cost.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -109,7 +124,7 @@ impl EdgeNeighbours {
 /// outline are left out (its edges are element edges already).
 #[must_use]
 pub fn shadow_boundaries(
-    scene: &Scene,
+    (scene, visibility): (&Scene, &Visibility),
     neighbours: &EdgeNeighbours,
     receiver: SurfaceId,
     luminaires: &[Luminaire],
@@ -144,7 +159,13 @@ pub fn shadow_boundaries(
             plane: Some((luminaire.centre, luminaire.normal)),
             surfaces: &luminaire.surfaces,
         };
-        source.cast(scene, neighbours, receiver, tolerance, &mut found);
+        source.cast(
+            (scene, visibility),
+            neighbours,
+            receiver,
+            tolerance,
+            &mut found,
+        );
     }
     for &point in points {
         let source = Source {
@@ -152,7 +173,13 @@ pub fn shadow_boundaries(
             plane: None,
             surfaces: &[],
         };
-        source.cast(scene, neighbours, receiver, tolerance, &mut found);
+        source.cast(
+            (scene, visibility),
+            neighbours,
+            receiver,
+            tolerance,
+            &mut found,
+        );
     }
     found.retain(|&[a, b]| {
         let along_outline = [a, b, a.lerp(b, 0.5)]
@@ -218,10 +245,11 @@ impl Source<'_> {
 
     /// Pushes onto `found` the receiver-plane shadows of every occluder's
     /// silhouette edges from each of the source's corners in front of the
-    /// receiver, clipped to its outline.
+    /// receiver, where the event is real ([`event_runs`]), clipped to its
+    /// outline.
     fn cast(
         &self,
-        scene: &Scene,
+        (scene, visibility): (&Scene, &Visibility),
         neighbours: &EdgeNeighbours,
         receiver: SurfaceId,
         tolerance: f64,
@@ -257,6 +285,7 @@ impl Source<'_> {
                 let s = scene.surface(surface);
                 s.normal().dot(v - s.vertices()[0]) > 0.0
             };
+            let lamp = self.surfaces.first().copied().unwrap_or(id);
             for &v in &corners {
                 let facing = normal.dot(v - polygon[0]) > 0.0;
                 for k in 0..polygon.len() {
@@ -267,11 +296,15 @@ impl Source<'_> {
                     if !silhouette {
                         continue;
                     }
-                    let Some(segment) = project_edge(frame, self.plane, v, [a, b]) else {
+                    let Some(range) = edge_range(frame, self.plane, v, [a, b]) else {
                         continue;
                     };
-                    if let Some(clipped) = clip_segment_to_polygon(segment, &outline) {
-                        found.push(clipped);
+                    let ends = (receiver, id, lamp);
+                    for (t0, t1) in event_runs((scene, visibility), ends, v, [a, b], range) {
+                        let segment = [t0, t1].map(|t| project(frame, v, a.lerp(b, t)));
+                        if let Some(clipped) = clip_segment_to_polygon(segment, &outline) {
+                            found.push(clipped);
+                        }
                     }
                 }
             }
@@ -354,16 +387,16 @@ fn in_shaft(
     false
 }
 
-/// The shadow of edge ab cast from corner v on the receiver's plane: the
-/// part of ab in front of the receiver, below v and in front of the
-/// source's `plane` (centre, normal) if it has one, projected from v.
+/// The parameters t ∈ [lo, hi] of the part of edge ab that casts a shadow
+/// from corner v on the receiver's plane: in front of the receiver, below
+/// v and in front of the source's `plane` (centre, normal) if it has one.
 /// `None` when no part is.
-fn project_edge(
+fn edge_range(
     frame: &PlaneFrame,
     plane: Option<(DVec3, DVec3)>,
     v: DVec3,
     [a, b]: [DVec3; 2],
-) -> Option<[DVec2; 2]> {
+) -> Option<(f64, f64)> {
     let hv = frame.height(v);
     // Keep t ∈ [lo, hi] where each of the linear functions f(t) ≥ 0.
     let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
@@ -382,15 +415,59 @@ fn project_edge(
     if let Some((centre, normal)) = plane {
         keep((a - centre).dot(normal), (b - centre).dot(normal));
     }
-    if hi <= lo {
-        return None;
-    }
-    let project = |t: f64| {
-        let p = a.lerp(b, t);
-        let hp = frame.height(p).max(0.0);
-        frame.to_plane(v + (p - v) * (hv / (hv - hp)))
+    (hi > lo).then_some((lo, hi))
+}
+
+/// The central projection from v of point p onto the receiver's plane:
+/// v + (p − v) h_v / (h_v − h_p), in plane coordinates.
+fn project(frame: &PlaneFrame, v: DVec3, p: DVec3) -> DVec2 {
+    let (hv, hp) = (frame.height(v), frame.height(p).max(0.0));
+    frame.to_plane(v + (p - v) * (hv / (hv - hp)))
+}
+
+/// The runs of edge ab's parameter range where its shadow from corner v is
+/// a real event: at each of [`EVENT_SAMPLES`] + 1 points q of the range,
+/// the receiver point it projects to sees q, and q sees v (shadow rays
+/// lifted off the receiver and stopped a surface offset short of q and v;
+/// `ends` are the receiver, the occluder and the light's surface, which the
+/// rays may touch). Each run reaches half a step beyond its outer passing
+/// points, where the change lies somewhere between samples.
+fn event_runs(
+    (scene, visibility): (&Scene, &Visibility),
+    (receiver, occluder, lamp): (SurfaceId, SurfaceId, SurfaceId),
+    v: DVec3,
+    [a, b]: [DVec3; 2],
+    (lo, hi): (f64, f64),
+) -> Vec<(f64, f64)> {
+    let target = scene.surface(receiver);
+    let (frame, normal) = (target.frame(), target.normal());
+    let offset = visibility.surface_offset();
+    let step = (hi - lo) / EVENT_SAMPLES as f64;
+    let real = |k: usize| {
+        let q = a.lerp(b, lo + step * k as f64);
+        let x = frame.to_world(project(frame, v, q)) + normal * offset;
+        let short = |from: DVec3, to: DVec3| to + (from - to).normalize_or_zero() * offset;
+        visibility.is_unblocked(x, short(x, q), [receiver, occluder])
+            && visibility.is_unblocked(short(v, q), short(q, v), [occluder, lamp])
     };
-    Some([project(lo), project(hi)])
+    let passing: Vec<bool> = (0..=EVENT_SAMPLES).map(real).collect();
+    let mut runs = Vec::new();
+    let mut k = 0;
+    while k <= EVENT_SAMPLES {
+        if !passing[k] {
+            k += 1;
+            continue;
+        }
+        let first = k;
+        while k < EVENT_SAMPLES && passing[k + 1] {
+            k += 1;
+        }
+        let t0 = (lo + step * (first as f64 - 0.5)).max(lo);
+        let t1 = (lo + step * (k as f64 + 0.5)).min(hi);
+        runs.push((t0, t1));
+        k += 1;
+    }
+    runs
 }
 
 /// Keeps the longest boundaries first, leaving out any that lies within
@@ -457,7 +534,7 @@ mod tests {
         let neighbours = EdgeNeighbours::new(scene);
         let lights = luminaires(scene);
         shadow_boundaries(
-            scene,
+            (scene, &Visibility::new(scene)),
             &neighbours,
             SurfaceId::new(0),
             &lights,
@@ -502,6 +579,35 @@ mod tests {
                         assert!(hit, "no boundary through {expected} (corner {cx}, {cz})");
                     }
                 }
+            }
+        }
+    }
+
+    /// A square plate of half-size `r` centred over (x, z) at height `h`,
+    /// facing up.
+    fn plate_at(r: f64, (x, h, z): (f64, f64, f64)) -> Vec<DVec3> {
+        [(r, -r), (-r, -r), (-r, r), (r, r)]
+            .iter()
+            .map(|&(dx, dz)| DVec3::new(x + dx, h, z + dz))
+            .collect()
+    }
+
+    #[test]
+    fn a_plate_in_another_plates_umbra_casts_no_boundary() {
+        // Lamp at 3 m (corners at ±0.1), a 2 m plate at 2 m whose umbra on
+        // the floor reaches |x| < 2.6, and a 0.5 m plate at 1 m whose shadow
+        // (within 0.6 of the centre) falls wholly inside it: every shadow
+        // ray from the small plate's shadow to its edges, or from them to
+        // the lamp, is blocked by the big plate, so only the big plate's 16
+        // (4 edges from 4 lamp corners) remain. (Off centre: a ray through the big plate's diagonal, the
+        // seam of its two triangles, may slip through in f32.)
+        let big = plate_at(1.0, (0.0, 2.0, 0.0));
+        let scene = scene_with(&[big, plate_at(0.25, (0.1, 1.0, 0.05))], 3.0);
+        let found = boundaries_on_floor(&scene);
+        assert_eq!(found.len(), 16, "{found:?}");
+        for [a, b] in found {
+            for p in [a, b] {
+                assert!(p.x.abs().max(p.y.abs()) > 2.5, "{p}");
             }
         }
     }

@@ -282,7 +282,7 @@ impl<'a> LightPoints<'a> {
             .flatten()
             .copied()
             .collect();
-        shadow_boundaries(scene, neighbours, id, &lit, &points, limits)
+        shadow_boundaries((scene, visibility), neighbours, id, &lit, &points, limits)
     }
 }
 
