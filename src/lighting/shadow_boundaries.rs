@@ -162,8 +162,7 @@ pub fn shadow_boundaries(
         source.cast(
             (scene, visibility),
             neighbours,
-            receiver,
-            tolerance,
+            (receiver, tolerance),
             &mut found,
         );
     }
@@ -176,8 +175,7 @@ pub fn shadow_boundaries(
         source.cast(
             (scene, visibility),
             neighbours,
-            receiver,
-            tolerance,
+            (receiver, tolerance),
             &mut found,
         );
     }
@@ -251,8 +249,7 @@ impl Source<'_> {
         &self,
         (scene, visibility): (&Scene, &Visibility),
         neighbours: &EdgeNeighbours,
-        receiver: SurfaceId,
-        tolerance: f64,
+        (receiver, tolerance): (SurfaceId, f64),
         found: &mut Vec<[DVec2; 2]>,
     ) {
         let target = scene.surface(receiver);
