@@ -596,8 +596,9 @@ mod tests {
         // (within 0.6 of the centre) falls wholly inside it: every shadow
         // ray from the small plate's shadow to its edges, or from them to
         // the lamp, is blocked by the big plate, so only the big plate's 16
-        // (4 edges from 4 lamp corners) remain. (Off centre: a ray through the big plate's diagonal, the
-        // seam of its two triangles, may slip through in f32.)
+        // (4 edges from 4 lamp corners) remain. (The small plate is off
+        // centre: a ray through the big plate's diagonal, the seam of its
+        // two triangles, may slip through in f32.)
         let big = plate_at(1.0, (0.0, 2.0, 0.0));
         let scene = scene_with(&[big, plate_at(0.25, (0.1, 1.0, 0.05))], 3.0);
         let found = boundaries_on_floor(&scene);

@@ -61,7 +61,7 @@ pub(crate) const PATCH_RAYS: usize = PATCH_SIDE * PATCH_SIDE;
 /// 3.96 % off per pixel (`bench/compare_images.py`, over pixels above 1 % of
 /// the reference's maximum) with 32 random rays per vertex, 3.78 % with 128 and
 /// 3.77 % with 1024 (3.44 % solved to 1 %); at 5 %, 64 stratified rays give
-/// 3.61 % and 128 give 3.58 %, for a tenth of the solve's time.
+/// 3.61 %, and 128 give 3.58 % for a tenth more time in all.
 pub(crate) const VERTEX_RAYS: usize = 64;
 const VERTEX_RINGS: usize = 8;
 
