@@ -21,7 +21,8 @@
 //! [`EVENT_SAMPLES`] + 1 points along the edge). An edge whose shadow falls
 //! inside another occluder's umbra, or that v sees only through other
 //! objects, bounds no penumbra there: a desk top's underside edges, a
-//! chair's legs beneath its seat. In the furnished office of
+//! chair's legs beneath its seat. Measured once by hand (`isorad info`,
+//! `compare_images.py`, `isorad compare`): in the furnished office of
 //! `bench/generate_building.py` the check takes a wall's boundaries from
 //! 163 to 122 and the room's render from 1.84 % to 1.82 % off per pixel;
 //! its floor keeps the cap of 256 (`isorad compare` on it: 3,299 vertices

@@ -56,8 +56,8 @@ pub(crate) const PATCH_RAYS: usize = PATCH_SIDE * PATCH_SIDE;
 /// Rays each vertex casts into its hemisphere, in strata of projected
 /// solid angle: [`VERTEX_RINGS`] rings of equal projected area times
 /// `VERTEX_RAYS / VERTEX_RINGS` sectors. At the 5 % default tolerance the
-/// term's noise, not its bias, is most of what stopping early costs: the
-/// cluttered office of `bench/generate_building.py` stopped at 10 % renders
+/// term's noise, not its bias, is most of what stopping early costs (measured
+/// once by hand, with the ray count changed): the cluttered office of `bench/generate_building.py` stopped at 10 % renders
 /// 3.96 % off per pixel (`bench/compare_images.py`, over pixels above 1 % of
 /// the reference's maximum) with 32 random rays per vertex, 3.78 % with 128 and
 /// 3.77 % with 1024 (3.44 % solved to 1 %); at 5 %, 64 stratified rays give
