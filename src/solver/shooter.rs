@@ -257,7 +257,14 @@ impl Shooter {
     /// ([`ShotRadiosity::Field`]), the complement gives the visible near
     /// strata's total factor F, which is shared among them in proportion to
     /// their disc terms g_k: H_near = F · Σ W_k g_k / Σ g_k (exact for a
-    /// uniform shot; the direct sum Σ W_k F_k when that is cheaper).
+    /// uniform shot; the direct sum when that is cheaper). That direct sum
+    /// takes each visible near stratum's field by a control variate,
+    /// W̄_k F_k + A_k k(y_k) (W(y_k) − W̄_k), with W̄_k the stratum's mean
+    /// radiosity and k the point kernel cosθ_r cosθ_s / (π r²) at its
+    /// sample: unbiased for ∫ ΔB k over the stratum, where W(y_k) F_k would
+    /// weight ΔB evenly over a stratum seen from nearby (a whole patch,
+    /// for a dim shot's one stratum) and light the receivers beside its dark
+    /// part as if it were bright.
     fn gather_mixed(
         &self,
         receiver: &Receiver,
@@ -296,9 +303,21 @@ impl Shooter {
                 if self.is_visible(receiver, target, visibility) {
                     kinds[NEAR_VISIBLE].insert(k);
                     near_visible += 1;
+                    let w = strata.at(k, uv);
+                    // The point kernel at the jittered sample, times the
+                    // stratum's area (zero behind either plane).
+                    let point_factor = {
+                        let (r2, cos_r) = (d.length_squared(), n.dot(d));
+                        let cos_s = -self.normal.dot(d);
+                        if cos_r > 0.0 && cos_s > 0.0 && r2 > 0.0 {
+                            stratum.area * cos_r * cos_s / (std::f64::consts::PI * r2 * r2)
+                        } else {
+                            0.0
+                        }
+                    };
+                    near_samples.push((k, w, point_factor));
                     let d = target - x;
-                    let (r2, w) = (d.length_squared(), strata.at(k, uv));
-                    near_samples.push((k, w));
+                    let r2 = d.length_squared();
                     let r = r2.sqrt();
                     let g =
                         disc_form_factor(stratum.area, n.dot(d) / r, -self.normal.dot(d) / r, r2)
@@ -340,9 +359,21 @@ impl Shooter {
         let near_visible_irradiance = if near_visible == 0 {
             Rgb::ZERO
         } else if near_visible <= 1 + far + near_hidden {
+            // Each visible near stratum's Σ_y ΔB(y) F(x, dy) by a control
+            // variate: its mean radiosity W̄ times its exact factor, plus the
+            // deviation at the jittered sample weighted by the point kernel,
+            //   W̄ F_k + A_k k(y) (W(y) − W̄),
+            // whose expectation is ∫ W k over the stratum. W(y) F_k alone
+            // would weight ΔB evenly over a stratum seen from nearby, and
+            // shift light from the patch's bright part to receivers beside
+            // its dark part.
             near_samples
                 .iter()
-                .map(|&(k, w)| w * polygon_form_factor(x, n, strata.cells[k].polygon()))
+                .map(|&(k, w, point_factor)| {
+                    let mean = strata.radiosity[k];
+                    let exact = polygon_form_factor(x, n, strata.cells[k].polygon());
+                    (mean * exact + (w - mean) * point_factor).max(Rgb::ZERO)
+                })
                 .sum()
         } else {
             let far_factor = if far > 0 { lambert(FAR) } else { 0.0 };
