@@ -162,6 +162,13 @@ pub struct MeshSettings {
     /// through the scene's occluders, for every mesher (discontinuity
     /// meshing; see `lighting::shadow_boundaries`). On by default.
     pub shadow_boundaries: bool,
+    /// The most shadow boundaries one receiver gets, longest first (256).
+    /// A floor under many lamps and chairs casts thousands; each kept one
+    /// adds a row of vertices that every shot reaches. More follow small
+    /// objects' shadows better at a cost in time: on `scenes/office` 1024
+    /// give 4.00 % per pixel against a path tracer instead of 4.58 %, for
+    /// 15 % more time (README, Accuracy).
+    pub max_shadow_boundaries: usize,
     /// The most elements [`MeshSettings::check_budget`] allows (estimated
     /// before meshing): a guard against settings that would exhaust memory.
     /// Raise it to mesh a scene that truly needs more.
@@ -181,6 +188,7 @@ impl Default for MeshSettings {
             dominance: DominanceSettings::default(),
             refinement: RefinementSettings::default(),
             shadow_boundaries: true,
+            max_shadow_boundaries: 256,
             max_elements: MeshSettings::DEFAULT_MAX_ELEMENTS,
         }
     }
@@ -239,6 +247,12 @@ impl MeshSettings {
                     message: format!("{value} is not in 1..=1000"),
                 });
             }
+        }
+        if !(1..=1_000_000).contains(&self.max_shadow_boundaries) {
+            return Err(crate::Error::InvalidSetting {
+                name: "max_shadow_boundaries".into(),
+                message: format!("{} is not in 1..=1000000", self.max_shadow_boundaries),
+            });
         }
         let error = self.contour.max_relative_error;
         if !(0.0..1.0).contains(&error) {

@@ -153,12 +153,10 @@ pub(crate) const LAYOUT_EXTRA_POINTS: f64 = 256.0;
 /// twentieth 1.74 % for twice the office's time.
 const BOUNDARY_MIN_FEATURE: f64 = 0.1875;
 
-/// The most shadow boundaries one receiver gets, longest first.
-const MAX_BOUNDARIES_PER_RECEIVER: usize = 256;
-
 /// Every surface's shadow boundaries, indexed by surface, in its plane
 /// coordinates, as `settings` meshes them: merged where closer than 3/16
-/// of an element, at most 256 per receiver, longest first. Empty
+/// of an element, at most `settings.max_shadow_boundaries` per receiver,
+/// longest first. Empty
 /// for emitters, for surfaces smaller than one element (a line across would
 /// only split them into slivers), and for all when
 /// `settings.shadow_boundaries` is off. Only the lights that reach a
@@ -178,7 +176,7 @@ pub fn scene_shadow_boundaries(
     let neighbours = EdgeNeighbours::new(scene);
     let limits = BoundaryLimits {
         min_feature: BOUNDARY_MIN_FEATURE * square.max_edge,
-        max_per_receiver: MAX_BOUNDARIES_PER_RECEIVER,
+        max_per_receiver: settings.max_shadow_boundaries,
     };
     let ids: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
     let lights = LightPoints::new(scene, luminaires);
@@ -205,7 +203,7 @@ pub fn receiver_shadow_boundaries(
     let square = settings.square_for(scene);
     let limits = BoundaryLimits {
         min_feature: BOUNDARY_MIN_FEATURE * square.max_edge,
-        max_per_receiver: MAX_BOUNDARIES_PER_RECEIVER,
+        max_per_receiver: settings.max_shadow_boundaries,
     };
     LightPoints::new(scene, luminaires).boundaries_on(
         scene,

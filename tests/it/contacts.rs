@@ -3,7 +3,7 @@
 //! under a block or from behind a ceiling panel.
 
 use crate::support::*;
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use isorad::{
     Scene, Solver, SolverSettings, SurfaceId,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
@@ -347,6 +347,25 @@ fn shadow_boundaries_stay_in_the_room_the_light_reaches() {
     );
     assert_eq!(count("floor_b"), 0);
     assert_eq!(count("wall_b") + count("block_b"), 0);
+    // `max_shadow_boundaries` keeps the longest.
+    let mut settings = isorad::MeshSettings::default();
+    settings.max_shadow_boundaries = 2;
+    let capped = isorad::solver::scene_shadow_boundaries(&scene, &visibility, &lights, &settings);
+    let floor_a = scene
+        .surfaces_with_ids()
+        .find(|(_, s)| s.name == "floor_a")
+        .map(|(id, _)| id.index())
+        .unwrap();
+    let length = |s: &[DVec2; 2]| s[0].distance(s[1]);
+    let mut lengths: Vec<f64> = boundaries[floor_a].iter().map(length).collect();
+    lengths.sort_by(|a, b| b.total_cmp(a));
+    let kept: Vec<f64> = capped[floor_a].iter().map(length).collect();
+    assert_eq!(kept.len(), 2);
+    assert!(
+        kept.iter().all(|&l| l >= lengths[1] - 1e-12),
+        "{kept:?} of {lengths:?}"
+    );
+    assert!(capped.iter().all(|b| b.len() <= 2));
 }
 
 /// The surface grid that meshing asks what stands on a surface finds

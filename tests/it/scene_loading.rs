@@ -289,6 +289,12 @@ fn toml_bad_settings_are_named_with_line_and_field() {
         "mesh.elements_per_side",
         &["0 is not in 1..=1000"],
     );
+    expect_setting_error(
+        &format!("{obj}[mesh]\nmax_shadow_boundaries = 0\n"),
+        3,
+        "mesh.max_shadow_boundaries",
+        &["0 is not in 1..=1000000"],
+    );
     // A table where a table belongs is checked when loading.
     let (_dir, path) = toml_scene(&format!("{obj}mesh = 3\n"));
     expect_error(&path, &["scene.toml", "line 2", "invalid type"]);

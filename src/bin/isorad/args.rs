@@ -77,6 +77,10 @@ pub struct Overrides {
     /// cast (discontinuity meshing, on by default).
     #[arg(long)]
     no_shadow_boundaries: bool,
+    /// The most shadow boundaries one receiver gets, longest first
+    /// [default: 256, or the scene file's `[mesh] max_shadow_boundaries`].
+    #[arg(long, value_name = "N")]
+    max_shadow_boundaries: Option<usize>,
 }
 
 impl Overrides {
@@ -120,6 +124,9 @@ impl Overrides {
         if self.no_shadow_boundaries {
             mesh.shadow_boundaries = false;
         }
+        if let Some(count) = self.max_shadow_boundaries {
+            mesh.max_shadow_boundaries = count;
+        }
         settings
             .validate()
             .map_err(|error| with_flag_names(error, &self.given()))
@@ -160,6 +167,11 @@ impl Overrides {
                 "--max-elements",
                 "mesh.max_elements",
                 self.max_elements.is_some(),
+            ),
+            (
+                "--max-shadow-boundaries",
+                "mesh.max_shadow_boundaries",
+                self.max_shadow_boundaries.is_some(),
             ),
         ]
         .into_iter()

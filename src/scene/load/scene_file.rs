@@ -23,6 +23,7 @@
 //! patch_max_edge = { of_diagonal = 0.125 } # longest patch edge (default 1/8 of it)
 //! elements_per_side = 10               # N × N grid on every quad, instead of max_edge
 //! max_elements = 5000000               # refuse a larger mesh (counted before meshing)
+//! max_shadow_boundaries = 256          # the most shadow boundaries one face gets
 //! [mesh.contour]                       # the contour mesher
 //! directions = 16                      # D rays from the light's maximum
 //! levels = 8                           # K contour levels
