@@ -26,7 +26,13 @@
 //! with cosine-weighted directions that mean is the irradiance of a
 //! Lambertian surround), found by Jacobi iteration, which converges as
 //! (ρ f)^k for landing share f. A vertex's ambient irradiance is then
-//! G_v = ⟨ΔB_h + A_h⟩_v, and its radiosity gains ρ_v G_v. In a closed scene
+//! G_v = ⟨ΔB_h(y) + A_h⟩_v, and its radiosity gains ρ_v G_v. A vertex ray
+//! reads ΔB_h(y) where it lands, y, on the 8 × 8 lattice over the patch
+//! that the patch's shots read (`solver/shooter.rs`), not the patch's
+//! mean: after a lamp's shot alone, a table's underside, which sees the
+//! dark floor under the table, got 73 % too much from the floor patch's
+//! mean and gets 12 % too little from where its rays land
+//! (`tests/it/strata.rs`, one floor patch). In a closed scene
 //! of uniform ΔB and ρ this is Cohen's ΔB / (1 − ρ); over an open floor it
 //! is nothing; under the table it is what the underside will still send.
 //! The rays are cast once and kept; only the lookups are repeated for each
@@ -44,6 +50,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use super::unshot::cell_coordinates;
 use super::zones::{cosine_direction, cosine_direction_at};
 use crate::lighting::SampleStream;
 use crate::mesh::Mesh;
@@ -83,6 +90,10 @@ pub(crate) struct AmbientRays {
     /// `vertex_hits.len() / VERTEX_RAYS` vertices; more are cast as an
     /// adaptive mesh grows).
     vertex_hits: Vec<u32>,
+    /// Where each vertex ray lands, as the parameters (s, t) of the patch it
+    /// hits ([`crate::mesh::Cell::point`]; NaN for a miss, or off the
+    /// patch): the unshot light is read there, not as the patch's mean.
+    vertex_points: Vec<[f32; 2]>,
 }
 
 impl AmbientRays {
@@ -108,13 +119,13 @@ impl AmbientRays {
                         // Not stratified: the points are, by k.
                         let direction = cosine_direction(normal, &mut stream);
                         let start = (origin, normal, patch.surface);
-                        locator.hit(scene, visibility, start, direction)
+                        locator.hit(scene, visibility, start, direction).0
                     })
                 })
                 .collect();
         }
         if done < mesh.vertices.len() {
-            let more: Vec<u32> = (done..mesh.vertices.len())
+            let more: Vec<(u32, [f32; 2])> = (done..mesh.vertices.len())
                 .into_par_iter()
                 .flat_map_iter(|v| (0..VERTEX_RAYS).map(move |k| (v, k)))
                 .map(|(v, k)| {
@@ -125,39 +136,62 @@ impl AmbientRays {
                     let sectors = VERTEX_RAYS / VERTEX_RINGS;
                     let direction =
                         stratified_direction(normal, k, (VERTEX_RINGS, sectors), &mut stream);
-                    locator.hit(
-                        scene,
-                        visibility,
-                        (origin, normal, vertex.surface),
-                        direction,
-                    )
+                    let start = (origin, normal, vertex.surface);
+                    let (hit, point) = locator.hit(scene, visibility, start, direction);
+                    let (s, t) = mesh
+                        .patches
+                        .get(hit as usize)
+                        .and_then(|patch| cell_coordinates(&patch.cell, point))
+                        .unwrap_or((f64::NAN, f64::NAN));
+                    (hit, [s as f32, t as f32])
                 })
                 .collect();
-            self.vertex_hits.extend(more);
+            for (hit, point) in more {
+                self.vertex_hits.push(hit);
+                self.vertex_points.push(point);
+            }
         }
     }
 
     /// The ambient irradiance G_v of every vertex (see the module docs), for
     /// unshot radiosity `unshot` and reflectance `reflectance` per patch.
-    /// Vertices whose rays have not been cast get none.
+    /// A vertex ray reads the unshot radiosity where it lands,
+    /// `unshot_at(patch, (s, t))` at the patch's parameters there, or the
+    /// patch's mean where that gives none: a floor
+    /// patch half under a desk then sends the desk's underside the light of
+    /// its dark half and the ceiling that of its lit half, as its shots do.
+    /// The residual A_h stays the patch's. Vertices whose rays have not been
+    /// cast get none.
     #[must_use]
-    pub(crate) fn irradiance(&self, mesh: &Mesh, unshot: &[Rgb], reflectance: &[Rgb]) -> Vec<Rgb> {
+    pub(crate) fn irradiance(
+        &self,
+        mesh: &Mesh,
+        (unshot, reflectance): (&[Rgb], &[Rgb]),
+        unshot_at: &(dyn Fn(usize, (f64, f64)) -> Option<Rgb> + Sync),
+    ) -> Vec<Rgb> {
         let residual = self.patch_residual(unshot, reflectance);
-        let seen = |hits: &[u32]| {
+        let seen = |v: usize| {
+            let rays = v * VERTEX_RAYS..(v + 1) * VERTEX_RAYS;
+            let (Some(hits), Some(points)) = (
+                self.vertex_hits.get(rays.clone()),
+                self.vertex_points.get(rays),
+            ) else {
+                return Rgb::ZERO;
+            };
             hits.iter()
-                .filter(|&&h| h != MISS)
-                .map(|&h| unshot[h as usize] + residual[h as usize])
+                .zip(points)
+                .filter(|(h, _)| **h != MISS)
+                .map(|(&h, &[s, t])| {
+                    let h = h as usize;
+                    let at = (s.is_finite() && t.is_finite())
+                        .then(|| unshot_at(h, (f64::from(s), f64::from(t))))
+                        .flatten();
+                    at.unwrap_or(unshot[h]) + residual[h]
+                })
                 .sum::<Rgb>()
-                / hits.len() as f64
+                / VERTEX_RAYS as f64
         };
-        (0..mesh.vertices.len())
-            .into_par_iter()
-            .map(|v| {
-                self.vertex_hits
-                    .get(v * VERTEX_RAYS..(v + 1) * VERTEX_RAYS)
-                    .map_or(Rgb::ZERO, seen)
-            })
-            .collect()
+        (0..mesh.vertices.len()).into_par_iter().map(seen).collect()
     }
 
     /// The fixed point A_p = ρ_p ⟨ΔB_h + A_h⟩_p, by Jacobi iteration.
@@ -264,25 +298,28 @@ impl PatchLocator {
     }
 
     /// The patch that a ray from `origin` on `surface` (unit `normal`)
-    /// along `direction` hits first, or [`MISS`].
+    /// along `direction` hits first, or [`MISS`], and where (NaN for a
+    /// miss).
     fn hit(
         &self,
         scene: &Scene,
         visibility: &Visibility,
         (origin, normal, surface): (DVec3, DVec3, crate::scene::SurfaceId),
         direction: DVec3,
-    ) -> u32 {
+    ) -> (u32, DVec3) {
+        const NONE: (u32, DVec3) = (MISS, DVec3::NAN);
         let start = origin + normal * visibility.surface_offset();
         let Some((hit, distance)) = visibility.closest_hit(start, direction, self.reach, surface)
         else {
-            return MISS;
+            return NONE;
         };
         let target = scene.surface(hit);
         // Light arriving from a surface's back: one-sided surfaces send none.
         if target.normal().dot(direction) >= 0.0 {
-            return MISS;
+            return NONE;
         }
-        let point = target.frame().to_plane(start + direction * distance);
+        let landed = start + direction * distance;
+        let point = target.frame().to_plane(landed);
         let candidates = &self.by_surface[hit.index()];
         candidates
             .iter()
@@ -292,7 +329,7 @@ impl PatchLocator {
                     distance_to_boundary(&a.1, point).total_cmp(&distance_to_boundary(&b.1, point))
                 })
             })
-            .map_or(MISS, |&(p, _)| p)
+            .map_or(NONE, |&(p, _)| (p, landed))
     }
 }
 
@@ -308,6 +345,7 @@ mod tests {
         let rays = AmbientRays {
             patch_hits: [vec![1; PATCH_RAYS], vec![0; PATCH_RAYS]].concat(),
             vertex_hits: Vec::new(),
+            vertex_points: Vec::new(),
         };
         let unshot = [Rgb::splat(2.0), Rgb::splat(2.0)];
         let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];
@@ -328,6 +366,7 @@ mod tests {
         let rays = AmbientRays {
             patch_hits: [half, vec![MISS; PATCH_RAYS]].concat(),
             vertex_hits: Vec::new(),
+            vertex_points: Vec::new(),
         };
         let unshot = [Rgb::ZERO, Rgb::splat(4.0)];
         let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];

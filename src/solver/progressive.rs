@@ -10,7 +10,7 @@ use super::mesh_settings::MeshKind;
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene};
 use super::settings::{Settings, ShootFrom, SolverSettings};
-use super::shooter::{Receiver, Shooter, ShotRadiosity};
+use super::shooter::{Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity};
 use super::solution::Solution;
 use super::unshot::UnshotCorners;
 use super::zones::{ZoneMembers, Zones};
@@ -506,7 +506,31 @@ impl Solver {
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         rays.cast_missing(&self.scene, &self.mesh, &self.visibility);
-        rays.irradiance(&self.mesh, &self.unshot, &reflectance)
+        // Each quad patch's unshot field on the lattice its shots read
+        // (`solver/shooter.rs`), for the vertices' rays to read where they
+        // land.
+        let lattices: Vec<Vec<Rgb>> = self
+            .mesh
+            .patches
+            .par_iter()
+            .zip(&self.unshot)
+            .map(|(patch, &unshot)| {
+                if patch.cell.is_triangle {
+                    return Vec::new();
+                }
+                let field = self
+                    .unshot_corners
+                    .field(&self.mesh, patch, unshot * patch.area);
+                field.sampled_radiosity(&[patch.cell], SAMPLED_PER_SIDE)
+            })
+            .collect();
+        let unshot_at = |p: usize, (s, t): (f64, f64)| {
+            let cell = |w: f64| ((w * SAMPLED_PER_SIDE as f64) as usize).min(SAMPLED_PER_SIDE - 1);
+            lattices[p]
+                .get(cell(t) * SAMPLED_PER_SIDE + cell(s))
+                .copied()
+        };
+        rays.irradiance(&self.mesh, (&self.unshot, &reflectance), &unshot_at)
     }
 
     /// The solution from the light shot so far, without the ambient term.

@@ -76,7 +76,7 @@ struct Strata {
 /// (the office's floor patches lost up to 10 % of each shot, and its ceiling
 /// came out 3 % dark). Eight per side recovers that to 0.4 %; sixteen
 /// recover 0.3 % more but cost a fifth of the ray throughput.
-const SAMPLED_PER_SIDE: usize = 8;
+pub(crate) const SAMPLED_PER_SIDE: usize = 8;
 
 impl Strata {
     /// The radiosity stratum k shoots along a ray to its sample at

@@ -191,7 +191,7 @@ impl FieldElement {
 /// The coordinates (s, t) of y in a cell, inverting [`Cell::point`]
 /// (Gauss–Newton on the bilinear map; one step is exact for a triangle);
 /// `None` when y lies outside.
-fn cell_coordinates(cell: &Cell, y: DVec3) -> Option<(f64, f64)> {
+pub(crate) fn cell_coordinates(cell: &Cell, y: DVec3) -> Option<(f64, f64)> {
     const INSIDE: f64 = 1e-9;
     let [a, b, c, d] = cell.corners;
     let (mut s, mut t) = if cell.is_triangle {
@@ -216,8 +216,13 @@ fn cell_coordinates(cell: &Cell, y: DVec3) -> Option<(f64, f64)> {
             return None;
         }
         let (ru, rv) = (du.dot(r), dv.dot(r));
-        s += (vv * ru - uv * rv) / det;
-        t += (uu * rv - uv * ru) / det;
+        let (ds, dt) = ((vv * ru - uv * rv) / det, (uu * rv - uv * ru) / det);
+        s += ds;
+        t += dt;
+        // A parallelogram's map is affine: the first step is exact.
+        if ds.abs().max(dt.abs()) < 1e-12 {
+            break;
+        }
     }
     let inside = if cell.is_triangle {
         s >= -INSIDE && t >= -INSIDE && s + t <= 1.0 + INSIDE
