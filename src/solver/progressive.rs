@@ -10,7 +10,7 @@ use super::mesh_settings::MeshKind;
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene};
 use super::settings::{Settings, ShootFrom, SolverSettings};
-use super::shooter::{Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity};
+use super::shooter::{Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity, sampled_cell};
 use super::solution::Solution;
 use super::unshot::UnshotCorners;
 use super::zones::{ZoneMembers, Zones};
@@ -524,11 +524,9 @@ impl Solver {
                 field.sampled_radiosity(&[patch.cell], SAMPLED_PER_SIDE)
             })
             .collect();
-        let unshot_at = |p: usize, (s, t): (f64, f64)| {
-            let cell = |w: f64| ((w * SAMPLED_PER_SIDE as f64) as usize).min(SAMPLED_PER_SIDE - 1);
-            lattices[p]
-                .get(cell(t) * SAMPLED_PER_SIDE + cell(s))
-                .copied()
+        let unshot_at = |p: usize, uv: (f64, f64)| {
+            let lattice: &Vec<Rgb> = &lattices[p];
+            lattice.get(sampled_cell(uv, SAMPLED_PER_SIDE)).copied()
         };
         rays.irradiance(&self.mesh, (&self.unshot, &reflectance), &unshot_at)
     }

@@ -85,9 +85,16 @@ impl Strata {
         if self.sampled.is_empty() {
             return self.radiosity[k];
         }
-        let cell = |w: f64| ((w * self.sub as f64) as usize).min(self.sub - 1);
-        self.sampled[k * self.sub * self.sub + cell(v) * self.sub + cell(u)]
+        self.sampled[k * self.sub * self.sub + sampled_cell((u, v), self.sub)]
     }
+}
+
+/// The cell, row by row, of a `sub` × `sub` grid over a parameter square
+/// that parameters (u, v) fall in: where a sample reads the values of
+/// [`PatchField::sampled_radiosity`].
+pub(crate) fn sampled_cell((u, v): (f64, f64), sub: usize) -> usize {
+    let cell = |w: f64| ((w * sub as f64) as usize).min(sub - 1);
+    cell(v) * sub + cell(u)
 }
 
 /// A receiving point: where it gathers, its normal, and a key for its jitter.
