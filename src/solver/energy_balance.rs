@@ -10,8 +10,10 @@ use crate::scene::Rgb;
 pub struct EnergyBalance {
     /// Power emitted by all emitters: Σ E·A.
     pub emitted: Rgb,
-    /// Power absorbed by surfaces: Σ_e A_e (1 − ρ_e) H_e, with H_e the mean
-    /// irradiance of element e's vertices.
+    /// Power absorbed by surfaces: Σ (1 − ρ_e) P_e over the power P_e each
+    /// shot gave element e (A_e times its corners' mean irradiance, or, from
+    /// an emitter, that with the curvature of its field: see
+    /// `solver/element_power.rs`).
     pub absorbed: Rgb,
     /// Power waiting to be shot: Σ_p ΔB_p A_p.
     pub unshot: Rgb,

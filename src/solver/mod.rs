@@ -4,6 +4,7 @@
 //! gets (`scene_mesh.rs`, where lighting's fields meet the meshers).
 
 mod ambient;
+mod element_power;
 mod energy_balance;
 mod mesh_settings;
 mod penumbra;

@@ -2,9 +2,11 @@
 
 use std::sync::Mutex;
 
+use glam::DVec3;
 use rayon::prelude::*;
 
 use super::ambient::AmbientRays;
+use super::element_power;
 use super::energy_balance::EnergyBalance;
 use super::mesh_settings::MeshKind;
 use super::refinement::{Refiner, elements_to_split};
@@ -14,7 +16,7 @@ use super::shooter::{Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity, sampled
 use super::solution::Solution;
 use super::unshot::UnshotCorners;
 use super::zones::{ZoneMembers, Zones};
-use crate::mesh::{ElementHierarchy, Mesh};
+use crate::mesh::{Cell, ElementHierarchy, Mesh};
 use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 
 /// Radiosity at mesh vertices, solved by progressive refinement: the patch
@@ -67,6 +69,9 @@ pub struct Solver {
     emitted_power: Rgb,
     shot_power: Rgb,
     received_power: Rgb,
+    /// Σ (1 − ρ) P over the power P elements received: the ledger's absorbed
+    /// power, counted as the received power is (see `element_power.rs`).
+    absorbed_power: Rgb,
     /// The rays the ambient term gathers the unshot light along, cast on
     /// first use.
     ambient_rays: Mutex<AmbientRays>,
@@ -175,6 +180,7 @@ impl Solver {
             emitted_power,
             shot_power: Rgb::ZERO,
             received_power: Rgb::ZERO,
+            absorbed_power: Rgb::ZERO,
             ambient_rays: Mutex::new(AmbientRays::default()),
             luminaire_shot,
             emission_pending,
@@ -247,7 +253,11 @@ impl Solver {
         });
         let mut incident = std::mem::take(&mut self.incident);
         self.incident_from(j, power, radiosity, zone, &mut incident);
-        self.receive(&incident, zone);
+        let emitter = is_emitter.then(|| {
+            let patch = &self.mesh.patches[j];
+            (patch.cell, self.scene.surface(patch.surface).normal())
+        });
+        self.receive(&incident, zone, emitter);
         // Cleared where it was written, for the next shot.
         match zone.zip(self.zones.as_ref()) {
             Some((zone, (_, members))) => {
@@ -276,7 +286,7 @@ impl Solver {
             self.luminaire_light(k, &(0..self.mesh.vertices.len() as u32).collect::<Vec<_>>());
         let samples = self.scene.luminaires[k].opening_samples().len();
         self.rays += (incident.len() * samples) as u64;
-        self.receive(&incident, None);
+        self.receive(&incident, None, None);
         self.shot_power += self.scene.luminaires[k].power();
         self.luminaire_shot[k] = true;
         self.shots += 1;
@@ -384,7 +394,11 @@ impl Solver {
     /// Adds a shot's irradiance to vertices, and what elements reflect to
     /// their corners' and their patches' unshot radiosity: over the
     /// elements of closed zone `zone` only when given (no other receives).
-    fn receive(&mut self, incident: &[Rgb], zone: Option<usize>) {
+    /// For the shot of an emitting patch (its polygon and normal), the
+    /// elements' received power takes the curvature of its unoccluded field
+    /// (see `element_power.rs`); otherwise it is the corners' mean times the
+    /// area.
+    fn receive(&mut self, incident: &[Rgb], zone: Option<usize>, emitter: Option<(Cell, DVec3)>) {
         // The zone's lists, taken out of `self` while its fields change.
         let members = zone.and_then(|zone| Some((zone, self.zones.take()?)));
         let (all_vertices, all_elements): (Vec<u32>, Vec<u32>);
@@ -404,13 +418,19 @@ impl Solver {
                 self.radiosity[v] += reflected;
             }
         }
-        for &e in elements {
+        let emitter_powers = emitter.map(|(cell, normal)| {
+            let emitter = (cell.polygon(), normal);
+            element_power::emitter_shot_powers(&self.scene, &self.mesh, emitter, incident, elements)
+        });
+        for (i, &e) in elements.iter().enumerate() {
             let (e, element) = (e as usize, &self.mesh.elements[e as usize]);
-            let mean = element.corner_mean(|v| incident[v as usize]);
-            if mean == Rgb::ZERO {
+            let incident_power = match &emitter_powers {
+                Some(powers) => powers[i],
+                None => element.corner_mean(|v| incident[v as usize]) * element.area,
+            };
+            if incident_power == Rgb::ZERO {
                 continue;
             }
-            let incident_power = mean * element.area;
             self.received_power += incident_power;
             let patch = element.patch as usize;
             let reflectance = self
@@ -418,6 +438,7 @@ impl Solver {
                 .material_of(self.scene.surface(element.surface))
                 .reflectance;
             self.unshot[patch] += reflectance * incident_power / self.mesh.patches[patch].area;
+            self.absorbed_power += (Rgb::ONE - reflectance) * incident_power;
             self.unshot_corners
                 .add(e, element, |v| reflectance * incident[v as usize]);
         }
@@ -574,22 +595,9 @@ impl Solver {
     /// The energy ledger; see [`EnergyBalance`].
     #[must_use]
     pub fn energy_balance(&self) -> EnergyBalance {
-        let absorbed = self
-            .mesh
-            .elements
-            .iter()
-            .map(|element| {
-                let mean = element.corner_mean(|v| self.irradiance[v as usize]);
-                let reflectance = self
-                    .scene
-                    .material_of(self.scene.surface(element.surface))
-                    .reflectance;
-                (Rgb::ONE - reflectance) * mean * element.area
-            })
-            .sum();
         EnergyBalance {
             emitted: self.emitted_power,
-            absorbed,
+            absorbed: self.absorbed_power,
             unshot: self.unshot_power(),
             escaped: self.shot_power - self.received_power,
         }
@@ -697,6 +705,7 @@ impl Solver {
                         .reflectance;
                     self.unshot[p] += reflectance * change / patch.area;
                     self.received_power += change;
+                    self.absorbed_power += (Rgb::ONE - reflectance) * change;
                 }
             }
         }

@@ -168,7 +168,10 @@ pub struct Solution<'a> {
 
 impl Solution<'_> {
     /// Totals per surface, indexed as [`Scene::surfaces`]; each element
-    /// contributes its area times the mean of its corners' values.
+    /// contributes its area times the mean of its corners' values: the
+    /// integrals of the shaded mesh. (The solver's energy ledger counts an
+    /// emitter's light on each element with the curvature of its field,
+    /// which the corners' mean misses; see [`crate::solver::EnergyBalance`].)
     #[must_use]
     pub fn surface_totals(&self) -> Vec<SurfaceTotals> {
         let mut totals = vec![

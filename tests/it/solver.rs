@@ -371,3 +371,51 @@ fn open_scenes_are_one_zone() {
     let solver = isorad::Solver::new(b.scene, isorad::Settings::default()).unwrap();
     assert_eq!(solver.closed_zones(), 1);
 }
+
+/// The power a floor receives from a lamp's shot, as the ledger counts it
+/// (what the floor then reflects into its unshot power), against the exact
+/// ∫ E dA: a 1 × 1 lamp 1 m over a 2 × 2 floor meshed in 1 m elements,
+/// whose light falls off by half across each. The corners' mean (the
+/// trapezoid rule) misses the field's curvature; the emitter's quadrature
+/// (`solver/element_power.rs`) takes it.
+#[test]
+fn a_lamps_shot_gives_a_coarse_floor_its_exact_power() {
+    let mut b = SceneBuilder::default();
+    let reflectance = 0.5;
+    let floor = b.material("floor", reflectance, 0.0);
+    let light = b.material("light", 0.0, 10.0);
+    b.polygon("floor", floor, square_z(-1.0, 1.0, 0.0, true));
+    let lamp = square_z(-0.5, 0.5, 1.0, false);
+    b.polygon("light", light, lamp.clone());
+    let scene = b.scene;
+    let mesh = mesh(&scene, 1.0, 1.0);
+    let mut solver = isorad::Solver::with_mesh(scene, mesh, settings(1e-3)).unwrap();
+    assert!(solver.step(), "the lamp shoots");
+    let received = solver.energy_balance().unshot.r / reflectance;
+    // ∫ π L F(x) dA over the floor by a 400 × 400 midpoint sum.
+    let (m, up) = (400, DVec3::Z);
+    let cell = 2.0 / f64::from(m);
+    let mut exact = 0.0;
+    for j in 0..m {
+        for i in 0..m {
+            let x = DVec3::new(
+                -1.0 + (f64::from(i) + 0.5) * cell,
+                -1.0 + (f64::from(j) + 0.5) * cell,
+                0.0,
+            );
+            exact += PI * 10.0 * isorad::radiometry::polygon_form_factor(x, up, &lamp);
+        }
+    }
+    exact *= cell * cell;
+    let trapezoid = solver.solution().surface_totals()[0].received_power.r;
+    let error = received / exact - 1.0;
+    let trapezoid_error = trapezoid / exact - 1.0;
+    println!(
+        "floor power {received:.4} W, exact {exact:.4} W ({error:+.4}); corners' mean {trapezoid_error:+.4}"
+    );
+    assert!(error.abs() < 0.005, "{error:+.4}");
+    assert!(
+        trapezoid_error < -0.02,
+        "the trapezoid rule: {trapezoid_error:+.4}"
+    );
+}
