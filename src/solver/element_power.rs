@@ -62,25 +62,31 @@ fn unoccluded_factor(x: DVec3, n: DVec3, emitter: &[DVec3], emitter_normal: DVec
 /// The power (W) each of `elements` receives from the shot of an emitting
 /// patch `emitter` (its polygon and front normal) that gave the vertices
 /// `incident` irradiance, by element index in `elements`' order (see the
-/// module's documentation). The unoccluded field is read once per vertex
-/// (at its receiver position) and once per element, at its centre.
+/// module's documentation). `vertices` are the elements' corners (the
+/// shot's closed zone, or the whole mesh): the unoccluded field is read
+/// once at each (at its receiver position) and once per element, at its
+/// centre, so a shot in one room of a building costs that room alone.
 pub(crate) fn emitter_shot_powers(
     scene: &Scene,
     mesh: &Mesh,
     (emitter, emitter_normal): (&[DVec3], DVec3),
     incident: &[Rgb],
-    elements: &[u32],
+    (vertices, elements): (&[u32], &[u32]),
 ) -> Vec<Rgb> {
     let normal = |surface| scene.surface(surface).normal();
     // The unoccluded factor at every vertex, shadowed or not.
-    let at_vertices: Vec<f64> = mesh
-        .vertices
+    let factors: Vec<f64> = vertices
         .par_iter()
-        .map(|vertex| {
+        .map(|&v| {
+            let vertex = &mesh.vertices[v as usize];
             let n = normal(vertex.surface);
             unoccluded_factor(vertex.receiver_position, n, emitter, emitter_normal)
         })
         .collect();
+    let mut at_vertices = vec![0.0; mesh.vertices.len()];
+    for (&v, factor) in vertices.iter().zip(factors) {
+        at_vertices[v as usize] = factor;
+    }
     elements
         .par_iter()
         .map(|&e| {

@@ -420,7 +420,8 @@ impl Solver {
         }
         let emitter_powers = emitter.map(|(cell, normal)| {
             let emitter = (cell.polygon(), normal);
-            element_power::emitter_shot_powers(&self.scene, &self.mesh, emitter, incident, elements)
+            let zone = (vertices, elements);
+            element_power::emitter_shot_powers(&self.scene, &self.mesh, emitter, incident, zone)
         });
         for (i, &e) in elements.iter().enumerate() {
             let (e, element) = (e as usize, &self.mesh.elements[e as usize]);
