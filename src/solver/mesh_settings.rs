@@ -166,8 +166,10 @@ pub struct MeshSettings {
     /// A floor under many lamps and chairs casts thousands; each kept one
     /// adds a row of vertices that every shot reaches. More follow small
     /// objects' shadows better at a cost in time: on `scenes/office` 1024
-    /// gave 3.97 % per pixel against a path tracer instead of 4.54 %, for
-    /// 15 % more time (measured once by hand; README, Accuracy).
+    /// gave 3.91 % per pixel against a path tracer instead of 4.49 %, for
+    /// 17 % more time (measured once by hand; README, Accuracy), but on
+    /// the furnished office of `bench/generate_building.py` keeping every
+    /// one gave 1.70 % instead of 1.89 % for 81 % more time.
     pub max_shadow_boundaries: usize,
     /// The most elements [`MeshSettings::check_budget`] allows (estimated
     /// before meshing): a guard against settings that would exhaust memory.
