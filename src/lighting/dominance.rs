@@ -190,6 +190,23 @@ pub fn analyse_receivers(
     luminaires: &[Luminaire],
     settings: &DominanceSettings,
 ) -> Vec<ReceiverAnalysis> {
+    let all: Vec<usize> = (0..luminaires.len() + scene.luminaires.len()).collect();
+    analyse_receivers_among(scene, visibility, luminaires, settings, &|_| all.clone())
+}
+
+/// [`analyse_receivers`], with each receiver paired only with the lights
+/// that `lights_of(receiver)` lists (indices in [`dominant_field`]'s order,
+/// ascending; the others give it no light): the luminaires of its own
+/// closed room, so that a building of separate rooms costs what its rooms
+/// cost alone instead of every receiver times every luminaire.
+#[must_use]
+pub fn analyse_receivers_among(
+    scene: &Scene,
+    visibility: &Visibility,
+    luminaires: &[Luminaire],
+    settings: &DominanceSettings,
+    lights_of: &(dyn Fn(SurfaceId) -> Vec<usize> + Sync),
+) -> Vec<ReceiverAnalysis> {
     let receivers: Vec<SurfaceId> = scene
         .surfaces_with_ids()
         .filter(|(_, surface)| {
@@ -202,7 +219,10 @@ pub fn analyse_receivers(
         .collect();
     receivers
         .par_iter()
-        .map(|&receiver| analyse_receiver(scene, visibility, luminaires, settings, receiver))
+        .map(|&receiver| {
+            let lights = lights_of(receiver);
+            analyse_receiver(scene, visibility, luminaires, settings, receiver, &lights)
+        })
         .collect()
 }
 
@@ -213,6 +233,7 @@ fn analyse_receiver(
     luminaires: &[Luminaire],
     settings: &DominanceSettings,
     receiver: SurfaceId,
+    lights: &[usize],
 ) -> ReceiverAnalysis {
     let surface = scene.surface(receiver);
     // Stratified sample points, and each luminaire's direct light on them.
@@ -224,19 +245,23 @@ fn analyse_receiver(
         SAMPLE_SHRINK,
         &mut random,
     );
-    let light: Vec<(f64, Option<DirectField>)> = (0..luminaires.len() + scene.luminaires.len())
-        .map(|k| {
+    // Each light's index, direct light and field.
+    let light: Vec<(usize, f64, Option<DirectField>)> = lights
+        .iter()
+        .map(|&k| {
             let field = dominant_field(scene, receiver, luminaires, k);
             let direct = field.as_ref().map_or(0.0, |field| {
                 direct_light(field, visibility, &points, settings.shadow_rays)
             });
-            (direct, field)
+            (k, direct, field)
         })
         .collect();
     // The strongest luminaire and its share.
-    let total: f64 = light.iter().map(|(d, _)| d).sum();
-    let strongest = (0..light.len()).max_by(|&a, &b| light[a].0.total_cmp(&light[b].0));
-    let (Some(best), true) = (strongest, total > 0.0 && total.is_finite()) else {
+    let total: f64 = light.iter().map(|(_, d, _)| d).sum();
+    let strongest = light.iter().max_by(|a, b| a.1.total_cmp(&b.1));
+    let (Some((best, best_light, best_field)), true) =
+        (strongest, total > 0.0 && total.is_finite())
+    else {
         return ReceiverAnalysis {
             receiver,
             dominant: None,
@@ -246,10 +271,13 @@ fn analyse_receiver(
             lit_by: Vec::new(),
         };
     };
-    let lit_by = (0..light.len())
-        .filter(|&k| light[k].0 >= LIT_BY_SHARE * total)
+    let best = *best;
+    let lit_by = light
+        .iter()
+        .filter(|(_, direct, _)| *direct >= LIT_BY_SHARE * total)
+        .map(|(k, _, _)| *k)
         .collect();
-    let share = (light[best].0 / total).clamp(0.0, 1.0);
+    let share = (best_light / total).clamp(0.0, 1.0);
     let (centre, radius) = match luminaires.get(best) {
         Some(lamp) => (lamp.centre, lamp.radius),
         None => {
@@ -257,7 +285,7 @@ fn analyse_receiver(
             (luminaire.position, luminaire.opening_radius())
         }
     };
-    let size_ratio = light[best].1.as_ref().map_or(f64::INFINITY, |field| {
+    let size_ratio = best_field.as_ref().map_or(f64::INFINITY, |field| {
         let distance = light_distance(field, surface, centre);
         if distance > 0.0 {
             radius / distance

@@ -20,7 +20,8 @@ mod stratified;
 
 pub use direct_field::DirectField;
 pub use dominance::{
-    ContourMesher, DominanceSettings, ReceiverAnalysis, analyse_receivers, dominant_field,
+    ContourMesher, DominanceSettings, ReceiverAnalysis, analyse_receivers, analyse_receivers_among,
+    dominant_field,
 };
 pub use luminaire::{Luminaire, luminaires};
 pub(crate) use sample_stream::SampleStream;

@@ -118,8 +118,9 @@ impl EdgeNeighbours {
 
 /// The shadow boundaries that `luminaires` and the point sources at
 /// `points` (photometric luminaires' centres, or their luminous openings'
-/// corners) cast on `receiver` through
-/// the scene's other surfaces, in the receiver's plane coordinates: merged
+/// corners) cast on `receiver` through `occluders` (the scene's other
+/// surfaces that may stand between: those of the receiver's closed room),
+/// in the receiver's plane coordinates: merged
 /// where closer than `limits.min_feature`, the longest
 /// `limits.max_per_receiver` kept. Segments running along the receiver's
 /// outline are left out (its edges are element edges already).
@@ -127,7 +128,7 @@ impl EdgeNeighbours {
 pub fn shadow_boundaries(
     (scene, visibility): (&Scene, &Visibility),
     neighbours: &EdgeNeighbours,
-    receiver: SurfaceId,
+    (receiver, occluders): (SurfaceId, &[SurfaceId]),
     luminaires: &[Luminaire],
     points: &[DVec3],
     limits: BoundaryLimits,
@@ -163,7 +164,7 @@ pub fn shadow_boundaries(
         source.cast(
             (scene, visibility),
             neighbours,
-            (receiver, tolerance),
+            (receiver, occluders, tolerance),
             &mut found,
         );
     }
@@ -176,7 +177,7 @@ pub fn shadow_boundaries(
         source.cast(
             (scene, visibility),
             neighbours,
-            (receiver, tolerance),
+            (receiver, occluders, tolerance),
             &mut found,
         );
     }
@@ -250,7 +251,7 @@ impl Source<'_> {
         &self,
         (scene, visibility): (&Scene, &Visibility),
         neighbours: &EdgeNeighbours,
-        (receiver, tolerance): (SurfaceId, f64),
+        (receiver, occluders, tolerance): (SurfaceId, &[SurfaceId], f64),
         found: &mut Vec<[DVec2; 2]>,
     ) {
         let target = scene.surface(receiver);
@@ -266,10 +267,11 @@ impl Source<'_> {
             return;
         }
         let highest = corners.iter().map(|&v| frame.height(v)).fold(0.0, f64::max);
-        for (id, occluder) in scene.surfaces_with_ids() {
+        for &id in occluders {
             if id == receiver || self.surfaces.contains(&id) {
                 continue;
             }
+            let occluder = scene.surface(id);
             let polygon = occluder.occluder_vertices();
             let between = polygon.iter().any(|&p| {
                 let h = frame.height(p);
@@ -531,10 +533,11 @@ mod tests {
     fn boundaries_on_floor(scene: &Scene) -> Vec<[DVec2; 2]> {
         let neighbours = EdgeNeighbours::new(scene);
         let lights = luminaires(scene);
+        let occluders: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
         shadow_boundaries(
             (scene, &Visibility::new(scene)),
             &neighbours,
-            SurfaceId::new(0),
+            (SurfaceId::new(0), &occluders),
             &lights,
             &[],
             limits(),

@@ -26,7 +26,7 @@ pub use refinement::RefinementSettings;
 pub use run::{Progress, StopReason, Until};
 pub use scene_mesh::{
     MeshAnalysis, SceneMesh, field_layout, mesh_scene, receiver_layout, receiver_shadow_boundaries,
-    scene_shadow_boundaries, total_field_layout,
+    scene_receiver_analyses, scene_shadow_boundaries, total_field_layout,
 };
 pub use settings::{FormFactorKernel, Settings, ShootFrom, SolverSettings};
 pub use solution::{PENUMBRA_RAY_BUDGET, Probe, ProbeMode, Solution, SurfaceTotals};

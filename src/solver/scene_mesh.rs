@@ -5,9 +5,11 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::mesh_settings::{MeshKind, MeshSettings};
+use super::zones::ZoneLabels;
 use crate::lighting::{
-    BoundaryLimits, ContourMesher, DirectField, EdgeNeighbours, Luminaire, ReceiverAnalysis,
-    analyse_receivers, dominant_field, light_reaches, luminaires, shadow_boundaries,
+    BoundaryLimits, ContourMesher, DirectField, DominanceSettings, EdgeNeighbours, Luminaire,
+    ReceiverAnalysis, analyse_receivers, analyse_receivers_among, dominant_field, light_reaches,
+    luminaires, shadow_boundaries,
 };
 use crate::mesh::{
     ContourLayout, ContourSettings, Mesh, SquareMeshSettings, SurfaceGuides, contour_layout,
@@ -61,7 +63,14 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
         luminaires: luminaires(scene),
         ..MeshAnalysis::default()
     };
-    let boundaries = scene_shadow_boundaries(scene, visibility, &analysis.luminaires, settings);
+    let lit = !analysis.luminaires.is_empty() || !scene.luminaires.is_empty();
+    let zones = lit.then(|| ZoneLabels::new(scene, visibility));
+    let boundaries = match &zones {
+        Some(zones) => {
+            boundaries_in_zones(scene, visibility, &analysis.luminaires, settings, zones)
+        }
+        None => vec![Vec::new(); scene.surfaces.len()],
+    };
     analysis.shadow_boundaries = boundaries.iter().map(Vec::len).sum();
     analysis.shadow_receivers = boundaries.iter().filter(|b| !b.is_empty()).count();
     if matches!(settings.kind, MeshKind::Square | MeshKind::Adaptive) {
@@ -71,8 +80,16 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
         });
         return SceneMesh { mesh, analysis };
     }
-    analysis.receivers =
-        analyse_receivers(scene, visibility, &analysis.luminaires, &settings.dominance);
+    analysis.receivers = match &zones {
+        Some(zones) => analyses_in_zones(
+            scene,
+            visibility,
+            &analysis.luminaires,
+            &settings.dominance,
+            zones,
+        ),
+        None => analyse_receivers(scene, visibility, &analysis.luminaires, &settings.dominance),
+    };
     let layouts: Vec<Option<ContourLayout>> = scene
         .surfaces_with_ids()
         .map(|(surface, _)| {
@@ -160,14 +177,32 @@ const BOUNDARY_MIN_FEATURE: f64 = 0.1875;
 /// for emitters, for surfaces smaller than one element (a line across would
 /// only split them into slivers), and for all when
 /// `settings.shadow_boundaries` is off. Only the lights that reach a
-/// receiver cast boundaries on it ([`light_reaches`]): a lamp in another
-/// closed room adds none. Computed in parallel.
+/// receiver cast boundaries on it ([`light_reaches`]), and only the
+/// luminaires and occluders of its own closed zone (a room whose doors are
+/// shut, `zones.rs`) are tried: a lamp in another closed room adds none,
+/// and a building of separate rooms costs what its rooms cost alone.
+/// Computed in parallel.
 #[must_use]
 pub fn scene_shadow_boundaries(
     scene: &Scene,
     visibility: &Visibility,
     luminaires: &[Luminaire],
     settings: &MeshSettings,
+) -> Vec<Vec<[DVec2; 2]>> {
+    if (luminaires.is_empty() && scene.luminaires.is_empty()) || !settings.shadow_boundaries {
+        return vec![Vec::new(); scene.surfaces.len()];
+    }
+    let zones = ZoneLabels::new(scene, visibility);
+    boundaries_in_zones(scene, visibility, luminaires, settings, &zones)
+}
+
+/// [`scene_shadow_boundaries`] with the scene's closed zones found.
+fn boundaries_in_zones(
+    scene: &Scene,
+    visibility: &Visibility,
+    luminaires: &[Luminaire],
+    settings: &MeshSettings,
+    zones: &ZoneLabels,
 ) -> Vec<Vec<[DVec2; 2]>> {
     if (luminaires.is_empty() && scene.luminaires.is_empty()) || !settings.shadow_boundaries {
         return vec![Vec::new(); scene.surfaces.len()];
@@ -180,11 +215,59 @@ pub fn scene_shadow_boundaries(
     };
     let ids: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
     let lights = LightPoints::new(scene, luminaires);
+    let members = zones.members();
     ids.par_iter()
         .map(|&id| {
-            lights.boundaries_on(scene, visibility, &neighbours, id, limits, square.max_edge)
+            let room = (zones, members[zones.of(id)].as_slice());
+            let receiver = (id, room);
+            lights.boundaries_on(
+                scene,
+                visibility,
+                &neighbours,
+                receiver,
+                limits,
+                square.max_edge,
+            )
         })
         .collect()
+}
+
+/// What [`analyse_receivers`] finds on every receiver, each paired only
+/// with the luminaires of its own closed zone
+/// ([`analyse_receivers_among`]): as `mesh_scene` analyses them.
+#[must_use]
+pub fn scene_receiver_analyses(
+    scene: &Scene,
+    visibility: &Visibility,
+    luminaires: &[Luminaire],
+    settings: &DominanceSettings,
+) -> Vec<ReceiverAnalysis> {
+    let zones = ZoneLabels::new(scene, visibility);
+    analyses_in_zones(scene, visibility, luminaires, settings, &zones)
+}
+
+/// [`scene_receiver_analyses`] with the scene's closed zones found: each
+/// receiver gets the area luminaires of its zone, and every photometric
+/// one (a point, in no zone).
+fn analyses_in_zones(
+    scene: &Scene,
+    visibility: &Visibility,
+    luminaires: &[Luminaire],
+    settings: &DominanceSettings,
+    zones: &ZoneLabels,
+) -> Vec<ReceiverAnalysis> {
+    let mut per_zone = vec![Vec::new(); zones.count()];
+    for (k, lamp) in luminaires.iter().enumerate() {
+        if let Some(&surface) = lamp.surfaces.first() {
+            per_zone[zones.of(surface)].push(k);
+        }
+    }
+    let photometric = luminaires.len()..luminaires.len() + scene.luminaires.len();
+    for lights in &mut per_zone {
+        lights.extend(photometric.clone());
+    }
+    let lights_of = |receiver| per_zone[zones.of(receiver)].clone();
+    analyse_receivers_among(scene, visibility, luminaires, settings, &lights_of)
 }
 
 /// The shadow boundaries on one receiver, as [`scene_shadow_boundaries`]
@@ -205,11 +288,14 @@ pub fn receiver_shadow_boundaries(
         min_feature: BOUNDARY_MIN_FEATURE * square.max_edge,
         max_per_receiver: settings.max_shadow_boundaries,
     };
+    let zones = ZoneLabels::new(scene, visibility);
+    let members = zones.members();
+    let room = (&zones, members[zones.of(receiver)].as_slice());
     LightPoints::new(scene, luminaires).boundaries_on(
         scene,
         visibility,
         &EdgeNeighbours::new(scene),
-        receiver,
+        (receiver, room),
         limits,
         square.max_edge,
     )
@@ -249,17 +335,20 @@ impl<'a> LightPoints<'a> {
         }
     }
 
-    /// The boundaries the lights that reach `id` cast on it; none on an
-    /// emitter or a surface smaller than one element of `element` size.
+    /// The boundaries the lights that reach `id` cast on it through the
+    /// surfaces of its zone (`room`: the zones, and the surfaces of `id`'s);
+    /// none on an emitter or a surface smaller than one element of
+    /// `element` size.
     fn boundaries_on(
         &self,
         scene: &Scene,
         visibility: &Visibility,
         neighbours: &EdgeNeighbours,
-        id: SurfaceId,
+        (id, room): (SurfaceId, (&ZoneLabels, &[SurfaceId])),
         limits: BoundaryLimits,
         element: f64,
     ) -> Vec<[DVec2; 2]> {
+        let (zones, occluders) = room;
         let surface = scene.surface(id);
         let emitting = scene.material_of(surface).is_emitter();
         if emitting || surface.area() < element * element {
@@ -270,7 +359,10 @@ impl<'a> LightPoints<'a> {
             .luminaires
             .iter()
             .zip(&self.area_points)
-            .filter(|(lamp, from)| light_reaches(scene, visibility, id, from, lamp.surfaces[0]))
+            .filter(|(lamp, from)| {
+                zones.together(id, lamp.surfaces[0])
+                    && light_reaches(scene, visibility, id, from, lamp.surfaces[0])
+            })
             .map(|(lamp, _)| lamp.clone())
             .collect();
         let points: Vec<DVec3> = self
@@ -280,7 +372,15 @@ impl<'a> LightPoints<'a> {
             .flatten()
             .copied()
             .collect();
-        shadow_boundaries((scene, visibility), neighbours, id, &lit, &points, limits)
+        let receiver = (id, occluders);
+        shadow_boundaries(
+            (scene, visibility),
+            neighbours,
+            receiver,
+            &lit,
+            &points,
+            limits,
+        )
     }
 }
 

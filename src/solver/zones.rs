@@ -80,6 +80,58 @@ impl Zones {
     /// every surface, in parallel.
     #[must_use]
     pub fn new(scene: &Scene, visibility: &Visibility) -> Zones {
+        let ZoneLabels { zone, count } = ZoneLabels::new(scene, visibility);
+        let visibility = if count > 1 {
+            (0..count as u32)
+                .into_par_iter()
+                .map(|z| Visibility::of_surfaces(scene, |id| zone[id.index()] == z))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Zones {
+            zone,
+            count,
+            visibility,
+        }
+    }
+
+    /// The shadow-ray BVH of zone `zone`'s surfaces alone, if there is more
+    /// than one zone.
+    #[must_use]
+    pub fn visibility(&self, zone: usize) -> Option<&Visibility> {
+        self.visibility.get(zone)
+    }
+
+    /// How many zones the surfaces fall into.
+    #[must_use]
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// The zone of `surface`.
+    #[must_use]
+    pub fn of(&self, surface: SurfaceId) -> usize {
+        self.zone.get(surface.index()).map_or(0, |&z| z as usize)
+    }
+}
+
+/// The closed zone of every surface, without the zones' BVHs: what meshing
+/// needs to pair each receiver only with the luminaires and occluders of
+/// its own room.
+#[derive(Clone, Debug)]
+pub struct ZoneLabels {
+    /// Zone index per surface.
+    zone: Vec<u32>,
+    /// How many zones there are (open ones counted as one).
+    count: usize,
+}
+
+impl ZoneLabels {
+    /// Finds the zones of `scene` by casting [`RAYS_PER_SURFACE`] rays from
+    /// every surface, in parallel (see the module's documentation).
+    #[must_use]
+    pub fn new(scene: &Scene, visibility: &Visibility) -> ZoneLabels {
         let surfaces = scene.surfaces.len();
         let reach = 2.0 * scene.diagonal();
         // What each surface's rays hit: a surface's front, a surface's
@@ -156,33 +208,33 @@ impl Zones {
                 index[root]
             })
             .collect();
-        let count = count as usize;
-        let visibility = if count > 1 {
-            (0..count as u32)
-                .into_par_iter()
-                .map(|z| Visibility::of_surfaces(scene, |id| zone[id.index()] == z))
-                .collect()
-        } else {
-            Vec::new()
-        };
-        Zones {
+        ZoneLabels {
             zone,
-            count,
-            visibility,
+            count: count as usize,
         }
-    }
-
-    /// The shadow-ray BVH of zone `zone`'s surfaces alone, if there is more
-    /// than one zone.
-    #[must_use]
-    pub fn visibility(&self, zone: usize) -> Option<&Visibility> {
-        self.visibility.get(zone)
     }
 
     /// How many zones the surfaces fall into.
     #[must_use]
     pub fn count(&self) -> usize {
         self.count
+    }
+
+    /// Whether surfaces `a` and `b` are in the same zone, and so may
+    /// exchange light.
+    #[must_use]
+    pub fn together(&self, a: SurfaceId, b: SurfaceId) -> bool {
+        self.zone.get(a.index()) == self.zone.get(b.index())
+    }
+
+    /// The surfaces of each zone, by zone index.
+    #[must_use]
+    pub fn members(&self) -> Vec<Vec<SurfaceId>> {
+        let mut members = vec![Vec::new(); self.count];
+        for (k, &z) in self.zone.iter().enumerate() {
+            members[z as usize].push(SurfaceId::new(k));
+        }
+        members
     }
 
     /// The zone of `surface`.

@@ -461,3 +461,77 @@ fn a_ceiling_is_cut_out_round_a_panel_hung_just_below_it() {
     let worst = worst_mesh_against_gather(&solution, &points);
     assert!(worst < 0.08, "mesh vs gather round the panel: {worst}");
 }
+
+/// Two closed rooms side by side, each with a block on its floor and a
+/// lamp of its own (or the first alone).
+fn lit_rooms(both: bool) -> Scene {
+    let mut b = SceneBuilder::default();
+    let wall = b.material("wall", 0.5, 0.0);
+    let lamp = b.material("lamp", 0.0, 10.0);
+    let rooms: &[(&str, DVec3)] = if both {
+        &[("a", DVec3::ZERO), ("b", DVec3::new(5.0, 0.0, 0.0))]
+    } else {
+        &[("a", DVec3::ZERO)]
+    };
+    for &(room, offset) in rooms {
+        room_with_block(&mut b, wall, room, offset);
+    }
+    for &(room, offset) in rooms {
+        b.polygon_facing(
+            &format!("lamp_{room}"),
+            lamp,
+            [(1.7, 1.7), (2.3, 1.7), (2.3, 2.3), (1.7, 2.3)]
+                .map(|(x, z)| DVec3::new(x, 2.99, z) + offset)
+                .to_vec(),
+            DVec3::new(2.0, 0.0, 2.0) + offset,
+        );
+    }
+    b.scene
+}
+
+/// Meshing pairs each receiver only with the luminaires and occluders of
+/// its own closed room: the first room's shadow boundaries and receiver
+/// analyses come out the same whether the second room, with its own lamp,
+/// stands beside it or not, and none of the second room's receivers is
+/// lit by the first room's lamp.
+#[test]
+fn a_room_meshes_the_same_among_closed_rooms() {
+    let analyse = |scene: &Scene| {
+        let visibility = isorad::scene::Visibility::new(scene);
+        let lights = isorad::lighting::luminaires(scene);
+        let settings = isorad::MeshSettings::default();
+        let boundaries =
+            isorad::solver::scene_shadow_boundaries(scene, &visibility, &lights, &settings);
+        let analyses = isorad::solver::scene_receiver_analyses(
+            scene,
+            &visibility,
+            &lights,
+            &settings.dominance,
+        );
+        (lights, boundaries, analyses)
+    };
+    let alone = lit_rooms(false);
+    let both = lit_rooms(true);
+    let (lights_alone, boundaries_alone, analyses_alone) = analyse(&alone);
+    let (lights, boundaries, analyses) = analyse(&both);
+    assert_eq!((lights_alone.len(), lights.len()), (1, 2));
+    // Room a's surfaces come first in both scenes, the lamps last.
+    let room_a = alone.surfaces.len() - 1;
+    assert_eq!(boundaries[..room_a], boundaries_alone[..room_a]);
+    assert!(boundaries_alone[..room_a].iter().any(|b| !b.is_empty()));
+    let first_lamp = |a: &isorad::lighting::ReceiverAnalysis| a.lit_by.iter().all(|&k| k == 0);
+    for (with, without) in analyses.iter().zip(&analyses_alone).take(room_a) {
+        assert_eq!(with.receiver, without.receiver);
+        assert_eq!(with.lit_by, without.lit_by);
+        assert!(
+            (with.share - without.share).abs() < 1e-12,
+            "{with:?} {without:?}"
+        );
+        assert!(first_lamp(with), "{with:?}");
+    }
+    // Room b is lit by its own lamp (luminaire 1) only.
+    let lamp_b = |a: &isorad::lighting::ReceiverAnalysis| a.lit_by.iter().all(|&k| k == 1);
+    let room_b = &analyses[room_a..];
+    assert!(room_b.iter().any(|a| !a.lit_by.is_empty()));
+    assert!(room_b.iter().all(lamp_b), "{room_b:?}");
+}

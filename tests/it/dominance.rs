@@ -95,6 +95,40 @@ fn analyse(scene: &Scene) -> Vec<isorad::lighting::ReceiverAnalysis> {
     )
 }
 
+/// `analyse_receivers_among` pairs receivers only with the luminaires it is
+/// given: all of them gives `analyse_receivers`' answer, none leaves every
+/// receiver unlit.
+#[test]
+fn receivers_are_analysed_only_among_the_luminaires_allowed() {
+    let mut b = SceneBuilder::default();
+    let white = b.material("white", 0.5, 0.0);
+    let bright = b.material("bright", 0.0, 10.0);
+    b.polygon("floor", white, square_z(-5.0, 5.0, 0.0, true));
+    b.polygon("lamp", bright, square_z(-0.1, 0.1, 3.0, false));
+    let scene = b.scene;
+    let visibility = Visibility::new(&scene);
+    let lights = luminaires(&scene);
+    let settings = DominanceSettings::default();
+    let among = |allow: bool| {
+        let lights_of = |_| if allow { vec![0] } else { Vec::new() };
+        isorad::lighting::analyse_receivers_among(
+            &scene,
+            &visibility,
+            &lights,
+            &settings,
+            &lights_of,
+        )
+    };
+    assert_eq!(among(true), analyse(&scene));
+    assert_eq!(analyse(&scene)[0].dominant, Some(0));
+    let unlit = among(false);
+    assert_eq!(unlit.len(), 1);
+    assert!(
+        unlit[0].lit_by.is_empty() && unlit[0].dominant.is_none(),
+        "{unlit:?}"
+    );
+}
+
 #[test]
 fn a_small_bright_lamp_dominates_a_big_dim_panel() {
     let mut b = SceneBuilder::default();

@@ -7,11 +7,11 @@ use clap::Args;
 use glam::DVec2;
 use isorad::{
     Scene, Settings, SurfaceId,
-    lighting::{ContourMesher, Luminaire, ReceiverAnalysis, analyse_receivers, luminaires},
+    lighting::{ContourMesher, Luminaire, ReceiverAnalysis, luminaires},
     load_scene,
     photometry::LUMENS_PER_WATT,
     scene::Visibility,
-    solver::scene_shadow_boundaries,
+    solver::{scene_receiver_analyses, scene_shadow_boundaries},
 };
 
 use crate::args::with_flag_names;
@@ -57,7 +57,7 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
     }
     let visibility = Visibility::new(scene);
     let lights = luminaires(scene);
-    let analyses = analyse_receivers(scene, &visibility, &lights, &settings);
+    let analyses = scene_receiver_analyses(scene, &visibility, &lights, &settings);
     let boundaries = scene_shadow_boundaries(scene, &visibility, &lights, &mesh_settings);
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     writeln!(

@@ -25,19 +25,24 @@ pub fn write_table(
             *width = (*width).max(cell.chars().count());
         }
     }
-    let numeric = |column: usize| {
-        rows.iter().all(|row| {
-            row.get(column)
-                .is_some_and(|c| c == "-" || c.parse::<f64>().is_ok())
+    // Whether each column holds numbers only, decided once per column (a
+    // table of thousands of receivers would otherwise parse every column
+    // again for each row).
+    let numeric: Vec<bool> = (0..widths.len())
+        .map(|column| {
+            rows.iter().all(|row| {
+                row.get(column)
+                    .is_some_and(|c| c == "-" || c.parse::<f64>().is_ok())
+            })
         })
-    };
+        .collect();
     let line = |cells: Vec<&str>| {
         let padded: Vec<String> = cells
             .iter()
             .enumerate()
             .map(|(column, cell)| {
                 let pad = " ".repeat(widths[column].saturating_sub(cell.chars().count()));
-                if numeric(column) {
+                if numeric[column] {
                     format!("{pad}{cell}")
                 } else {
                     format!("{cell}{pad}")
