@@ -191,21 +191,21 @@ pub fn analyse_receivers(
     settings: &DominanceSettings,
 ) -> Vec<ReceiverAnalysis> {
     let all: Vec<usize> = (0..luminaires.len() + scene.luminaires.len()).collect();
-    analyse_receivers_among(scene, visibility, luminaires, settings, &|_| all.clone())
+    analyse_receivers_among(scene, luminaires, settings, &|_| (visibility, all.clone()))
 }
 
 /// [`analyse_receivers`], with each receiver paired only with the lights
-/// that `lights_of(receiver)` lists (indices in [`dominant_field`]'s order,
-/// ascending; the others give it no light): the luminaires of its own
+/// that `room_of(receiver)` lists (indices in [`dominant_field`]'s order,
+/// ascending; the others give it no light), its shadow rays traced through
+/// the BVH given with them: the luminaires and the surfaces of its own
 /// closed room, so that a building of separate rooms costs what its rooms
 /// cost alone instead of every receiver times every luminaire.
 #[must_use]
-pub fn analyse_receivers_among(
+pub fn analyse_receivers_among<'v>(
     scene: &Scene,
-    visibility: &Visibility,
     luminaires: &[Luminaire],
     settings: &DominanceSettings,
-    lights_of: &(dyn Fn(SurfaceId) -> Vec<usize> + Sync),
+    room_of: &(dyn Fn(SurfaceId) -> (&'v Visibility, Vec<usize>) + Sync),
 ) -> Vec<ReceiverAnalysis> {
     let receivers: Vec<SurfaceId> = scene
         .surfaces_with_ids()
@@ -220,7 +220,7 @@ pub fn analyse_receivers_among(
     receivers
         .par_iter()
         .map(|&receiver| {
-            let lights = lights_of(receiver);
+            let (visibility, lights) = room_of(receiver);
             analyse_receiver(scene, visibility, luminaires, settings, receiver, &lights)
         })
         .collect()

@@ -5,7 +5,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::mesh_settings::{MeshKind, MeshSettings};
-use super::zones::ZoneLabels;
+use super::zones::{ZoneLabels, Zones};
 use crate::lighting::{
     BoundaryLimits, ContourMesher, DirectField, DominanceSettings, EdgeNeighbours, Luminaire,
     ReceiverAnalysis, analyse_receivers, analyse_receivers_among, dominant_field, light_reaches,
@@ -64,7 +64,7 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
         ..MeshAnalysis::default()
     };
     let lit = !analysis.luminaires.is_empty() || !scene.luminaires.is_empty();
-    let zones = lit.then(|| ZoneLabels::new(scene, visibility));
+    let zones = lit.then(|| Zones::new(scene, visibility));
     let boundaries = match &zones {
         Some(zones) => {
             boundaries_in_zones(scene, visibility, &analysis.luminaires, settings, zones)
@@ -192,7 +192,7 @@ pub fn scene_shadow_boundaries(
     if (luminaires.is_empty() && scene.luminaires.is_empty()) || !settings.shadow_boundaries {
         return vec![Vec::new(); scene.surfaces.len()];
     }
-    let zones = ZoneLabels::new(scene, visibility);
+    let zones = Zones::new(scene, visibility);
     boundaries_in_zones(scene, visibility, luminaires, settings, &zones)
 }
 
@@ -202,7 +202,7 @@ fn boundaries_in_zones(
     visibility: &Visibility,
     luminaires: &[Luminaire],
     settings: &MeshSettings,
-    zones: &ZoneLabels,
+    zones: &Zones,
 ) -> Vec<Vec<[DVec2; 2]>> {
     if (luminaires.is_empty() && scene.luminaires.is_empty()) || !settings.shadow_boundaries {
         return vec![Vec::new(); scene.surfaces.len()];
@@ -215,14 +215,15 @@ fn boundaries_in_zones(
     };
     let ids: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
     let lights = LightPoints::new(scene, luminaires);
-    let members = zones.members();
+    let members = zones.labels().members();
     ids.par_iter()
         .map(|&id| {
-            let room = (zones, members[zones.of(id)].as_slice());
+            let zone = zones.of(id);
+            let room = (zones.labels(), members[zone].as_slice());
             let receiver = (id, room);
             lights.boundaries_on(
                 scene,
-                visibility,
+                zones.visibility(zone).unwrap_or(visibility),
                 &neighbours,
                 receiver,
                 limits,
@@ -242,7 +243,7 @@ pub fn scene_receiver_analyses(
     luminaires: &[Luminaire],
     settings: &DominanceSettings,
 ) -> Vec<ReceiverAnalysis> {
-    let zones = ZoneLabels::new(scene, visibility);
+    let zones = Zones::new(scene, visibility);
     analyses_in_zones(scene, visibility, luminaires, settings, &zones)
 }
 
@@ -254,7 +255,7 @@ fn analyses_in_zones(
     visibility: &Visibility,
     luminaires: &[Luminaire],
     settings: &DominanceSettings,
-    zones: &ZoneLabels,
+    zones: &Zones,
 ) -> Vec<ReceiverAnalysis> {
     let mut per_zone = vec![Vec::new(); zones.count()];
     for (k, lamp) in luminaires.iter().enumerate() {
@@ -266,8 +267,12 @@ fn analyses_in_zones(
     for lights in &mut per_zone {
         lights.extend(photometric.clone());
     }
-    let lights_of = |receiver| per_zone[zones.of(receiver)].clone();
-    analyse_receivers_among(scene, visibility, luminaires, settings, &lights_of)
+    let room_of = |receiver| {
+        let zone = zones.of(receiver);
+        let inside = zones.visibility(zone).unwrap_or(visibility);
+        (inside, per_zone[zone].clone())
+    };
+    analyse_receivers_among(scene, luminaires, settings, &room_of)
 }
 
 /// The shadow boundaries on one receiver, as [`scene_shadow_boundaries`]
@@ -288,12 +293,13 @@ pub fn receiver_shadow_boundaries(
         min_feature: BOUNDARY_MIN_FEATURE * square.max_edge,
         max_per_receiver: settings.max_shadow_boundaries,
     };
-    let zones = ZoneLabels::new(scene, visibility);
-    let members = zones.members();
-    let room = (&zones, members[zones.of(receiver)].as_slice());
+    let zones = Zones::new(scene, visibility);
+    let members = zones.labels().members();
+    let zone = zones.of(receiver);
+    let room = (zones.labels(), members[zone].as_slice());
     LightPoints::new(scene, luminaires).boundaries_on(
         scene,
-        visibility,
+        zones.visibility(zone).unwrap_or(visibility),
         &EdgeNeighbours::new(scene),
         (receiver, room),
         limits,

@@ -66,10 +66,8 @@ enum Hit {
 
 /// The closed zone of every surface, and each zone's shadow-ray BVH.
 pub struct Zones {
-    /// Zone index per surface.
-    zone: Vec<u32>,
-    /// How many zones there are (open ones counted as one).
-    count: usize,
+    /// The zone of every surface.
+    labels: ZoneLabels,
     /// Per zone, a BVH over its surfaces only (empty while there is one
     /// zone: the scene's own BVH serves).
     visibility: Vec<Visibility>,
@@ -80,20 +78,22 @@ impl Zones {
     /// every surface, in parallel.
     #[must_use]
     pub fn new(scene: &Scene, visibility: &Visibility) -> Zones {
-        let ZoneLabels { zone, count } = ZoneLabels::new(scene, visibility);
-        let visibility = if count > 1 {
-            (0..count as u32)
+        let labels = ZoneLabels::new(scene, visibility);
+        let visibility = if labels.count > 1 {
+            (0..labels.count as u32)
                 .into_par_iter()
-                .map(|z| Visibility::of_surfaces(scene, |id| zone[id.index()] == z))
+                .map(|z| Visibility::of_surfaces(scene, |id| labels.zone[id.index()] == z))
                 .collect()
         } else {
             Vec::new()
         };
-        Zones {
-            zone,
-            count,
-            visibility,
-        }
+        Zones { labels, visibility }
+    }
+
+    /// The zone of every surface.
+    #[must_use]
+    pub fn labels(&self) -> &ZoneLabels {
+        &self.labels
     }
 
     /// The shadow-ray BVH of zone `zone`'s surfaces alone, if there is more
@@ -106,13 +106,13 @@ impl Zones {
     /// How many zones the surfaces fall into.
     #[must_use]
     pub fn count(&self) -> usize {
-        self.count
+        self.labels.count
     }
 
     /// The zone of `surface`.
     #[must_use]
     pub fn of(&self, surface: SurfaceId) -> usize {
-        self.zone.get(surface.index()).map_or(0, |&z| z as usize)
+        self.labels.of(surface)
     }
 }
 
@@ -212,12 +212,6 @@ impl ZoneLabels {
             zone,
             count: count as usize,
         }
-    }
-
-    /// How many zones the surfaces fall into.
-    #[must_use]
-    pub fn count(&self) -> usize {
-        self.count
     }
 
     /// Whether surfaces `a` and `b` are in the same zone, and so may

@@ -110,14 +110,8 @@ fn receivers_are_analysed_only_among_the_luminaires_allowed() {
     let lights = luminaires(&scene);
     let settings = DominanceSettings::default();
     let among = |allow: bool| {
-        let lights_of = |_| if allow { vec![0] } else { Vec::new() };
-        isorad::lighting::analyse_receivers_among(
-            &scene,
-            &visibility,
-            &lights,
-            &settings,
-            &lights_of,
-        )
+        let room_of = |_| (&visibility, if allow { vec![0] } else { Vec::new() });
+        isorad::lighting::analyse_receivers_among(&scene, &lights, &settings, &room_of)
     };
     assert_eq!(among(true), analyse(&scene));
     assert_eq!(analyse(&scene)[0].dominant, Some(0));
