@@ -59,7 +59,23 @@ impl Visibility {
     /// them) gets the same answer from both, from a smaller tree.
     #[must_use]
     pub fn of_surfaces(scene: &Scene, keep: impl Fn(SurfaceId) -> bool) -> Visibility {
-        let (min, max) = scene.bounds();
+        let kept: Vec<SurfaceId> = scene
+            .surfaces_with_ids()
+            .map(|(id, _)| id)
+            .filter(|&id| keep(id))
+            .collect();
+        Visibility::of_listed_surfaces(scene, &kept, scene.bounds())
+    }
+
+    /// [`Visibility::of_surfaces`] over the surfaces `ids`, with the
+    /// scene's bounds (`Scene::bounds`) already known: many zones' BVHs
+    /// are built without scanning the whole scene for each.
+    #[must_use]
+    pub(crate) fn of_listed_surfaces(
+        scene: &Scene,
+        ids: &[SurfaceId],
+        (min, max): (DVec3, DVec3),
+    ) -> Visibility {
         let centre = 0.5 * (min + max);
         let scale = unit_scale(min, max);
         let to_local = |p: DVec3| {
@@ -68,7 +84,8 @@ impl Visibility {
         };
         let mut triangles = Vec::new();
         let mut surfaces = Vec::new();
-        for (id, surface) in scene.surfaces_with_ids().filter(|&(id, _)| keep(id)) {
+        for &id in ids {
+            let surface = scene.surface(id);
             let points = surface.occluder_vertices();
             for [a, b, c] in surface.triangles() {
                 triangles.push(Triangle {

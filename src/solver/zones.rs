@@ -80,9 +80,11 @@ impl Zones {
     pub fn new(scene: &Scene, visibility: &Visibility) -> Zones {
         let labels = ZoneLabels::new(scene, visibility);
         let visibility = if labels.count > 1 {
-            (0..labels.count as u32)
-                .into_par_iter()
-                .map(|z| Visibility::of_surfaces(scene, |id| labels.zone[id.index()] == z))
+            let bounds = scene.bounds();
+            labels
+                .members()
+                .par_iter()
+                .map(|members| Visibility::of_listed_surfaces(scene, members, bounds))
                 .collect()
         } else {
             Vec::new()
