@@ -25,5 +25,7 @@ pub use dominance::{
 };
 pub use luminaire::{Luminaire, luminaires};
 pub(crate) use sample_stream::SampleStream;
-pub use shadow_boundaries::{BoundaryLimits, EdgeNeighbours, light_reaches, shadow_boundaries};
+pub use shadow_boundaries::{
+    BoundaryLimits, EdgeNeighbours, OccludersIn, light_reaches, shadow_boundaries,
+};
 pub(crate) use stratified::stratified_points;

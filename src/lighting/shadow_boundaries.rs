@@ -61,6 +61,11 @@ const MAX_HEIGHT_FRACTION: f64 = 0.999;
 /// rays: a boundary is kept where the checks pass, to half a step beyond.
 const EVENT_SAMPLES: usize = 8;
 
+/// The surfaces that may shade a receiver within a box (its corners, min
+/// and max): found by their bounding boxes (`SurfaceBoxes`), and only
+/// those of the receiver's own closed room.
+pub type OccludersIn<'a> = &'a (dyn Fn(DVec3, DVec3) -> Vec<SurfaceId> + Sync);
+
 /// The boundaries a receiver keeps and what they may cost.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoundaryLimits {
@@ -118,9 +123,11 @@ impl EdgeNeighbours {
 
 /// The shadow boundaries that `luminaires` and the point sources at
 /// `points` (photometric luminaires' centres, or their luminous openings'
-/// corners) cast on `receiver` through `occluders` (the scene's other
-/// surfaces that may stand between: those of the receiver's closed room),
-/// in the receiver's plane coordinates: merged
+/// corners) cast on `receiver` through the surfaces `occluders` finds in
+/// the box around the receiver and each light's corners (the shaft
+/// between them lies inside it: a silhouette point whose shadow falls on
+/// the receiver lies on a segment from a corner to the receiver), in the
+/// receiver's plane coordinates: merged
 /// where closer than `limits.min_feature`, the longest
 /// `limits.max_per_receiver` kept. Segments running along the receiver's
 /// outline are left out (its edges are element edges already).
@@ -128,7 +135,7 @@ impl EdgeNeighbours {
 pub fn shadow_boundaries(
     (scene, visibility): (&Scene, &Visibility),
     neighbours: &EdgeNeighbours,
-    (receiver, occluders): (SurfaceId, &[SurfaceId]),
+    (receiver, occluders): (SurfaceId, OccludersIn<'_>),
     luminaires: &[Luminaire],
     points: &[DVec3],
     limits: BoundaryLimits,
@@ -246,12 +253,13 @@ impl Source<'_> {
     /// Pushes onto `found` the receiver-plane shadows of every occluder's
     /// silhouette edges from each of the source's corners in front of the
     /// receiver, where the event is real ([`event_runs`]), clipped to its
-    /// outline.
+    /// outline. The occluders are those in the box around the receiver and
+    /// those corners.
     fn cast(
         &self,
         (scene, visibility): (&Scene, &Visibility),
         neighbours: &EdgeNeighbours,
-        (receiver, occluders, tolerance): (SurfaceId, &[SurfaceId], f64),
+        (receiver, occluders, tolerance): (SurfaceId, OccludersIn<'_>, f64),
         found: &mut Vec<[DVec2; 2]>,
     ) {
         let target = scene.surface(receiver);
@@ -267,7 +275,11 @@ impl Source<'_> {
             return;
         }
         let highest = corners.iter().map(|&v| frame.height(v)).fold(0.0, f64::max);
-        for &id in occluders {
+        let shaft = target.vertices().iter().chain(&corners);
+        let low = shaft.clone().fold(DVec3::INFINITY, |m, &p| m.min(p));
+        let high = shaft.fold(DVec3::NEG_INFINITY, |m, &p| m.max(p));
+        let margin = DVec3::splat(tolerance);
+        for id in occluders(low - margin, high + margin) {
             if id == receiver || self.surfaces.contains(&id) {
                 continue;
             }
@@ -498,7 +510,7 @@ fn merge_boundaries(mut found: Vec<[DVec2; 2]>, limits: BoundaryLimits) -> Vec<[
 mod tests {
     use super::*;
     use crate::lighting::luminaires;
-    use crate::scene::{Material, Rgb};
+    use crate::scene::{Material, Rgb, SurfaceBoxes};
 
     /// A 10 × 10 floor at y = 0, a 0.2 m square lamp facing down at
     /// `lamp_height` over the origin, and an occluder given by its polygons.
@@ -533,7 +545,8 @@ mod tests {
     fn boundaries_on_floor(scene: &Scene) -> Vec<[DVec2; 2]> {
         let neighbours = EdgeNeighbours::new(scene);
         let lights = luminaires(scene);
-        let occluders: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
+        let boxes = SurfaceBoxes::new(scene);
+        let occluders = |low, high| boxes.near(low, high, 0.0);
         shadow_boundaries(
             (scene, &Visibility::new(scene)),
             &neighbours,

@@ -10,7 +10,7 @@ use super::element_power;
 use super::energy_balance::EnergyBalance;
 use super::mesh_settings::MeshKind;
 use super::refinement::{Refiner, elements_to_split};
-use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene};
+use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
 use super::shooter::{Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity, sampled_cell};
 use super::solution::Solution;
@@ -108,10 +108,15 @@ impl Solver {
         scene.validate()?;
         settings.mesh.check_budget(&scene)?;
         let visibility = Visibility::new(&scene);
-        let SceneMesh { mesh, analysis } = mesh_scene(&scene, &visibility, &settings.mesh);
+        // The closed zones, found once: meshing pairs each receiver with
+        // its own room's lights and occluders, and the shots stay in theirs.
+        let zones = Zones::new(&scene, &visibility);
+        let SceneMesh { mesh, analysis } =
+            mesh_scene_in_zones(&scene, &visibility, &settings.mesh, Some(&zones));
         let refiner = (settings.mesh.kind == MeshKind::Adaptive)
             .then(|| Refiner::new(&mesh, settings.mesh.refinement.clone()));
-        let mut solver = Self::with_parts(scene, mesh, visibility, analysis, settings.solver);
+        let parts = (mesh, visibility, analysis, Some(zones));
+        let mut solver = Self::with_parts(scene, parts, settings.solver);
         solver.refiner = refiner;
         Ok(solver)
     }
@@ -123,17 +128,15 @@ impl Solver {
         scene.validate()?;
         let visibility = Visibility::new(&scene);
         let analysis = MeshAnalysis::default();
-        Ok(Self::with_parts(
-            scene, mesh, visibility, analysis, settings,
-        ))
+        let parts = (mesh, visibility, analysis, None);
+        Ok(Self::with_parts(scene, parts, settings))
     }
 
-    /// Emitters' radiosity set, nothing shot.
+    /// Emitters' radiosity set, nothing shot. The closed zones are found
+    /// here unless given (and kept only if culled and more than one).
     fn with_parts(
         scene: Scene,
-        mesh: Mesh,
-        visibility: Visibility,
-        analysis: MeshAnalysis,
+        (mesh, visibility, analysis, zones): (Mesh, Visibility, MeshAnalysis, Option<Zones>),
         settings: SolverSettings,
     ) -> Self {
         let emitted = |surface: SurfaceId| {
@@ -161,7 +164,7 @@ impl Solver {
         let patch_areas = mesh.patches.iter().map(|p| p.area).collect();
         let zones = settings
             .cull_closed_zones
-            .then(|| Zones::new(&scene, &visibility))
+            .then(|| zones.unwrap_or_else(|| Zones::new(&scene, &visibility)))
             .filter(|zones| zones.count() > 1)
             .map(|zones| (zones, ZoneMembers::default()));
         Solver {

@@ -8,14 +8,14 @@ use super::mesh_settings::{MeshKind, MeshSettings};
 use super::zones::{ZoneLabels, Zones};
 use crate::lighting::{
     BoundaryLimits, ContourMesher, DirectField, DominanceSettings, EdgeNeighbours, Luminaire,
-    ReceiverAnalysis, analyse_receivers, analyse_receivers_among, dominant_field, light_reaches,
-    luminaires, shadow_boundaries,
+    OccludersIn, ReceiverAnalysis, analyse_receivers, analyse_receivers_among, dominant_field,
+    light_reaches, luminaires, shadow_boundaries,
 };
 use crate::mesh::{
     ContourLayout, ContourSettings, Mesh, SquareMeshSettings, SurfaceGuides, contour_layout,
     level_line_layout, mesh_surfaces,
 };
-use crate::scene::{Scene, SurfaceId, Visibility};
+use crate::scene::{Scene, SurfaceBoxes, SurfaceId, Visibility};
 
 /// What meshing found: the luminaires, each receiver's analysis, and where
 /// the contour mesher was used.
@@ -58,14 +58,26 @@ pub struct SceneMesh {
 /// boundaries the luminaires cast (see [`scene_shadow_boundaries`]).
 #[must_use]
 pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSettings) -> SceneMesh {
+    let lit = !luminaires(scene).is_empty() || !scene.luminaires.is_empty();
+    let zones = lit.then(|| Zones::new(scene, visibility));
+    mesh_scene_in_zones(scene, visibility, settings, zones.as_ref())
+}
+
+/// [`mesh_scene`] with the scene's closed zones already found (`None`
+/// for a scene without light, which gets no shadow boundaries nor
+/// analyses): the solver finds them once, for meshing and for its shots.
+pub(crate) fn mesh_scene_in_zones(
+    scene: &Scene,
+    visibility: &Visibility,
+    settings: &MeshSettings,
+    zones: Option<&Zones>,
+) -> SceneMesh {
     let square = settings.square_for(scene);
     let mut analysis = MeshAnalysis {
         luminaires: luminaires(scene),
         ..MeshAnalysis::default()
     };
-    let lit = !analysis.luminaires.is_empty() || !scene.luminaires.is_empty();
-    let zones = lit.then(|| Zones::new(scene, visibility));
-    let boundaries = match &zones {
+    let boundaries = match zones {
         Some(zones) => {
             boundaries_in_zones(scene, visibility, &analysis.luminaires, settings, zones)
         }
@@ -80,7 +92,7 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
         });
         return SceneMesh { mesh, analysis };
     }
-    analysis.receivers = match &zones {
+    analysis.receivers = match zones {
         Some(zones) => analyses_in_zones(
             scene,
             visibility,
@@ -90,10 +102,14 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
         ),
         None => analyse_receivers(scene, visibility, &analysis.luminaires, &settings.dominance),
     };
+    let mut analysed = vec![None; scene.surfaces.len()];
+    for (k, receiver) in analysis.receivers.iter().enumerate() {
+        analysed[receiver.receiver.index()] = Some(k);
+    }
     let layouts: Vec<Option<ContourLayout>> = scene
         .surfaces_with_ids()
         .map(|(surface, _)| {
-            let found = analysis.receivers.iter().find(|a| a.receiver == surface)?;
+            let found = &analysis.receivers[analysed[surface.index()]?];
             // A receiver of a few elements: its grid follows the light as
             // well as contours would.
             let spacing = square.max_edge;
@@ -123,10 +139,7 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
         .collect();
     for ((surface, _), layout) in scene.surfaces_with_ids().zip(&layouts) {
         let Some(layout) = layout else { continue };
-        let radial = analysis
-            .receivers
-            .iter()
-            .any(|a| a.receiver == surface && a.qualifies);
+        let radial = analysed[surface.index()].is_some_and(|k| analysis.receivers[k].qualifies);
         if radial {
             analysis.contour_surfaces.push(surface);
         } else {
@@ -215,12 +228,11 @@ fn boundaries_in_zones(
     };
     let ids: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
     let lights = LightPoints::new(scene, luminaires);
-    let members = zones.labels().members();
+    let boxes = SurfaceBoxes::new(scene);
     ids.par_iter()
         .map(|&id| {
             let zone = zones.of(id);
-            let room = (zones.labels(), members[zone].as_slice());
-            let receiver = (id, room);
+            let receiver = (id, (zones.labels(), &boxes));
             lights.boundaries_on(
                 scene,
                 zones.visibility(zone).unwrap_or(visibility),
@@ -294,9 +306,9 @@ pub fn receiver_shadow_boundaries(
         max_per_receiver: settings.max_shadow_boundaries,
     };
     let zones = Zones::new(scene, visibility);
-    let members = zones.labels().members();
     let zone = zones.of(receiver);
-    let room = (zones.labels(), members[zone].as_slice());
+    let boxes = SurfaceBoxes::new(scene);
+    let room = (zones.labels(), &boxes);
     LightPoints::new(scene, luminaires).boundaries_on(
         scene,
         zones.visibility(zone).unwrap_or(visibility),
@@ -342,7 +354,7 @@ impl<'a> LightPoints<'a> {
     }
 
     /// The boundaries the lights that reach `id` cast on it through the
-    /// surfaces of its zone (`room`: the zones, and the surfaces of `id`'s);
+    /// surfaces of its zone (`room`: the zones, and every surface's box);
     /// none on an emitter or a surface smaller than one element of
     /// `element` size.
     fn boundaries_on(
@@ -350,11 +362,16 @@ impl<'a> LightPoints<'a> {
         scene: &Scene,
         visibility: &Visibility,
         neighbours: &EdgeNeighbours,
-        (id, room): (SurfaceId, (&ZoneLabels, &[SurfaceId])),
+        (id, room): (SurfaceId, (&ZoneLabels, &SurfaceBoxes)),
         limits: BoundaryLimits,
         element: f64,
     ) -> Vec<[DVec2; 2]> {
-        let (zones, occluders) = room;
+        let (zones, boxes) = room;
+        let occluders = |low, high| {
+            let mut near = boxes.near(low, high, 0.0);
+            near.retain(|&other| zones.together(id, other));
+            near
+        };
         let surface = scene.surface(id);
         let emitting = scene.material_of(surface).is_emitter();
         if emitting || surface.area() < element * element {
@@ -378,7 +395,7 @@ impl<'a> LightPoints<'a> {
             .flatten()
             .copied()
             .collect();
-        let receiver = (id, occluders);
+        let receiver = (id, &occluders as OccludersIn<'_>);
         shadow_boundaries(
             (scene, visibility),
             neighbours,
