@@ -50,6 +50,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use super::shooter::{SAMPLED_PER_SIDE, sampled_cell};
 use super::unshot::cell_coordinates;
 use super::zones::{cosine_direction, cosine_direction_at};
 use crate::lighting::SampleStream;
@@ -90,11 +91,20 @@ pub(crate) struct AmbientRays {
     /// `vertex_hits.len() / VERTEX_RAYS` vertices; more are cast as an
     /// adaptive mesh grows).
     vertex_hits: Vec<u32>,
-    /// Where each vertex ray lands, as the parameters (s, t) of the patch it
-    /// hits ([`crate::mesh::Cell::point`]; NaN for a miss, or off the
-    /// patch): the unshot light is read there, not as the patch's mean.
-    vertex_points: Vec<[f32; 2]>,
+    /// Where each vertex ray lands: the cell of the patch's
+    /// [`SAMPLED_PER_SIDE`]² lattice that holds it ([`sampled_cell`] of the
+    /// patch's parameters there, [`crate::mesh::Cell::point`]), or
+    /// [`NO_CELL`] for a miss or a point off the patch. The unshot light is
+    /// read there, not as the patch's mean. One byte a ray: these are most
+    /// of what a solve holds per vertex (64 rays of 5 bytes; the
+    /// parameters as two `f32` took 12).
+    vertex_cells: Vec<u8>,
 }
+
+/// No lattice cell: the ray missed, or landed off its patch's cell.
+const NO_CELL: u8 = u8::MAX;
+
+const _: () = assert!(SAMPLED_PER_SIDE * SAMPLED_PER_SIDE < NO_CELL as usize);
 
 impl AmbientRays {
     /// Casts the rays not cast yet: every patch's once, and those of
@@ -125,38 +135,51 @@ impl AmbientRays {
                 .collect();
         }
         if done < mesh.vertices.len() {
-            let more: Vec<(u32, [f32; 2])> = (done..mesh.vertices.len())
-                .into_par_iter()
-                .flat_map_iter(|v| (0..VERTEX_RAYS).map(move |k| (v, k)))
-                .map(|(v, k)| {
+            // Written in place, vertex by vertex: no list of the new rays
+            // beside the kept ones, nor a vector doubling as it grows.
+            let (from, to) = (done * VERTEX_RAYS, mesh.vertices.len() * VERTEX_RAYS);
+            self.vertex_hits.truncate(from);
+            self.vertex_cells.truncate(from);
+            self.vertex_hits.reserve_exact(to - from);
+            self.vertex_cells.reserve_exact(to - from);
+            self.vertex_hits.resize(to, MISS);
+            self.vertex_cells.resize(to, NO_CELL);
+            self.vertex_hits[from..]
+                .par_chunks_mut(VERTEX_RAYS)
+                .zip(self.vertex_cells[from..].par_chunks_mut(VERTEX_RAYS))
+                .enumerate()
+                .for_each(|(n, (hits, cells))| {
+                    let v = done + n;
                     let vertex = &mesh.vertices[v];
                     let normal = scene.surface(vertex.surface).normal();
-                    let mut stream = SampleStream::new(v as u64, k as u64 | 2 << 40);
-                    let origin = vertex.receiver_position;
-                    let sectors = VERTEX_RAYS / VERTEX_RINGS;
-                    let direction =
-                        stratified_direction(normal, k, (VERTEX_RINGS, sectors), &mut stream);
-                    let start = (origin, normal, vertex.surface);
-                    let (hit, point) = locator.hit(scene, visibility, start, direction);
-                    let (s, t) = mesh
-                        .patches
-                        .get(hit as usize)
-                        .and_then(|patch| cell_coordinates(&patch.cell, point))
-                        .unwrap_or((f64::NAN, f64::NAN));
-                    (hit, [s as f32, t as f32])
-                })
-                .collect();
-            for (hit, point) in more {
-                self.vertex_hits.push(hit);
-                self.vertex_points.push(point);
-            }
+                    for (k, (hit, cell)) in hits.iter_mut().zip(cells.iter_mut()).enumerate() {
+                        let mut stream = SampleStream::new(v as u64, k as u64 | 2 << 40);
+                        let origin = vertex.receiver_position;
+                        let sectors = VERTEX_RAYS / VERTEX_RINGS;
+                        let direction =
+                            stratified_direction(normal, k, (VERTEX_RINGS, sectors), &mut stream);
+                        let start = (origin, normal, vertex.surface);
+                        let (patch, point) = locator.hit(scene, visibility, start, direction);
+                        *hit = patch;
+                        *cell = mesh
+                            .patches
+                            .get(patch as usize)
+                            .and_then(|patch| cell_coordinates(&patch.cell, point))
+                            .filter(|(s, t)| s.is_finite() && t.is_finite())
+                            .map_or(NO_CELL, |(s, t)| {
+                                // Rounded as the parameters were once kept.
+                                let (s, t) = (f64::from(s as f32), f64::from(t as f32));
+                                sampled_cell((s, t), SAMPLED_PER_SIDE) as u8
+                            });
+                    }
+                });
         }
     }
 
     /// The ambient irradiance G_v of every vertex (see the module docs), for
     /// unshot radiosity `unshot` and reflectance `reflectance` per patch.
     /// A vertex ray reads the unshot radiosity where it lands,
-    /// `unshot_at(patch, (s, t))` at the patch's parameters there, or the
+    /// `unshot_at(patch, cell)` in the patch's lattice cell there, or the
     /// patch's mean where that gives none: a floor
     /// patch half under a desk then sends the desk's underside the light of
     /// its dark half and the ceiling that of its lit half, as its shots do.
@@ -167,24 +190,24 @@ impl AmbientRays {
         &self,
         mesh: &Mesh,
         (unshot, reflectance): (&[Rgb], &[Rgb]),
-        unshot_at: &(dyn Fn(usize, (f64, f64)) -> Option<Rgb> + Sync),
+        unshot_at: &(dyn Fn(usize, usize) -> Option<Rgb> + Sync),
     ) -> Vec<Rgb> {
         let residual = self.patch_residual(unshot, reflectance);
         let seen = |v: usize| {
             let rays = v * VERTEX_RAYS..(v + 1) * VERTEX_RAYS;
-            let (Some(hits), Some(points)) = (
+            let (Some(hits), Some(cells)) = (
                 self.vertex_hits.get(rays.clone()),
-                self.vertex_points.get(rays),
+                self.vertex_cells.get(rays),
             ) else {
                 return Rgb::ZERO;
             };
             hits.iter()
-                .zip(points)
+                .zip(cells)
                 .filter(|(h, _)| **h != MISS)
-                .map(|(&h, &[s, t])| {
+                .map(|(&h, &cell)| {
                     let h = h as usize;
-                    let at = (s.is_finite() && t.is_finite())
-                        .then(|| unshot_at(h, (f64::from(s), f64::from(t))))
+                    let at = (cell != NO_CELL)
+                        .then(|| unshot_at(h, usize::from(cell)))
                         .flatten();
                     at.unwrap_or(unshot[h]) + residual[h]
                 })
@@ -345,7 +368,7 @@ mod tests {
         let rays = AmbientRays {
             patch_hits: [vec![1; PATCH_RAYS], vec![0; PATCH_RAYS]].concat(),
             vertex_hits: Vec::new(),
-            vertex_points: Vec::new(),
+            vertex_cells: Vec::new(),
         };
         let unshot = [Rgb::splat(2.0), Rgb::splat(2.0)];
         let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];
@@ -354,6 +377,46 @@ mod tests {
             // ρ ΔB / (1 − ρ) = 0.5 · 2 / 0.5.
             assert!((a.g - 2.0).abs() < 1e-5, "{a:?}");
         }
+    }
+
+    /// A vertex ray reads the unshot light in the lattice cell it landed in,
+    /// and the patch's mean where it landed in none; a miss reads nothing.
+    #[test]
+    fn a_vertex_ray_reads_its_landing_cell() {
+        let cells: Vec<u8> = (0..VERTEX_RAYS)
+            .map(|k| match k % 4 {
+                0 | 1 => 5,
+                2 => 63,
+                _ => NO_CELL,
+            })
+            .collect();
+        let hits: Vec<u32> = (0..VERTEX_RAYS)
+            .map(|k| if k % 8 == 7 { MISS } else { 0 })
+            .collect();
+        let rays = AmbientRays {
+            patch_hits: Vec::new(),
+            vertex_hits: hits,
+            vertex_cells: cells,
+        };
+        let mut mesh = Mesh::default();
+        mesh.vertices.push(crate::mesh::MeshVertex {
+            position: DVec3::ZERO,
+            receiver_position: DVec3::ZERO,
+            surface: crate::scene::SurfaceId::new(0),
+        });
+        let unshot = [Rgb::splat(1.0)];
+        let lattice = |patch: usize, cell: usize| {
+            assert_eq!(patch, 0);
+            Some(Rgb::splat(match cell {
+                5 => 2.0,
+                63 => 4.0,
+                _ => panic!("cell {cell}"),
+            }))
+        };
+        let g = rays.irradiance(&mesh, (&unshot, &[Rgb::splat(0.5)]), &lattice);
+        // Of every 8 rays: four in cell 5, two in cell 63, one on no cell
+        // (the mean, 1) and one miss: (4·2 + 2·4 + 1) / 8.
+        assert!((g[0].g - 17.0 / 8.0).abs() < 1e-12, "{g:?}");
     }
 
     /// Rays that leave the scene carry nothing: a patch half of whose rays
@@ -366,7 +429,7 @@ mod tests {
         let rays = AmbientRays {
             patch_hits: [half, vec![MISS; PATCH_RAYS]].concat(),
             vertex_hits: Vec::new(),
-            vertex_points: Vec::new(),
+            vertex_cells: Vec::new(),
         };
         let unshot = [Rgb::ZERO, Rgb::splat(4.0)];
         let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];

@@ -12,7 +12,7 @@ use super::mesh_settings::MeshKind;
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
-use super::shooter::{Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity, sampled_cell};
+use super::shooter::{Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity};
 use super::solution::Solution;
 use super::unshot::UnshotCorners;
 use super::zones::{ZoneMembers, Zones};
@@ -549,10 +549,7 @@ impl Solver {
                 field.sampled_radiosity(&[patch.cell], SAMPLED_PER_SIDE)
             })
             .collect();
-        let unshot_at = |p: usize, uv: (f64, f64)| {
-            let lattice: &Vec<Rgb> = &lattices[p];
-            lattice.get(sampled_cell(uv, SAMPLED_PER_SIDE)).copied()
-        };
+        let unshot_at = |p: usize, cell: usize| lattices[p].get(cell).copied();
         rays.irradiance(&self.mesh, (&self.unshot, &reflectance), &unshot_at)
     }
 
