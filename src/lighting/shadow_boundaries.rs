@@ -143,7 +143,9 @@ pub fn shadow_boundaries(
     let target = scene.surface(receiver);
     let frame = target.frame();
     let outline = target.plane_vertices();
-    let tolerance = HEIGHT_TOLERANCE * scene.diagonal();
+    // The BVH keeps the scene's diagonal: `Scene::diagonal` visits every
+    // vertex of the scene, once per receiver of a building.
+    let tolerance = HEIGHT_TOLERANCE * visibility.diagonal();
     let mut found = Vec::new();
     for luminaire in luminaires {
         if luminaire.surfaces.contains(&receiver) {

@@ -335,7 +335,7 @@ impl Solution<'_> {
     ) -> (Rgb, [DVec3; 3]) {
         let mut total = Rgb::ZERO;
         let mut gradient = [DVec3::ZERO; 3];
-        let h = 1e-4 * self.scene.diagonal();
+        let h = 1e-4 * self.visibility.diagonal();
         let u = normal.any_orthonormal_vector();
         let v = normal.cross(u);
         for (luminaire, _) in self
