@@ -55,12 +55,36 @@ pub fn luminaires(scene: &Scene) -> Vec<Luminaire> {
         .map(|(id, _)| id)
         .collect();
     let tolerance = DISTANCE_TOLERANCE * scene.diagonal();
-    // Join every touching coplanar pair of one material.
+    // Join every touching coplanar pair of one material. Only emitters
+    // whose boxes come within the tolerance can touch: swept in order of
+    // their boxes' low x, each meets only those that start before its box
+    // ends, not every other (a building has thousands of lamps).
+    let boxes: Vec<(DVec3, DVec3)> = emitters
+        .iter()
+        .map(|&id| {
+            let vertices = scene.surface(id).vertices();
+            let low = vertices.iter().copied().fold(DVec3::INFINITY, DVec3::min);
+            let high = vertices
+                .iter()
+                .copied()
+                .fold(DVec3::NEG_INFINITY, DVec3::max);
+            (
+                low - DVec3::splat(tolerance),
+                high + DVec3::splat(tolerance),
+            )
+        })
+        .collect();
+    let mut by_low_x: Vec<usize> = (0..emitters.len()).collect();
+    by_low_x.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
     let mut parent: Vec<usize> = (0..emitters.len()).collect();
-    for a in 0..emitters.len() {
-        for b in a + 1..emitters.len() {
+    for (n, &a) in by_low_x.iter().enumerate() {
+        for &b in &by_low_x[n + 1..] {
+            if boxes[b].0.x > boxes[a].1.x {
+                break;
+            }
+            let overlap = boxes[a].0.cmple(boxes[b].1).all() && boxes[b].0.cmple(boxes[a].1).all();
             let (sa, sb) = (scene.surface(emitters[a]), scene.surface(emitters[b]));
-            if same_luminaire(sa, sb, tolerance) {
+            if overlap && same_luminaire(sa, sb, tolerance) {
                 let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
                 parent[ra.max(rb)] = ra.min(rb);
             }
