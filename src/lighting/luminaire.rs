@@ -62,12 +62,7 @@ pub fn luminaires(scene: &Scene) -> Vec<Luminaire> {
     let boxes: Vec<(DVec3, DVec3)> = emitters
         .iter()
         .map(|&id| {
-            let vertices = scene.surface(id).vertices();
-            let low = vertices.iter().copied().fold(DVec3::INFINITY, DVec3::min);
-            let high = vertices
-                .iter()
-                .copied()
-                .fold(DVec3::NEG_INFINITY, DVec3::max);
+            let (low, high) = scene.surface(id).bounds();
             (
                 low - DVec3::splat(tolerance),
                 high + DVec3::splat(tolerance),

@@ -136,6 +136,22 @@ impl Surface {
         &self.vertices
     }
 
+    /// The polygon's axis-aligned bounding box (min, max).
+    #[must_use]
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        let low = self
+            .vertices
+            .iter()
+            .copied()
+            .fold(DVec3::INFINITY, DVec3::min);
+        let high = self
+            .vertices
+            .iter()
+            .copied()
+            .fold(DVec3::NEG_INFINITY, DVec3::max);
+        (low, high)
+    }
+
     /// Unit normal of the front side.
     #[must_use]
     pub fn normal(&self) -> DVec3 {

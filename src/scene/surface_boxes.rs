@@ -12,7 +12,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use super::{Scene, SurfaceId};
+use super::{Scene, Surface, SurfaceId};
 
 /// Cells a surface may be listed in; a larger one (a floor under a grid of
 /// small books) goes on a list every query scans.
@@ -32,19 +32,7 @@ impl SurfaceBoxes {
     /// Lists the surfaces of `scene` by the cells their boxes overlap.
     #[must_use]
     pub fn new(scene: &Scene) -> SurfaceBoxes {
-        let boxes: Vec<(DVec3, DVec3)> = scene
-            .surfaces
-            .iter()
-            .map(|surface| {
-                let vertices = surface.vertices();
-                let min = vertices.iter().copied().fold(DVec3::INFINITY, DVec3::min);
-                let max = vertices
-                    .iter()
-                    .copied()
-                    .fold(DVec3::NEG_INFINITY, DVec3::max);
-                (min, max)
-            })
-            .collect();
+        let boxes: Vec<(DVec3, DVec3)> = scene.surfaces.iter().map(Surface::bounds).collect();
         let (origin, top) = scene.bounds();
         let extent = boxes
             .iter()
