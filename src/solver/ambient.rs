@@ -167,7 +167,7 @@ impl AmbientRays {
                             .and_then(|patch| cell_coordinates(&patch.cell, point))
                             .filter(|(s, t)| s.is_finite() && t.is_finite())
                             .map_or(NO_CELL, |(s, t)| {
-                                // Rounded as the parameters were once kept.
+                                // Rounded to f32 first, which decides the cell of a point on a cell edge.
                                 let (s, t) = (f64::from(s as f32), f64::from(t as f32));
                                 sampled_cell((s, t), SAMPLED_PER_SIDE) as u8
                             });
