@@ -9,7 +9,8 @@
 use glam::DVec2;
 
 use super::contacts::{
-    Contact, contact_segments, gather_beside_lying_outlines, remesh_surface, remove_hidden_elements,
+    Contact, contact_segments, gather_beside_covering_outlines, remesh_surface,
+    remove_hidden_elements,
 };
 use super::contour::ContourLayout;
 use super::square::{SquareMeshSettings, square_grid};
@@ -18,7 +19,7 @@ use crate::scene::{Scene, Surface, SurfaceBoxes, SurfaceId};
 
 /// How close to a plane, as a fraction of the scene's diagonal, another
 /// surface's edge must lie to stand on it.
-const CONTACT_TOLERANCE: f64 = 1e-3;
+pub(crate) const CONTACT_TOLERANCE: f64 = 1e-3;
 
 /// How far boundary vertices gather inside their surface, as a fraction of
 /// the scene's diagonal: at least ten times the shadow rays' surface offset,
@@ -78,40 +79,41 @@ pub fn mesh_surfaces(
     let tolerance = CONTACT_TOLERANCE * scene.diagonal();
     let inset = receiver_inset(scene);
     let mut touched = Vec::new();
-    let mut lying = Vec::new();
+    let mut covering = Vec::new();
     let boxes = SurfaceBoxes::new(scene);
     for (id, surface) in scene.surfaces_with_ids() {
         let grid = square_grid(surface, id, settings);
         let contacts = contact_segments(scene, &boxes, id, tolerance, inset);
-        let lying_here: Vec<Contact> = contacts
+        let covering_here: Vec<Contact> = contacts
+            .lines
             .iter()
             .filter(|c| c.clearance > 0.0)
             .copied()
             .collect();
-        if !lying_here.is_empty() {
-            lying.push((id, lying_here));
+        if !covering_here.is_empty() {
+            covering.push((id, covering_here));
+        }
+        if !contacts.lines.is_empty() || contacts.covered {
+            touched.push(id);
         }
         let guides = guides(id);
-        if contacts.is_empty() && guides.layout.is_none() && guides.boundaries.is_empty() {
+        if contacts.lines.is_empty() && guides.layout.is_none() && guides.boundaries.is_empty() {
             mesh.append(grid);
             continue;
         }
         mesh.append(remesh_surface(
             surface,
             &grid,
-            &contacts,
+            &contacts.lines,
             &guides.boundaries,
             settings.max_edge,
             guides.layout.as_ref(),
         ));
-        if !contacts.is_empty() {
-            touched.push(id);
-        }
     }
     if !touched.is_empty() {
         remove_hidden_elements(&mut mesh, scene, &touched);
     }
     mesh.inset_boundary_receivers(inset);
-    gather_beside_lying_outlines(&mut mesh, scene, &lying, settings.max_edge);
+    gather_beside_covering_outlines(&mut mesh, scene, &covering, settings.max_edge);
     mesh
 }

@@ -9,6 +9,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use super::assembly::CONTACT_TOLERANCE;
 use super::constrained::triangulate_constrained;
 use super::contour::ContourLayout;
 use super::patch::Cell;
@@ -28,13 +29,13 @@ pub struct Contact {
     /// The touching surface.
     pub surface: SurfaceId,
     /// The side the touching surface faces: its normal projected into the
-    /// receiver's plane, unit length; for a surface lying on the receiver,
+    /// receiver's plane, unit length; for a parallel surface covering the receiver,
     /// away from its footprint.
     pub facing: DVec2,
     /// How far to its `facing` side the receiver's vertices on the line
     /// gather: 0 for a surface standing on the receiver (the dark corner
     /// beside a block's foot is real and as wide as the block is high),
-    /// twice the gap for one lying on it (see [`lying_outline`]).
+    /// twice the gap for one covering it (see [`covering_outline`]).
     pub clearance: f64,
 }
 
@@ -47,6 +48,19 @@ pub struct Contact {
 /// its walls, under window frames, that lost 10–15 % of their light.
 const BESIDE_CONTACT_ROWS: [f64; 2] = [0.125, 0.5];
 
+/// The contact lines on a receiver's front, and whether a parallel surface
+/// covers part of it ([`contact_segments`]).
+#[derive(Clone, Debug, Default)]
+pub struct ReceiverContacts {
+    /// The contact segments, in the receiver's plane coordinates.
+    pub lines: Vec<Contact>,
+    /// Whether a parallel surface lies over some of the receiver within its
+    /// covering gap ([`covering_gap`]), even where its outline gives no
+    /// line: a book's side wholly behind a taller, deeper neighbour's. The
+    /// part under it is hidden, and meshing drops it.
+    pub covered: bool,
+}
+
 /// The contact segments on `receiver`'s front: for every other surface not
 /// parallel to it, the part of its polygon lying within `tolerance` of the
 /// receiver's plane (or crossing it), when the rest of that surface stands
@@ -57,8 +71,10 @@ const BESIDE_CONTACT_ROWS: [f64; 2] = [0.125, 0.5];
 /// A contact farther in, such as a screen's foot a centimetre from a desk's
 /// edge, is kept however close: without it the desk's edge vertices would
 /// gather under the screen, in the dark, and darken a whole row of elements.
-/// A parallel surface lying just in front of the receiver (a ceiling panel
-/// hung a centimetre below it) adds its outline ([`lying_outline`]).
+/// A parallel surface just in front of the receiver adds its outline
+/// ([`covering_outline`]): one lying on it, facing the same way (a ceiling
+/// panel hung a centimetre below a ceiling), or one facing it across a
+/// narrow slot (the sides of two books a millimetre apart on a shelf).
 ///
 /// Only the surfaces whose bounding boxes come within `tolerance` of the
 /// receiver's are looked at, found through `boxes` (built once for the
@@ -70,32 +86,37 @@ pub fn contact_segments(
     receiver: SurfaceId,
     tolerance: f64,
     inset: f64,
-) -> Vec<Contact> {
+) -> ReceiverContacts {
     let target = scene.surface(receiver);
     let frame = target.frame();
     let outline = target.plane_vertices();
     let (min, max) = boxes.bounds(receiver);
-    let mut contacts = Vec::new();
-    let lying_gap = LYING_GAP * target.area().sqrt();
-    for id in boxes.near(min, max, tolerance.max(lying_gap)) {
+    let mut contacts = ReceiverContacts::default();
+    let largest_gap = COVERING_GAP * target.area().sqrt();
+    for id in boxes.near(min, max, tolerance.max(largest_gap)) {
         let other = scene.surface(id);
         if id == receiver {
             continue;
         }
         let alignment = other.normal().dot(target.normal());
-        if alignment > 0.999 {
-            let gap = lying_gap.min(LYING_GAP * other.area().sqrt());
-            contacts.extend(lying_outline(
-                other,
-                id,
-                frame,
-                &outline,
-                (tolerance, gap),
-                inset,
-            ));
-            continue;
-        }
-        if alignment < -0.999 {
+        if alignment.abs() > 0.999 {
+            // One lying on the receiver must be clear of its plane (nearer,
+            // it is a decal); one facing it, across a slot however narrow,
+            // but not back to back with it (the two sides of a partition).
+            let (above, gap) = if alignment > 0.0 {
+                (tolerance, covering_gap(target, other))
+            } else {
+                (
+                    FACING_CLEARANCE * tolerance,
+                    slot_gap(target, other, tolerance),
+                )
+            };
+            if let Some(lines) =
+                covering_outline(other, id, frame, &outline, (above, gap), (tolerance, inset))
+            {
+                contacts.lines.extend(lines);
+                contacts.covered = true;
+            }
             continue;
         }
         let heights: Vec<f64> = other.vertices().iter().map(|&p| frame.height(p)).collect();
@@ -117,7 +138,7 @@ pub fn contact_segments(
             if clipped[0].distance(clipped[1]) > tolerance && !along_outline {
                 let origin = frame.to_plane(DVec3::ZERO);
                 let facing = (frame.to_plane(other.normal()) - origin).normalize_or_zero();
-                contacts.push(Contact {
+                contacts.lines.push(Contact {
                     ends: clipped,
                     surface: id,
                     facing,
@@ -130,38 +151,87 @@ pub fn contact_segments(
 }
 
 /// How far in front of a receiver, as a fraction of the smaller one's size
-/// (√area), a surface parallel to it and facing the same way lies on it:
-/// a ceiling panel hung a centimetre below a ceiling, a picture on a wall.
-const LYING_GAP: f64 = 0.05;
+/// (√area), a parallel surface covers it: a ceiling panel hung a centimetre
+/// below a ceiling or a picture on a wall (facing the same way), the sides
+/// of two books a millimetre apart (facing each other across a slot, no
+/// wider than [`slot_gap`]).
+const COVERING_GAP: f64 = 0.05;
 
-/// The contact lines of a surface lying on the receiver: parallel to it,
-/// facing the same way, its whole polygon in front of the receiver's plane
-/// by more than `tolerance` and at most `gap`. The receiver under it is
-/// hidden and unlit, like the floor under a block, so its outline,
-/// projected onto the receiver's plane and clipped to `outline`, bounds
-/// the elements: without it, the vertices in the gap behind a ceiling
-/// panel spread their darkness a whole element round the panel. Each side
-/// faces away from the footprint, where a viewer sees the receiver. Right
-/// beside the footprint the receiver darkens over a band as wide as the
-/// gap (half its light at the line, all of it a gap away), too narrow to
-/// see where it is far narrower than an element: the vertices on the line
-/// then gather two gaps out, so that the elements beside it are not dimmed
-/// across their width ([`gather_beside_lying_outlines`]).
-fn lying_outline(
+/// How far in front of a receiver, as a fraction of the contact tolerance,
+/// a parallel surface facing it must lie to cover it: a slot between two
+/// books may be far narrower than the tolerance (a millimetre against a
+/// thousandth of a room's diagonal), while the two sides of a partition
+/// modelled without thickness lie back to back, at no height at all.
+const FACING_CLEARANCE: f64 = 1e-3;
+
+/// The largest gap at which `other`, parallel to `receiver` and in front of
+/// it, covers it: [`COVERING_GAP`] of the smaller one's √area. Light
+/// reaches into such a gap only about as far as the gap is wide, so the
+/// part of the receiver under the other is dark; a table top over a floor
+/// or two facing walls are far wider apart than that.
+#[must_use]
+pub fn covering_gap(receiver: &Surface, other: &Surface) -> f64 {
+    COVERING_GAP * receiver.area().min(other.area()).sqrt()
+}
+
+/// The widest slot across which `other`, facing `receiver`, covers it:
+/// the contact tolerance, or [`covering_gap`] if smaller. Two faces that
+/// close touch, and the part of each behind the other is as hidden as the
+/// floor under a block. A wider slot (two bookcases' sides 2 cm apart) is
+/// left meshed: a viewer looking along it would see through the dropped
+/// faces into the objects behind them.
+#[must_use]
+pub fn slot_gap(receiver: &Surface, other: &Surface, tolerance: f64) -> f64 {
+    covering_gap(receiver, other).min(tolerance)
+}
+
+/// The contact lines of a parallel surface covering the receiver, or
+/// `None` when it does not: its whole polygon in front of the receiver's
+/// plane by at least `above` and at most `gap`, its footprint on the
+/// receiver's polygon. Lines shorter than `tolerance`, or along the
+/// receiver's outline within `inset`, are left out. It lies on the receiver, facing the same way, or
+/// faces it across a slot. The receiver under it is hidden and unlit,
+/// like the floor under a block, so its outline, projected onto the
+/// receiver's plane and clipped to `outline`, bounds the elements (none
+/// when the footprint covers the receiver's whole polygon): without it,
+/// the vertices in the gap behind a ceiling panel spread their darkness a
+/// whole element round the panel, and those in the slots between books
+/// gathered the room's light at the slots' mouths (2.8 times what a path
+/// tracer finds on the books' sides of `bench/generate_building.py`'s
+/// cluttered office, over 27 m² of faces). Each side faces away from the
+/// footprint, where a viewer sees the receiver. Right beside the footprint
+/// the receiver darkens over a band as wide as the gap (half its light at
+/// the line, all of it a gap away), too narrow to see where it is far
+/// narrower than an element: the vertices on the line then gather two gaps
+/// out, so that the elements beside it are not dimmed across their width
+/// ([`gather_beside_covering_outlines`]).
+fn covering_outline(
     other: &Surface,
     id: SurfaceId,
     frame: &PlaneFrame,
     outline: &[DVec2],
-    (tolerance, gap): (f64, f64),
-    inset: f64,
-) -> Vec<Contact> {
+    (above, gap): (f64, f64),
+    (tolerance, inset): (f64, f64),
+) -> Option<Vec<Contact>> {
     let vertices = other.vertices();
     let heights: Vec<f64> = vertices.iter().map(|&p| frame.height(p)).collect();
-    if !heights.iter().all(|h| (tolerance..=gap).contains(h)) {
-        return Vec::new();
+    if !heights.iter().all(|h| (above..=gap).contains(h)) {
+        return None;
     }
     let height = heights.iter().copied().fold(0.0, f64::max);
     let footprint: Vec<DVec2> = vertices.iter().map(|&p| frame.to_plane(p)).collect();
+    let overlaps = footprint.iter().any(|&p| polygon_contains(outline, p))
+        || outline.iter().any(|&p| polygon_contains(&footprint, p))
+        || (0..footprint.len()).any(|k| {
+            clip_segment_to_polygon(
+                [footprint[k], footprint[(k + 1) % footprint.len()]],
+                outline,
+            )
+            .is_some()
+        });
+    if !overlaps {
+        return None;
+    }
     let centre = footprint.iter().sum::<DVec2>() / footprint.len() as f64;
     let mut contacts = Vec::new();
     for k in 0..footprint.len() {
@@ -186,26 +256,27 @@ fn lying_outline(
             clearance: 2.0 * height,
         });
     }
-    contacts
+    Some(contacts)
 }
 
-/// Moves the receivers of the vertices on the lines of surfaces lying on
-/// a receiver (`lying`: per receiver, its contacts) by each line's
+/// Moves the receivers of the vertices on the outlines of parallel
+/// surfaces covering a receiver ([`covering_outline`]; `covering`: per
+/// receiver, those contacts) by each line's
 /// `clearance` to its facing side (both sides' at a footprint's corner),
 /// where that stays short of the first row of vertices beside the line
 /// ([`BESIDE_CONTACT_ROWS`] of the element `spacing`). A wider dark band,
 /// behind a window set 4 cm in front of a wall, is one the rows draw and
 /// a viewer sees.
-pub fn gather_beside_lying_outlines(
+pub fn gather_beside_covering_outlines(
     mesh: &mut Mesh,
     scene: &Scene,
-    lying: &[(SurfaceId, Vec<Contact>)],
+    covering: &[(SurfaceId, Vec<Contact>)],
     spacing: f64,
 ) {
     let first_row = BESIDE_CONTACT_ROWS[0] * spacing;
     let on_line = 1e-6 * scene.diagonal();
     let mut of_surface: Vec<Option<&[Contact]>> = vec![None; scene.surfaces.len()];
-    for (id, contacts) in lying {
+    for (id, contacts) in covering {
         of_surface[id.index()] = Some(contacts);
     }
     for vertex in &mut mesh.vertices {
@@ -428,9 +499,10 @@ fn cell_distance(cell: &[DVec2], p: DVec2) -> f64 {
 }
 
 /// Drops the elements of the given surfaces that lie inside a closed object
-/// standing on them (under a block on a floor): no light reaches them and no
-/// viewer sees them. An element is enclosed when its centroid is
-/// ([`is_enclosed`]).
+/// standing on them (under a block on a floor) or under a parallel surface
+/// covering them (behind a ceiling panel, in the slot between two books):
+/// no light reaches them and no viewer sees them. An element is hidden
+/// when its centroid is ([`is_enclosed`]).
 pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[SurfaceId]) {
     let visibility = Visibility::new(scene);
     let mut touched = vec![false; scene.surfaces.len()];
@@ -450,25 +522,36 @@ pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[Surfac
     mesh.remove_elements(|index, _| hidden[index]);
 }
 
-/// Whether the point `x` of `surface` lies inside a closed object standing
-/// on it (under a block on a floor): at least 6 of 7 rays from just above
-/// it, spread over its hemisphere, hit the back of a surface (one-sided
-/// surfaces of a closed object face outwards).
+/// Whether the point `x` of `surface` is hidden: at least 6 of 7 rays from
+/// just above it, spread over its hemisphere, end on the back of a surface
+/// (inside a closed object standing on it, whose one-sided surfaces face
+/// outwards) or on a parallel surface facing it across a slot no wider
+/// than [`slot_gap`] (between two books, where light dies within a gap's
+/// width of the mouth).
 #[must_use]
 pub fn is_enclosed(scene: &Scene, visibility: &Visibility, surface: SurfaceId, x: DVec3) -> bool {
     let lift = 10.0 * visibility.surface_offset();
     let reach = visibility.diagonal();
-    let normal = scene.surface(surface).normal();
+    let receiver = scene.surface(surface);
+    let normal = receiver.normal();
     let origin = x + normal * lift;
-    let backs = hemisphere_directions(normal)
+    let tolerance = CONTACT_TOLERANCE * visibility.diagonal();
+    let covers = |other: &Surface| {
+        other.normal().dot(normal) < -0.999
+            && receiver.frame().height(other.vertices()[0]) <= slot_gap(receiver, other, tolerance)
+    };
+    let closed = hemisphere_directions(normal)
         .iter()
         .filter(|&&direction| {
             visibility
                 .first_hit(origin, direction, reach, surface)
-                .is_some_and(|hit| scene.surface(hit).normal().dot(direction) > 0.0)
+                .is_some_and(|hit| {
+                    let other = scene.surface(hit);
+                    other.normal().dot(direction) > 0.0 || covers(other)
+                })
         })
         .count();
-    backs >= 6
+    closed >= 6
 }
 
 /// Seven directions over the hemisphere around `normal`: the normal and six

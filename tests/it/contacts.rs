@@ -535,3 +535,88 @@ fn a_room_meshes_the_same_among_closed_rooms() {
     assert!(room_b.iter().any(|a| !a.lit_by.is_empty()));
     assert!(room_b.iter().all(lamp_b), "{room_b:?}");
 }
+
+/// Two books 6 cm thick standing side by side `gap` apart on a 4 × 4 m
+/// floor under a light as large as the floor, 4 m up: the first 30 cm
+/// tall, the second 25 cm, both 20 cm deep.
+fn books_on_a_floor(gap: f64) -> Scene {
+    let mut b = SceneBuilder::default();
+    let white = b.material("white", 0.5, 0.0);
+    let light = b.material("light", 0.0, 10.0);
+    b.polygon("floor", white, square_z(-2.0, 2.0, 0.0, true));
+    b.polygon("light", light, square_z(-2.0, 2.0, 4.0, false));
+    let (lo, hi) = (
+        DVec3::new(-0.06 - gap, -0.1, 0.0),
+        DVec3::new(-gap, 0.1, 0.3),
+    );
+    open_box(&mut b, "tall book", white, lo, hi);
+    let (lo, hi) = (DVec3::new(0.0, -0.1, 0.0), DVec3::new(0.06, 0.1, 0.25));
+    open_box(&mut b, "short book", white, lo, hi);
+    b.scene
+}
+
+#[test]
+fn the_sides_of_books_a_millimetre_apart_keep_only_what_the_slot_leaves_open() {
+    let scene = books_on_a_floor(0.001);
+    // The faces of `open_box`: -y, +y, -x, +x, top; the tall book's first.
+    let (tall_side, short_side) = (SurfaceId::new(2 + 3), SurfaceId::new(7 + 2));
+    let mesh = mesh_of(&scene);
+    // The tall book's side keeps the 5 cm strip above the short book; the
+    // short book's side, wholly behind the tall one's, keeps nothing.
+    let tall = valid_area_of(&scene, &mesh, tall_side);
+    let short = valid_area_of(&scene, &mesh, short_side);
+    assert!(
+        (tall - 0.2 * 0.05).abs() < 1e-9,
+        "the tall side keeps {tall} m²"
+    );
+    assert!(short.abs() < 1e-12, "the short side keeps {short} m²");
+    let solver = solved_to_a_thousandth(scene, mesh);
+    let solution = solver.solution_with_ambient();
+    // The power the two sides receive is what exact gathers find over the
+    // tall side's open strip (a 10 × 10 grid), plus at most what enters
+    // the slot's two 1 mm × 25 cm mouths at the brightest irradiance on
+    // the floor: the slot's light dies within a few millimetres of them.
+    // Before the slot was cut out, its vertices gathered the room's light
+    // at the mouths, and the sides received 4.9 times the strip's power.
+    let received: f64 = [tall_side, short_side]
+        .iter()
+        .map(|id| solution.surface_totals()[id.index()].received_power.r)
+        .sum();
+    let mut strip = 0.0;
+    for i in 0..10 {
+        for j in 0..10 {
+            let y = -0.1 + 0.2 * (f64::from(i) + 0.5) / 10.0;
+            let z = 0.25 + 0.05 * (f64::from(j) + 0.5) / 10.0;
+            let probe = gather_at(&solution, DVec3::new(-0.001, y, z), Some(DVec3::X));
+            strip += probe.irradiance.r * 0.2 * 0.05 / 100.0;
+        }
+    }
+    let brightest = gather_at(&solution, DVec3::new(0.0, 0.5, 0.0), Some(DVec3::Z))
+        .irradiance
+        .r;
+    let mouths = 2.0 * 0.001 * 0.25 * brightest;
+    assert!(
+        received > 0.85 * strip && received < 1.15 * strip + mouths,
+        "the books' facing sides receive {received} W; their open strip {strip} W, \
+         the slot's mouths at most {mouths} W"
+    );
+}
+
+#[test]
+fn books_farther_apart_than_the_contact_tolerance_keep_their_sides() {
+    // 2 cm apart, three times the contact tolerance (a thousandth of the
+    // 6.9 m diagonal): a viewer can look into the slot, and would see
+    // through dropped faces into the books.
+    let scene = books_on_a_floor(0.02);
+    let mesh = mesh_of(&scene);
+    let tall = valid_area_of(&scene, &mesh, SurfaceId::new(2 + 3));
+    let short = valid_area_of(&scene, &mesh, SurfaceId::new(7 + 2));
+    assert!(
+        (tall - 0.2 * 0.3).abs() < 1e-9,
+        "the tall side keeps {tall} m²"
+    );
+    assert!(
+        (short - 0.2 * 0.25).abs() < 1e-9,
+        "the short side keeps {short} m²"
+    );
+}
