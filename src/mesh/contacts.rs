@@ -526,7 +526,7 @@ pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[Surfac
 /// just above it, spread over its hemisphere, end on the back of a surface
 /// (inside a closed object standing on it, whose one-sided surfaces face
 /// outwards) or on a parallel surface facing it across a slot no wider
-/// than [`slot_gap`] (between two books, where light dies within a gap's
+/// than `slot_gap` (between two books, where light dies within a gap's
 /// width of the mouth).
 #[must_use]
 pub fn is_enclosed(scene: &Scene, visibility: &Visibility, surface: SurfaceId, x: DVec3) -> bool {
