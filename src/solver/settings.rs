@@ -76,6 +76,15 @@ pub struct SolverSettings {
     /// the same radiosity, without the shadow rays that would all be
     /// blocked (true).
     pub cull_closed_zones: bool,
+    /// Scale the power each element of a closed zone takes from a
+    /// reflected shot so that together they receive exactly the shot's
+    /// power (true; vertices keep the irradiance they gathered). From any
+    /// point of a closed zone the form factors to the zone sum to 1, so a
+    /// shot's power lands whole; the elements' corner means of the sampled
+    /// irradiance miss about 1 % of it (light falling off concavely into a
+    /// junction), which compounded over the bounces and left furnished
+    /// rooms 0.5–1.2 % dark against a path tracer.
+    pub conserve_closed_zones: bool,
 }
 
 impl Default for SolverSettings {
@@ -89,6 +98,7 @@ impl Default for SolverSettings {
             kernel: FormFactorKernel::default(),
             shoot_from: ShootFrom::default(),
             cull_closed_zones: true,
+            conserve_closed_zones: true,
         }
     }
 }

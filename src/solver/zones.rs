@@ -128,6 +128,12 @@ impl Zones {
     pub fn of(&self, surface: SurfaceId) -> usize {
         self.labels.of(surface)
     }
+
+    /// Whether zone `zone` is closed: no light leaves it.
+    #[must_use]
+    pub fn is_closed(&self, zone: usize) -> bool {
+        self.labels.is_closed(zone)
+    }
 }
 
 /// The closed zone of every surface, without the zones' BVHs: what meshing
@@ -139,6 +145,8 @@ pub struct ZoneLabels {
     zone: Vec<u32>,
     /// How many zones there are (open ones counted as one).
     count: usize,
+    /// The open zone, where light leaves the scene, if there is one.
+    open: Option<u32>,
 }
 
 impl ZoneLabels {
@@ -229,10 +237,19 @@ impl ZoneLabels {
                 index[root]
             })
             .collect();
+        let open_root = find(&mut parents, surfaces);
+        let open = (index[open_root] != u32::MAX).then_some(index[open_root]);
         ZoneLabels {
             zone,
             count: count as usize,
+            open,
         }
+    }
+
+    /// Whether zone `zone` is closed: no light leaves it.
+    #[must_use]
+    pub fn is_closed(&self, zone: usize) -> bool {
+        self.open != Some(zone as u32)
     }
 
     /// Whether surfaces `a` and `b` are in the same zone, and so may

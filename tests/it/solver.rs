@@ -463,3 +463,59 @@ fn a_lamps_shot_gives_a_coarse_floor_its_exact_power() {
         "the trapezoid rule: {trapezoid_error:+.4}"
     );
 }
+
+/// A closed 4 × 4 × 3 m room whose faces all reflect 0.7: a 0.6 m lamp
+/// panel (radiance 10, reflecting too) hung 1 cm below the ceiling, and a
+/// 1 m block standing on the floor (open at the bottom).
+fn closed_room_with_a_block() -> Scene {
+    let mut b = SceneBuilder::default();
+    let white = b.material("white", 0.7, 0.0);
+    let lamp = b.material("lamp", 0.7, 10.0);
+    for quad in box_faces(DVec3::new(4.0, 4.0, 3.0)) {
+        b.polygon("room", white, quad);
+    }
+    let panel = square_z(1.7, 2.3, 2.99, false);
+    b.polygon("lamp", lamp, panel);
+    let (lo, hi) = (DVec3::new(0.8, 1.2, 0.0), DVec3::new(1.8, 2.2, 1.0));
+    let centre = 0.5 * (lo + hi);
+    for face in box_faces(hi - lo)
+        .into_iter()
+        .filter(|f| f.iter().any(|p| p.z > 0.0))
+    {
+        let face: Vec<DVec3> = face.into_iter().map(|p| p + lo).collect();
+        let middle = face.iter().copied().sum::<DVec3>() / face.len() as f64;
+        b.polygon_facing("block", white, face, 2.0 * middle - centre);
+    }
+    b.scene
+}
+
+#[test]
+fn a_closed_room_receives_its_emission_over_one_minus_reflectance() {
+    // Every face reflects ρ = 0.7, so the faces receive Φ / (1 − ρ) in all,
+    // Φ the emitted power: each bounce lands whole. The elements' corner
+    // means of sampled irradiance miss some of each reflected shot (light
+    // falling off into the block's foot and the room's corners), unless
+    // their powers are scaled to land whole.
+    let scene = closed_room_with_a_block();
+    let emitted = PI * 10.0 * 0.36;
+    let expected = emitted / (1.0 - 0.7);
+    let received = |conserve: bool| {
+        let mut settings = settings(1e-3);
+        settings.conserve_closed_zones = conserve;
+        let mesh = mesh(&scene, 0.2, 1.0);
+        let mut solver = isorad::Solver::with_mesh(scene.clone(), mesh, settings).unwrap();
+        solver.run();
+        let solution = solver.solution_with_ambient();
+        let total: f64 = solution
+            .surface_totals()
+            .iter()
+            .map(|t| t.received_power.r)
+            .sum();
+        total / expected - 1.0
+    };
+    let (plain, conserved) = (received(false), received(true));
+    assert!(
+        conserved.abs() < 0.005 && conserved.abs() < 0.5 * plain.abs(),
+        "received in all against Φ / (1 − ρ): {conserved:+.4} with shots landing whole, {plain:+.4} without"
+    );
+}
