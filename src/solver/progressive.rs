@@ -434,7 +434,7 @@ impl Solver {
     /// within a few percent of P (the cluttered office of
     /// `bench/generate_building.py`: half within 2 %, nine in ten within
     /// 7 %, 1.1 % short on average weighted by power), and the shortfall,
-    /// compounded over the bounces, left the furnished offices 0.5–1.2 %
+    /// compounded over the bounces, left the furnished offices 0.7–2 %
     /// dark against a path tracer. Only the elements' powers (what their
     /// patches shoot next, and the energy ledger) are scaled: the vertices
     /// keep the irradiance they gathered, the point values that images

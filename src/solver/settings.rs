@@ -83,7 +83,7 @@ pub struct SolverSettings {
     /// shot's power lands whole; the elements' corner means of the sampled
     /// irradiance miss about 1 % of it (light falling off concavely into a
     /// junction), which compounded over the bounces and left furnished
-    /// rooms 0.5–1.2 % dark against a path tracer.
+    /// rooms 0.7–2 % dark against a path tracer.
     pub conserve_closed_zones: bool,
 }
 
