@@ -185,26 +185,25 @@ pub fn slot_gap(receiver: &Surface, other: &Surface, tolerance: f64) -> f64 {
     covering_gap(receiver, other).min(tolerance)
 }
 
-/// The contact lines of a parallel surface covering the receiver, or
-/// `None` when it does not: its whole polygon in front of the receiver's
-/// plane by at least `above` and at most `gap`, its footprint on the
-/// receiver's polygon. Lines shorter than `tolerance`, or along the
-/// receiver's outline within `inset`, are left out. It lies on the receiver, facing the same way, or
-/// faces it across a slot. The receiver under it is hidden and unlit,
-/// like the floor under a block, so its outline, projected onto the
-/// receiver's plane and clipped to `outline`, bounds the elements (none
-/// when the footprint covers the receiver's whole polygon): without it,
-/// the vertices in the gap behind a ceiling panel spread their darkness a
-/// whole element round the panel, and those in the slots between books
-/// gathered the room's light at the slots' mouths (2.8 times what a path
-/// tracer finds on the books' sides of `bench/generate_building.py`'s
-/// cluttered office, over 27 m² of faces). Each side faces away from the
-/// footprint, where a viewer sees the receiver. Right beside the footprint
-/// the receiver darkens over a band as wide as the gap (half its light at
-/// the line, all of it a gap away), too narrow to see where it is far
-/// narrower than an element: the vertices on the line then gather two gaps
-/// out, so that the elements beside it are not dimmed across their width
-/// ([`gather_beside_covering_outlines`]).
+/// The contact lines of a parallel surface covering the receiver, or `None`
+/// when it does not: its whole polygon in front of the receiver's plane by at
+/// least `above` and at most `gap`, its footprint on the receiver's polygon.
+/// Lines shorter than `tolerance`, or along the receiver's outline within
+/// `inset`, are left out. It lies on the receiver, facing the same way, or
+/// faces it across a slot. The receiver under it is hidden and unlit, like
+/// the floor under a block, so its outline, projected onto the receiver's
+/// plane and clipped to `outline`, bounds the elements (none when the
+/// footprint covers the receiver's whole polygon): without it, the vertices
+/// in the gap behind a ceiling panel spread their darkness a whole element
+/// round the panel, and those in the slots between books gathered the room's
+/// light at the slots' mouths (2.8 times what a path tracer finds on the
+/// books' sides of `bench/generate_building.py`'s cluttered office, over 27
+/// m² of faces). Each side faces away from the footprint, where a viewer sees
+/// the receiver. Right beside the footprint the receiver darkens over a band
+/// as wide as the gap (half its light at the line, all of it a gap away), too
+/// narrow to see where it is far narrower than an element: the vertices on
+/// the line then gather two gaps out, so that the elements beside it are not
+/// dimmed across their width ([`gather_beside_covering_outlines`]).
 fn covering_outline(
     other: &Surface,
     id: SurfaceId,
@@ -536,18 +535,21 @@ pub fn is_enclosed(scene: &Scene, visibility: &Visibility, surface: SurfaceId, x
     let normal = receiver.normal();
     let origin = x + normal * lift;
     let tolerance = CONTACT_TOLERANCE * visibility.diagonal();
-    let covers = |other: &Surface| {
-        other.normal().dot(normal) < -0.999
-            && receiver.frame().height(other.vertices()[0]) <= slot_gap(receiver, other, tolerance)
+    // A facing surface covers the point when the hit lies no higher above
+    // the receiver's plane than the slot is wide (a face tilted within the
+    // parallel test's 2.5° may be near at one end and far at the other).
+    let covers = |other: &Surface, height: f64| {
+        other.normal().dot(normal) < -0.999 && height <= slot_gap(receiver, other, tolerance)
     };
     let closed = hemisphere_directions(normal)
         .iter()
         .filter(|&&direction| {
             visibility
-                .first_hit(origin, direction, reach, surface)
-                .is_some_and(|hit| {
+                .closest_hit(origin, direction, reach, surface)
+                .is_some_and(|(hit, distance)| {
                     let other = scene.surface(hit);
-                    other.normal().dot(direction) > 0.0 || covers(other)
+                    let height = lift + distance * direction.dot(normal);
+                    other.normal().dot(direction) > 0.0 || covers(other, height)
                 })
         })
         .count();

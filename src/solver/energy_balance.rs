@@ -11,13 +11,17 @@ pub struct EnergyBalance {
     /// Power emitted by all emitters: Σ E·A.
     pub emitted: Rgb,
     /// Power absorbed by surfaces: Σ (1 − ρ_e) P_e over the power P_e each
-    /// shot gave element e (A_e times its corners' mean irradiance, or, from
+    /// shot gave element e (A_e times its corners' mean irradiance, scaled
+    /// for a reflected shot in a zone that keeps all its light so that the
+    /// zone receives the whole shot, see `Solver::landing_scale`; or, from
     /// an emitter, that with the curvature of its field: see
     /// `solver/element_power.rs`).
     pub absorbed: Rgb,
     /// Power waiting to be shot: Σ_p ΔB_p A_p.
     pub unshot: Rgb,
-    /// Power shot that no surface received: it left an open scene (or is the
-    /// discretisation error of a closed one).
+    /// Power shot that no surface received: it left an open scene or fell
+    /// on the black back of a one-sided surface (or is the discretisation
+    /// error of the emitters' shots, and of reflected shots where zones do
+    /// not keep all their light).
     pub escaped: Rgb,
 }

@@ -15,7 +15,7 @@ use super::settings::{Settings, ShootFrom, SolverSettings};
 use super::shooter::{Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity};
 use super::solution::Solution;
 use super::unshot::UnshotCorners;
-use super::zones::{ZoneMembers, Zones};
+use super::zones::{ZoneLabels, ZoneMembers, Zones};
 use crate::mesh::{Cell, ElementHierarchy, Mesh};
 use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 
@@ -52,9 +52,10 @@ pub struct Solver {
     /// The closed zones a shot need not reach beyond (None: not culled),
     /// with the mesh's members listed zone by zone.
     zones: Option<(Zones, ZoneMembers)>,
-    /// Per patch, whether its zone is closed and its reflected shots are
-    /// scaled to land whole ([`SolverSettings::conserve_closed_zones`]).
-    patch_closed: Vec<bool>,
+    /// Per patch, whether its zone keeps all its light, and its reflected
+    /// shots are scaled to land whole
+    /// ([`SolverSettings::conserve_closed_zones`]).
+    patch_lossless: Vec<bool>,
     /// What meshing found (empty when the caller brought the mesh).
     analysis: MeshAnalysis,
     settings: SolverSettings,
@@ -170,15 +171,26 @@ impl Solver {
         let unshot_len = unshot.len();
         let unshot_corners = UnshotCorners::new(&mesh, &unshot);
         let patch_areas = mesh.patches.iter().map(|p| p.area).collect();
-        let zones = (settings.cull_closed_zones || settings.conserve_closed_zones)
-            .then(|| zones.unwrap_or_else(|| Zones::new(&scene, &visibility)));
-        let patch_closed = match &zones {
-            Some(zones) if settings.conserve_closed_zones => mesh
-                .patches
+        let zones = match zones {
+            None if settings.cull_closed_zones => Some(Zones::new(&scene, &visibility)),
+            zones => zones,
+        };
+        let patch_lossless = if settings.conserve_closed_zones {
+            // Without the cull, the zones' labels alone (no BVH per zone).
+            let built;
+            let labels = match &zones {
+                Some(zones) => zones.labels(),
+                None => {
+                    built = ZoneLabels::new(&scene, &visibility);
+                    &built
+                }
+            };
+            mesh.patches
                 .iter()
-                .map(|p| zones.is_closed(zones.of(p.surface)))
-                .collect(),
-            _ => vec![false; mesh.patches.len()],
+                .map(|p| labels.is_lossless(labels.of(p.surface)))
+                .collect()
+        } else {
+            vec![false; mesh.patches.len()]
         };
         let zones = zones
             .filter(|zones| settings.cull_closed_zones && zones.count() > 1)
@@ -188,7 +200,7 @@ impl Solver {
             mesh,
             visibility,
             zones,
-            patch_closed,
+            patch_lossless,
             analysis,
             settings,
             irradiance: vec![Rgb::ZERO; radiosity.len()],
@@ -273,7 +285,7 @@ impl Solver {
         });
         let mut incident = std::mem::take(&mut self.incident);
         self.incident_from(j, power, radiosity, zone, &mut incident);
-        let scale = if !is_emitter && self.patch_closed[j] {
+        let scale = if !is_emitter && self.patch_lossless[j] {
             self.landing_scale(shot_power, &incident, zone)
         } else {
             Rgb::ONE
@@ -442,7 +454,12 @@ impl Solver {
     /// spread each shot's local errors over its whole zone (`scenes/room`
     /// 1.65 % → 2.13 % off per pixel). The factor is held to
     /// [`LANDING_SCALE`]: a shooter whose light falls mostly where no
-    /// element is keeps the rest as escaped power.
+    /// element is keeps the rest as escaped power. Only zones whose
+    /// surfaces' fronts see fronts are scaled ([`ZoneLabels::is_lossless`]):
+    /// light that falls on the black back of a one-sided plate is lost for
+    /// real. Shots of emitting patches are left alone, reflected light
+    /// included, and so is the light new vertices of an adaptive mesh
+    /// gather ([`Solver::refine`] books the difference in the ledger).
     ///
     /// # References
     /// M. F. Cohen, J. R. Wallace, *Radiosity and Realistic Image

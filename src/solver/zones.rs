@@ -128,12 +128,6 @@ impl Zones {
     pub fn of(&self, surface: SurfaceId) -> usize {
         self.labels.of(surface)
     }
-
-    /// Whether zone `zone` is closed: no light leaves it.
-    #[must_use]
-    pub fn is_closed(&self, zone: usize) -> bool {
-        self.labels.is_closed(zone)
-    }
 }
 
 /// The closed zone of every surface, without the zones' BVHs: what meshing
@@ -145,8 +139,9 @@ pub struct ZoneLabels {
     zone: Vec<u32>,
     /// How many zones there are (open ones counted as one).
     count: usize,
-    /// The open zone, where light leaves the scene, if there is one.
-    open: Option<u32>,
+    /// Per zone, whether all the light its surfaces send lands on them
+    /// (see [`ZoneLabels::is_lossless`]).
+    lossless: Vec<bool>,
 }
 
 impl ZoneLabels {
@@ -206,19 +201,39 @@ impl ZoneLabels {
         // MIN_ESCAPE_SHARE of its rays, do: those slipped through seams of
         // a closed room's walls.
         let mut escapes = vec![0usize; surfaces + 1];
+        let mut backs = vec![0usize; surfaces + 1];
         let mut rays = vec![0usize; surfaces + 1];
         for (k, surface_hits) in hits.iter().enumerate() {
             let root = find(&mut parents, k);
             rays[root] += surface_hits.len();
-            escapes[root] += surface_hits
-                .iter()
-                .filter(|h| matches!(h, Hit::Escaped))
-                .count();
+            for hit in surface_hits {
+                if matches!(hit, Hit::Escaped) {
+                    escapes[root] += 1;
+                }
+            }
+            // A point whose rays all end on backs lies inside an object
+            // standing on its surface (the board under a book), where no
+            // light is: its backs lose nothing.
+            for from_point in surface_hits.chunks(RAYS_PER_SURFACE / POINTS) {
+                let on_backs = from_point.iter().filter(|h| matches!(h, Hit::Back)).count();
+                if on_backs < from_point.len() {
+                    backs[root] += on_backs;
+                }
+            }
         }
-        let open = |root: usize| {
-            escapes[root] >= MIN_ESCAPES
-                && escapes[root] as f64 >= MIN_ESCAPE_SHARE * rays[root] as f64
+        let many = |count: usize, root: usize| {
+            count >= MIN_ESCAPES && count as f64 >= MIN_ESCAPE_SHARE * rays[root] as f64
         };
+        let open = |root: usize| many(escapes[root], root);
+        // Before the open groups are joined: a closed group whose rays
+        // land on backs (a one-sided plate seen from behind) loses light
+        // there, as an open one loses it to the sky.
+        let sees_backs: Vec<bool> = (0..surfaces)
+            .map(|k| {
+                let root = find(&mut parents, k);
+                many(backs[root], root)
+            })
+            .collect();
         for k in 0..surfaces {
             let root = find(&mut parents, k);
             if open(root) {
@@ -238,18 +253,27 @@ impl ZoneLabels {
             })
             .collect();
         let open_root = find(&mut parents, surfaces);
-        let open = (index[open_root] != u32::MAX).then_some(index[open_root]);
+        let open = index[open_root];
+        let mut lossless = vec![true; count as usize];
+        for (k, &z) in zone.iter().enumerate() {
+            if z == open || sees_backs[k] {
+                lossless[z as usize] = false;
+            }
+        }
         ZoneLabels {
             zone,
             count: count as usize,
-            open,
+            lossless,
         }
     }
 
-    /// Whether zone `zone` is closed: no light leaves it.
+    /// Whether zone `zone` is closed and its surfaces' fronts see only
+    /// fronts: all the light its surfaces send lands on its surfaces (none
+    /// leaves the scene or falls on the black back of a one-sided
+    /// surface), so each shot's power lands whole.
     #[must_use]
-    pub fn is_closed(&self, zone: usize) -> bool {
-        self.open != Some(zone as u32)
+    pub fn is_lossless(&self, zone: usize) -> bool {
+        self.lossless.get(zone).copied().unwrap_or(false)
     }
 
     /// Whether surfaces `a` and `b` are in the same zone, and so may
