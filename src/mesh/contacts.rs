@@ -29,8 +29,8 @@ pub struct Contact {
     /// The touching surface.
     pub surface: SurfaceId,
     /// The side the touching surface faces: its normal projected into the
-    /// receiver's plane, unit length; for a parallel surface covering the receiver,
-    /// away from its footprint.
+    /// receiver's plane, unit length; for a parallel surface covering the
+    /// receiver, away from its footprint.
     pub facing: DVec2,
     /// How far to its `facing` side the receiver's vertices on the line
     /// gather: 0 for a surface standing on the receiver (the dark corner
@@ -219,25 +219,17 @@ fn covering_outline(
     }
     let height = heights.iter().copied().fold(0.0, f64::max);
     let footprint: Vec<DVec2> = vertices.iter().map(|&p| frame.to_plane(p)).collect();
-    let overlaps = footprint.iter().any(|&p| polygon_contains(outline, p))
-        || outline.iter().any(|&p| polygon_contains(&footprint, p))
-        || (0..footprint.len()).any(|k| {
-            clip_segment_to_polygon(
-                [footprint[k], footprint[(k + 1) % footprint.len()]],
-                outline,
-            )
-            .is_some()
-        });
-    if !overlaps {
-        return None;
-    }
     let centre = footprint.iter().sum::<DVec2>() / footprint.len() as f64;
     let mut contacts = Vec::new();
+    // The footprint meets the receiver's polygon if an edge crosses it, or
+    // if one holds the other.
+    let mut crossed = false;
     for k in 0..footprint.len() {
         let (a, b) = (footprint[k], footprint[(k + 1) % footprint.len()]);
         let Some(clipped) = clip_segment_to_polygon([a, b], outline) else {
             continue;
         };
+        crossed = true;
         let along_outline = [clipped[0], clipped[1], clipped[0].lerp(clipped[1], 0.5)]
             .iter()
             .all(|&p| distance_to_boundary(outline, p) <= inset);
@@ -255,7 +247,10 @@ fn covering_outline(
             clearance: 2.0 * height,
         });
     }
-    Some(contacts)
+    let overlaps = crossed
+        || footprint.iter().any(|&p| polygon_contains(outline, p))
+        || outline.iter().any(|&p| polygon_contains(&footprint, p));
+    overlaps.then_some(contacts)
 }
 
 /// Moves the receivers of the vertices on the outlines of parallel

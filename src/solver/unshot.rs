@@ -448,5 +448,26 @@ mod tests {
                 "at {x}: {mean} against {exact} ({error:+.4})"
             );
         }
+        // A millimetre over the patch, where the point kernel's 1/r² spike
+        // (A k(y) > 1 within about 2 cm) catches one jittered sample in
+        // five hundred: no gather may exceed the brightest ΔB (4) times the
+        // patch's factor (under 1). With the point factor uncapped, one
+        // gave 66.
+        let x = at(0.5, 0.001, 0.5);
+        let brightest = (0..20_000)
+            .map(|key| {
+                let receiver = Receiver {
+                    position: x,
+                    normal: down,
+                    surface: ceiling,
+                    key,
+                };
+                shooter
+                    .gather(&receiver, 3.0, 7, FormFactorKernel::Mixed, &visibility)
+                    .irradiance
+                    .r
+            })
+            .fold(0.0, f64::max);
+        assert!(brightest <= 4.0, "a gather gave {brightest}");
     }
 }
