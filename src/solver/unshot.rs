@@ -413,6 +413,19 @@ mod tests {
             power: Rgb::splat(2.5),
         };
         let shooter = Shooter::new(cell, up, floor, (1, 1), ShotRadiosity::Field(field));
+        // The irradiance one gather gives a ceiling receiver at x.
+        let gather = |x: DVec3, key: u64| {
+            let receiver = Receiver {
+                position: x,
+                normal: down,
+                surface: ceiling,
+                key,
+            };
+            shooter
+                .gather(&receiver, 3.0, 7, FormFactorKernel::Mixed, &visibility)
+                .irradiance
+                .r
+        };
         for x in [at(0.5, 1.2, 0.5), at(-0.5, 1.2, 0.5), at(2.0, 1.2, 0.2)] {
             let m = 400;
             let mut exact = 0.0;
@@ -426,22 +439,7 @@ mod tests {
             }
             exact /= (m * m) as f64;
             let trials = 20_000;
-            let mean = (0..trials)
-                .map(|key| {
-                    let receiver = Receiver {
-                        position: x,
-                        normal: down,
-                        surface: ceiling,
-                        key,
-                    };
-                    let kernel = FormFactorKernel::Mixed;
-                    shooter
-                        .gather(&receiver, 3.0, 7, kernel, &visibility)
-                        .irradiance
-                        .r
-                })
-                .sum::<f64>()
-                / trials as f64;
+            let mean = (0..trials).map(|key| gather(x, key)).sum::<f64>() / trials as f64;
             let error = mean / exact - 1.0;
             assert!(
                 error.abs() < 0.01,
@@ -454,20 +452,7 @@ mod tests {
         // patch's factor (under 1). With the point factor uncapped, one
         // gave 66.
         let x = at(0.5, 0.001, 0.5);
-        let brightest = (0..20_000)
-            .map(|key| {
-                let receiver = Receiver {
-                    position: x,
-                    normal: down,
-                    surface: ceiling,
-                    key,
-                };
-                shooter
-                    .gather(&receiver, 3.0, 7, FormFactorKernel::Mixed, &visibility)
-                    .irradiance
-                    .r
-            })
-            .fold(0.0, f64::max);
+        let brightest = (0..20_000).map(|key| gather(x, key)).fold(0.0, f64::max);
         assert!(brightest <= 4.0, "a gather gave {brightest}");
     }
 }
