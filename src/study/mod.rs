@@ -173,10 +173,6 @@ pub fn compare_receiver(
         };
         (MeshSpec::ContourToError { per_mille }, contour)
     });
-    let radial: Vec<(MeshSpec, ContourSettings)> = match fields {
-        [_] => fixed.chain(refined).collect(),
-        _ => Vec::new(),
-    };
     let mesh_settings = &settings.mesh;
     let square_settings = mesh_settings.square_for(scene);
     let boundaries = if settings.shadow_boundaries {
@@ -184,6 +180,25 @@ pub fn compare_receiver(
         receiver_shadow_boundaries(scene, visibility, &lights, mesh_settings, receiver)
     } else {
         Vec::new()
+    };
+    // The seed's layouts again with the shadow boundaries, where there are
+    // any.
+    let shadow_aware: Vec<(MeshSpec, ContourSettings)> = if boundaries.is_empty() {
+        Vec::new()
+    } else {
+        fixed
+            .clone()
+            .filter_map(|(spec, contour)| match spec {
+                MeshSpec::Contour { directions, levels } => {
+                    Some((MeshSpec::ShadowContour { directions, levels }, contour))
+                }
+                _ => None,
+            })
+            .collect()
+    };
+    let radial: Vec<(MeshSpec, ContourSettings)> = match fields {
+        [_] => fixed.chain(shadow_aware).chain(refined).collect(),
+        _ => Vec::new(),
     };
     let spacing = square_settings.max_edge;
     for (spec, contour) in radial {
@@ -193,8 +208,13 @@ pub fn compare_receiver(
         else {
             continue;
         };
-        if matches!(spec, MeshSpec::ContourToError { .. }) {
-            layout.add_boundaries(&boundaries, spacing);
+        match spec {
+            // At the element spacing, as the renderer's meshes have them.
+            MeshSpec::ContourToError { .. } => layout.add_boundaries(&boundaries, spacing),
+            // Only their ends: the triangulation puts a vertex wherever
+            // they cross a contour piece.
+            MeshSpec::ShadowContour { .. } => layout.add_boundaries(&boundaries, f64::INFINITY),
+            _ => {}
         }
         let triangulation = layout.triangulate(&outline);
         let seconds = start.elapsed().as_secs_f64();
@@ -264,14 +284,18 @@ fn square_triangulation(
 }
 
 /// The seed paper's Figure 5 trio and the meshes isorad renders with,
-/// where measured: square 10×10 | contour 20×5 (the seed's) | contour
-/// refined to 1 % | level lines to 1 % | square 30×30, with their exact
-/// vertex values.
+/// where measured: square 10×10 | contour 20×5 (the seed's) |
+/// shadow-aware contour 20×5 | contour refined to 1 % | level lines to
+/// 1 % | square 30×30, with their exact vertex values.
 #[must_use]
 pub fn panels_for_figure(comparison: &ReceiverComparison) -> Vec<MeshPanel> {
     [
         MeshSpec::Square { n: 10 },
         MeshSpec::Contour {
+            directions: 20,
+            levels: 5,
+        },
+        MeshSpec::ShadowContour {
             directions: 20,
             levels: 5,
         },

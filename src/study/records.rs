@@ -11,11 +11,13 @@ use crate::scene::SurfaceId;
 
 /// Which mesh of a receiver: the mesher and its size.
 ///
-/// Shown as "square 10×10", "contour 20×5", "contour ε 1.0 %" or "level
-/// lines ε 1.0 %"; in the records' JSON ([`MeshRecord`]) as `"mesher":
-/// "square"` with `"params": {"n": 10}`, `"contour"` with `{"directions":
-/// 20, "levels": 5, …}` or `{"max_relative_error": 0.01, …}`, and
-/// `"level_lines"` with `{"max_relative_error": 0.01, …}`.
+/// Shown as "square 10×10", "contour 20×5", "shadow-aware contour 20×5",
+/// "contour ε 1.0 %" or "level lines ε 1.0 %"; in the records' JSON
+/// ([`MeshRecord`]) as `"mesher": "square"` with `"params": {"n": 10}`,
+/// `"contour"` with `{"directions": 20, "levels": 5, …}` or
+/// `{"max_relative_error": 0.01, …}`, `"shadow_contour"` with
+/// `{"directions": 20, "levels": 5, …}`, and `"level_lines"` with
+/// `{"max_relative_error": 0.01, …}`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(tag = "mesher", content = "params", rename_all = "lowercase")]
 pub enum MeshSpec {
@@ -26,6 +28,18 @@ pub enum MeshSpec {
     },
     /// The radial contour-level mesh of D directions and K levels.
     Contour {
+        /// D, the rays from the light's maximum.
+        directions: usize,
+        /// K, the iso-radiosity levels.
+        levels: usize,
+    },
+    /// The radial contour-level mesh of D directions and K levels with the
+    /// receiver's shadow boundaries as edges, each with vertices at its ends
+    /// and where it crosses the layout's contours: along a boundary the
+    /// unoccluded field then changes by at most one level step between
+    /// vertices, as it does everywhere else in the layout.
+    #[serde(rename = "shadow_contour")]
+    ShadowContour {
         /// D, the rays from the light's maximum.
         directions: usize,
         /// K, the iso-radiosity levels.
@@ -48,13 +62,15 @@ pub enum MeshSpec {
 }
 
 impl MeshSpec {
-    /// The mesher's name: "square" or "contour".
+    /// The mesher's name: "square", "contour", "shadow_contour" or
+    /// "level_lines".
     #[must_use]
     pub fn mesher(&self) -> &'static str {
         match self {
             MeshSpec::Square { .. } => "square",
             MeshSpec::Contour { .. } => "contour",
             MeshSpec::ContourToError { .. } => "contour",
+            MeshSpec::ShadowContour { .. } => "shadow_contour",
             MeshSpec::LevelLines { .. } => "level_lines",
         }
     }
@@ -64,7 +80,8 @@ impl MeshSpec {
     pub fn size(&self) -> String {
         match *self {
             MeshSpec::Square { n } => format!("{n}x{n}"),
-            MeshSpec::Contour { directions, levels } => format!("{directions}x{levels}"),
+            MeshSpec::Contour { directions, levels }
+            | MeshSpec::ShadowContour { directions, levels } => format!("{directions}x{levels}"),
             MeshSpec::ContourToError { per_mille } | MeshSpec::LevelLines { per_mille } => {
                 format!("e{:.1}%", f64::from(per_mille) / 10.0)
             }
@@ -91,6 +108,9 @@ impl fmt::Display for MeshSpec {
             MeshSpec::Square { n } => write!(f, "square {n}×{n}"),
             MeshSpec::Contour { directions, levels } => {
                 write!(f, "contour {directions}×{levels}")
+            }
+            MeshSpec::ShadowContour { directions, levels } => {
+                write!(f, "shadow-aware contour {directions}×{levels}")
             }
             MeshSpec::ContourToError { per_mille } => {
                 write!(f, "contour ε {:.1} %", f64::from(per_mille) / 10.0)
@@ -189,7 +209,8 @@ impl serde::Serialize for MeshRecord {
         }
         let params = match self.spec {
             MeshSpec::Square { n } => Params::Square { n },
-            MeshSpec::Contour { directions, levels } => Params::Contour {
+            MeshSpec::Contour { directions, levels }
+            | MeshSpec::ShadowContour { directions, levels } => Params::Contour {
                 directions,
                 levels,
                 newton_iterations: self.newton_iterations,
@@ -277,14 +298,16 @@ impl ReceiverComparison {
 
     /// The series of a log–log plot of an error `measure` (such as the RMS
     /// error) against vertices: square meshes, the seed paper's contour
-    /// sizes, the balanced D = 2K contour sizes, and contour meshes refined
-    /// to a relative error.
+    /// sizes, the balanced D = 2K contour sizes, the contour sizes with the
+    /// receiver's shadow boundaries, contour meshes refined to a relative
+    /// error, and level lines.
     #[must_use]
     pub fn plot_series(&self, measure: impl Fn(&MeshRecord) -> f64) -> Vec<Series> {
-        const FAMILIES: [&str; 5] = [
+        const FAMILIES: [&str; 6] = [
             "square N × N",
             "contour D × K, seed sizes",
             "contour D × K, D = 2K",
+            "contour D × K with shadow boundaries",
             "contour to a relative error ε",
             "level lines to a relative error ε",
         ];
@@ -292,19 +315,25 @@ impl ReceiverComparison {
             MeshSpec::Square { .. } => FAMILIES[0],
             MeshSpec::Contour { directions, levels } if directions == 2 * levels => FAMILIES[2],
             MeshSpec::Contour { .. } => FAMILIES[1],
-            MeshSpec::ContourToError { .. } => FAMILIES[3],
-            MeshSpec::LevelLines { .. } => FAMILIES[4],
+            MeshSpec::ShadowContour { .. } => FAMILIES[3],
+            MeshSpec::ContourToError { .. } => FAMILIES[4],
+            MeshSpec::LevelLines { .. } => FAMILIES[5],
         };
         FAMILIES
             .into_iter()
-            .map(|name| Series {
-                name: name.into(),
-                points: self
+            .map(|name| {
+                let mut points: Vec<(f64, f64)> = self
                     .records
                     .iter()
                     .filter(|r| family(r.spec) == name)
                     .map(|r| (r.vertex_count() as f64, measure(r)))
-                    .collect(),
+                    .collect();
+                // In order of vertices: a family may mix two sweeps.
+                points.sort_by(|a, b| a.0.total_cmp(&b.0));
+                Series {
+                    name: name.into(),
+                    points,
+                }
             })
             .collect()
     }
@@ -421,6 +450,20 @@ mod tests {
             ("contour", "20x5".into())
         );
         assert!(square.is_square() && !square.is_contour() && contour.is_contour());
+        let shadow_aware = MeshSpec::ShadowContour {
+            directions: 20,
+            levels: 5,
+        };
+        assert_eq!(shadow_aware.to_string(), "shadow-aware contour 20×5");
+        assert_eq!(
+            (shadow_aware.mesher(), shadow_aware.size()),
+            ("shadow_contour", "20x5".into())
+        );
+        assert!(shadow_aware.is_contour());
+        assert_eq!(
+            serde_json::to_value(shadow_aware).unwrap(),
+            json!({ "mesher": "shadow_contour", "params": { "directions": 20, "levels": 5 } })
+        );
         assert_eq!(
             serde_json::to_value(square).unwrap(),
             json!({ "mesher": "square", "params": { "n": 10 } })

@@ -10,6 +10,7 @@ mod api;
 mod bad_inputs;
 mod cie171;
 mod cli;
+mod compare;
 mod contacts;
 mod contour;
 mod coplanar_merge;

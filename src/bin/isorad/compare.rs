@@ -27,8 +27,9 @@ pub struct CompareArgs {
     /// Write one JSON record per mesh.
     #[arg(long)]
     json: Option<PathBuf>,
-    /// Write the meshes side by side: square 10×10 | contour 20×5 | contour
-    /// ε 1 % | level lines ε 1 % | square 30×30 (those measured).
+    /// Write the meshes side by side: square 10×10 | contour 20×5 |
+    /// shadow-aware contour 20×5 | contour ε 1 % | level lines ε 1 % |
+    /// square 30×30 (those measured).
     #[arg(long)]
     image: Option<PathBuf>,
     /// Write log–log plots of error against vertices (.png or .svg): the
@@ -180,7 +181,7 @@ type ErrorMeasure = fn(&MeshRecord) -> f64;
 fn print_comparison(comparison: &ReceiverComparison) {
     println!("receiver {}:", comparison.receiver);
     println!(
-        "  {:<11} {:>7} {:>9} {:>10} {:>12} {:>12} {:>13} {:>9}",
+        "  {:<14} {:>7} {:>9} {:>10} {:>12} {:>12} {:>13} {:>9}",
         "mesher",
         "params",
         "vertices",
@@ -192,7 +193,7 @@ fn print_comparison(comparison: &ReceiverComparison) {
     );
     for record in &comparison.records {
         println!(
-            "  {:<11} {:>7} {:>9} {:>10} {:>12.5} {:>12.5} {:>13.5} {:>9.4}",
+            "  {:<14} {:>7} {:>9} {:>10} {:>12.5} {:>12.5} {:>13.5} {:>9.4}",
             record.spec.mesher(),
             record.spec.size(),
             record.vertex_count(),
@@ -231,6 +232,22 @@ fn print_comparison(comparison: &ReceiverComparison) {
                 ratios[0],
                 ratios[ratios.len() - 1]
             );
+        }
+        // Square 30 × 30, the seed paper's reference mesh: the vertices the
+        // contour meshes need for its error, along their lower envelope.
+        let reference = MeshSpec::Square { n: 30 };
+        if let Some(square) = comparison.record(reference) {
+            let error = measure(square);
+            match comparison.vertices_for_measure(MeshSpec::is_contour, measure, error) {
+                Some(vertices) => println!(
+                    "  {reference}'s {name}, {error:.4}, takes the contour meshes {vertices:.0} vertices: {:.1}× fewer than its {}",
+                    square.vertex_count() as f64 / vertices,
+                    square.vertex_count()
+                ),
+                None => println!(
+                    "  {reference}'s {name}, {error:.4}, is outside the contour meshes' range"
+                ),
+            }
         }
     }
 }
