@@ -468,9 +468,24 @@ impl Solution<'_> {
     }
 
     /// The mesh's piecewise-linear value at a point of a surface, split into
-    /// triangles as the renderer splits it.
+    /// triangles as the renderer splits it. A point that no element covers
+    /// lies where meshing dropped the surface as hidden (under a block
+    /// standing on it, behind a book a millimetre away,
+    /// `mesh/contacts.rs`): no light reaches it, and the renderer shows
+    /// none of it, so it gets no irradiance and only its own emission.
     fn interpolate(&self, position: DVec3, surface: SurfaceId) -> Probe {
         let normal = self.scene.surface(surface).normal();
+        let hidden = Probe {
+            position,
+            surface,
+            irradiance: Rgb::ZERO,
+            standard_error: Rgb::ZERO,
+            radiosity: self
+                .scene
+                .material_of(self.scene.surface(surface))
+                .emitted_radiosity(),
+            gradient: [DVec3::ZERO; 3],
+        };
         let gap = |p: u32, q: u32| {
             (self.radiosity[p as usize] - self.radiosity[q as usize])
                 .abs()
@@ -483,22 +498,20 @@ impl Solution<'_> {
             for &triangle in &split {
                 let [a, b, c] = triangle.map(|v| self.mesh.vertices[v as usize].position);
                 let weights = barycentric(position, a, b, c, normal);
-                // How far outside the triangle (0 inside): the smallest negative weight.
-                let outside = -weights.iter().copied().fold(0.0, f64::min);
+                // How far outside the triangle (0 inside): each negative
+                // weight times the altitude onto its vertex's opposite side.
+                let outside = distance_outside_triangle(weights, [a, b, c]);
                 if best.is_none_or(|(o, _, _)| outside < o) {
                     best = Some((outside, triangle, weights));
                 }
             }
         }
-        let Some((_, triangle, weights)) = best else {
-            return Probe {
-                position,
-                surface,
-                irradiance: Rgb::ZERO,
-                standard_error: Rgb::ZERO,
-                radiosity: Rgb::ZERO,
-                gradient: [DVec3::ZERO; 3],
-            };
+        // Farther from every element than a point may be from its surface
+        // (`Solution::locate`'s tolerance): in a dropped part.
+        let covered = 1e-4 * self.scene.diagonal();
+        let Some((_, triangle, weights)) = best.filter(|&(outside, _, _)| outside <= covered)
+        else {
+            return hidden;
         };
         let weights = weights.map(|w| w.max(0.0));
         let total: f64 = weights.iter().sum();
@@ -523,6 +536,31 @@ impl Solution<'_> {
             gradient,
         }
     }
+}
+
+/// How far a point with barycentric `weights` in `triangle` lies outside
+/// it (0 inside): the largest of −w_k h_k over its negative weights, h_k the
+/// triangle's altitude onto vertex k (w_k falls by 1 over h_k); infinite
+/// for weights a degenerate triangle leaves undefined.
+fn distance_outside_triangle(weights: [f64; 3], triangle: [DVec3; 3]) -> f64 {
+    if !weights.iter().all(|w| w.is_finite()) {
+        // A degenerate triangle covers nothing.
+        return f64::INFINITY;
+    }
+    let twice_area = (triangle[1] - triangle[0])
+        .cross(triangle[2] - triangle[0])
+        .length();
+    (0..3)
+        .map(|k| {
+            let opposite = triangle[(k + 2) % 3].distance(triangle[(k + 1) % 3]);
+            let altitude = if opposite > 0.0 {
+                twice_area / opposite
+            } else {
+                0.0
+            };
+            -weights[k] * altitude
+        })
+        .fold(0.0, f64::max)
 }
 
 /// Barycentric weights of `p` (projected onto the triangle's plane) in the

@@ -620,3 +620,40 @@ fn books_farther_apart_than_the_contact_tolerance_keep_their_sides() {
         "the short side keeps {short} m²"
     );
 }
+
+#[test]
+fn a_mesh_probe_under_a_block_reads_the_dark_the_mesh_dropped() {
+    let scene = block_on_floor();
+    let mesh = mesh_of(&scene);
+    let solver = solved_to_a_thousandth(scene, mesh);
+    let solution = solver.solution_with_ambient();
+    let probe = |x: f64, mode| {
+        let point = isorad::scene::ProbePoint {
+            position: DVec3::new(x, 0.0, 0.0),
+            normal: None,
+            line: 1,
+        };
+        solution.probe(&point, mode).unwrap()
+    };
+    // Under the block's middle no element is left: no light, as a gather
+    // finds (before, the nearest element beside the block answered, lit).
+    for mode in [isorad::ProbeMode::Mesh, isorad::ProbeMode::Gather] {
+        let under = probe(0.0, mode);
+        assert!(
+            under.irradiance.r < 1e-6,
+            "{mode:?}: {:?}",
+            under.irradiance
+        );
+    }
+    // Beside it the mesh is read as before.
+    let beside = probe(1.2, isorad::ProbeMode::Mesh);
+    let gathered = probe(1.2, isorad::ProbeMode::Gather);
+    assert!(beside.irradiance.r > 1.0);
+    let off = (beside.irradiance.r / gathered.irradiance.r - 1.0).abs();
+    assert!(
+        off < 0.05,
+        "mesh {:?} against gather {:?}",
+        beside.irradiance,
+        gathered.irradiance
+    );
+}
