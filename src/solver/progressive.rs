@@ -52,10 +52,11 @@ pub struct Solver {
     /// The closed zones a shot need not reach beyond (None: not culled),
     /// with the mesh's members listed zone by zone.
     zones: Option<(Zones, ZoneMembers)>,
-    /// Per patch, whether its zone keeps all its light, and its reflected
-    /// shots are scaled to land whole
+    /// Per surface, whether its zone keeps all its light: its patches'
+    /// reflected shots are scaled to land whole, and its ambient rays that
+    /// end on no front count for nothing
     /// ([`SolverSettings::conserve_closed_zones`]).
-    patch_lossless: Vec<bool>,
+    surface_lossless: Vec<bool>,
     /// What meshing found (empty when the caller brought the mesh).
     analysis: MeshAnalysis,
     settings: SolverSettings,
@@ -175,7 +176,7 @@ impl Solver {
             None if settings.cull_closed_zones => Some(Zones::new(&scene, &visibility)),
             zones => zones,
         };
-        let patch_lossless = if settings.conserve_closed_zones {
+        let surface_lossless = if settings.conserve_closed_zones {
             // Without the cull, the zones' labels alone (no BVH per zone).
             let built;
             let labels = match &zones {
@@ -185,12 +186,12 @@ impl Solver {
                     &built
                 }
             };
-            mesh.patches
-                .iter()
-                .map(|p| labels.is_lossless(labels.of(p.surface)))
+            scene
+                .surfaces_with_ids()
+                .map(|(id, _)| labels.is_lossless(labels.of(id)))
                 .collect()
         } else {
-            vec![false; mesh.patches.len()]
+            vec![false; scene.surfaces.len()]
         };
         let zones = zones
             .filter(|zones| settings.cull_closed_zones && zones.count() > 1)
@@ -200,7 +201,7 @@ impl Solver {
             mesh,
             visibility,
             zones,
-            patch_lossless,
+            surface_lossless,
             analysis,
             settings,
             irradiance: vec![Rgb::ZERO; radiosity.len()],
@@ -285,7 +286,8 @@ impl Solver {
         });
         let mut incident = std::mem::take(&mut self.incident);
         self.incident_from(j, power, radiosity, zone, &mut incident);
-        let scale = if !is_emitter && self.patch_lossless[j] {
+        let lossless = self.surface_lossless[self.mesh.patches[j].surface.index()];
+        let scale = if !is_emitter && lossless {
             self.landing_scale(shot_power, &incident, zone)
         } else {
             Rgb::ONE
@@ -653,7 +655,13 @@ impl Solver {
             })
             .collect();
         let unshot_at = |p: usize, cell: usize| lattices[p].get(cell).copied();
-        rays.irradiance(&self.mesh, (&self.unshot, &reflectance), &unshot_at)
+        let lossless = &self.surface_lossless;
+        rays.irradiance(
+            &self.mesh,
+            (&self.unshot, &reflectance),
+            &unshot_at,
+            &|surface| lossless[surface.index()],
+        )
     }
 
     /// The solution from the light shot so far, without the ambient term.

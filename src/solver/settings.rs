@@ -83,9 +83,11 @@ pub struct SolverSettings {
     /// shot's power lands whole; the elements' corner means of the sampled
     /// irradiance miss about 1 % of it (light falling off concavely into a
     /// junction), which compounded over the bounces and left furnished
-    /// rooms 0.7–2 % dark against a path tracer. Zones that lose light
-    /// for real (open to the sky, or showing the black back of a one-sided
-    /// surface) are left alone.
+    /// rooms 0.7–2 % dark against a path tracer. The ambient term's rays
+    /// there that end on no front (a crack at a contact) are left out of
+    /// their source's mean instead of counted as dark (`solver/ambient.rs`).
+    /// Zones that lose light for real (open to the sky, or showing the
+    /// black back of a one-sided surface) are left alone.
     pub conserve_closed_zones: bool,
 }
 
