@@ -133,10 +133,6 @@ impl AmbientRays {
                     })
                 })
                 .collect();
-            if std::env::var("AMBIENT_DEBUG").is_ok() {
-                let misses = self.patch_hits.iter().filter(|&&h| h == MISS).count();
-                eprintln!("patch rays: {} of {} miss", misses, self.patch_hits.len());
-            }
         }
         if done < mesh.vertices.len() {
             // Written in place, vertex by vertex: no list of the new rays
@@ -177,16 +173,6 @@ impl AmbientRays {
                             });
                     }
                 });
-            if std::env::var("AMBIENT_DEBUG").is_ok() {
-                let misses = self.vertex_hits.iter().filter(|&&h| h == MISS).count();
-                let nocell = self.vertex_cells.iter().filter(|&&c| c == NO_CELL).count();
-                eprintln!(
-                    "vertex rays: {} of {} miss, {} no cell",
-                    misses,
-                    self.vertex_hits.len(),
-                    nocell
-                );
-            }
         }
     }
 

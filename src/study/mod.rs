@@ -49,8 +49,10 @@ pub struct CompareSettings {
     /// Shadow rays per luminaire polygon for the exact field's visibility.
     pub shadow_rays: usize,
     /// The contour meshes refined to an error (radial and level lines)
-    /// follow the receiver's shadow boundaries, as the renderer's meshes do
-    /// (true); the fixed D × K layouts are the seed's, without them.
+    /// follow the receiver's shadow boundaries, as the renderer's meshes do,
+    /// and the fixed D × K layouts are measured a second time with them
+    /// ([`MeshSpec::ShadowContour`]) where the receiver has any (true); the
+    /// fixed layouts themselves are the seed's, without them.
     pub shadow_boundaries: bool,
     /// The mesh settings the renderer would use (a scene file's `[mesh]`):
     /// the element spacing the level lines fill gaps to and the shadow
