@@ -22,7 +22,8 @@
 //!   A_p = ρ_p · ⟨ΔB_h + A_h⟩_p
 //! ```
 //!
-//! (⟨·⟩_p the mean over p's rays of the patch h each hits, 0 for a miss:
+//! (⟨·⟩_p the mean over p's rays of the patch h each hits, 0 for a miss,
+//! or, in a closed zone that keeps its light, over the rays that land:
 //! with cosine-weighted directions that mean is the irradiance of a
 //! Lambertian surround), found by Jacobi iteration, which converges as
 //! (ρ f)^k for landing share f. A vertex's ambient irradiance is then
@@ -190,9 +191,10 @@ impl AmbientRays {
     /// [`crate::SolverSettings::conserve_closed_zones`]) a ray that ends on
     /// no front (a crack at a contact, a back inside an object) is no light
     /// leaving: a source's mean is then over the rays that land, where at
-    /// least half of them do. Counted as dark, the 1 % of such rays of a
-    /// furnished office compounded over the bounces of the residual and
-    /// left the term 4–5 % short.
+    /// least half of them do. Counted as dark, the cluttered office's 1 %
+    /// of such rays compounded over the residual's bounces: its ceiling,
+    /// solved to 30 %, was 1.50 % below its converged light, and is 1.33 %
+    /// below with them left out.
     #[must_use]
     pub(crate) fn irradiance(
         &self,
@@ -268,7 +270,7 @@ impl AmbientRays {
 /// The number of rays a source's mean is over: all of its `hits`, or, for
 /// a source in a zone that keeps its light (`lossless`), those that land
 /// where at least half do (a source most of whose rays miss lies inside an
-/// object, and stays dark).
+/// object, and keeps the mean over all its rays).
 fn rays_counted(hits: &[u32], lossless: bool) -> f64 {
     let landed = hits.iter().filter(|&&h| h != MISS).count();
     if lossless && 2 * landed >= hits.len() {
@@ -470,7 +472,7 @@ mod tests {
         let residual = rays.patch_residual(&unshot, &reflectance, &[true; 2]);
         assert!((residual[0].r - 2.0).abs() < 1e-12, "{residual:?}");
         assert_eq!(residual[1], Rgb::ZERO);
-        // Fewer than half landing: inside an object, dark as before.
+        // Fewer than half landing: inside an object, the mean over all.
         let few: Vec<u32> = (0..PATCH_RAYS)
             .map(|k| if k % 4 == 0 { 1 } else { MISS })
             .collect();

@@ -54,7 +54,7 @@ pub struct Solver {
     zones: Option<(Zones, ZoneMembers)>,
     /// Per surface, whether its zone keeps all its light: its patches'
     /// reflected shots are scaled to land whole, and its ambient rays that
-    /// end on no front count for nothing
+    /// end on no front are left out of their source's mean
     /// ([`SolverSettings::conserve_closed_zones`]).
     surface_lossless: Vec<bool>,
     /// What meshing found (empty when the caller brought the mesh).

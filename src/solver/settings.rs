@@ -85,7 +85,8 @@ pub struct SolverSettings {
     /// junction), which compounded over the bounces and left furnished
     /// rooms 0.7–2 % dark against a path tracer. The ambient term's rays
     /// there that end on no front (a crack at a contact) are left out of
-    /// their source's mean instead of counted as dark (`solver/ambient.rs`).
+    /// their source's mean instead of counted as dark, where at least half
+    /// of its rays land (`solver/ambient.rs`).
     /// Zones that lose light for real (open to the sky, or showing the
     /// black back of a one-sided surface) are left alone.
     pub conserve_closed_zones: bool,

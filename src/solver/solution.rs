@@ -11,7 +11,8 @@ use crate::lighting::SampleStream;
 use crate::mesh::{Cell, Mesh, receiver_inset};
 use crate::radiometry::{polygon_form_factor, polygon_form_factor_gradient};
 use crate::scene::{
-    ProbePoint, Rgb, Scene, SurfaceId, Visibility, distance_to_boundary, polygon_contains,
+    ProbePoint, Rgb, Scene, SurfaceId, Visibility, distance_to_boundary, distance_to_segment,
+    polygon_contains,
 };
 
 /// How a probe reads the solution.
@@ -475,6 +476,8 @@ impl Solution<'_> {
     /// none of it, so it gets no irradiance and only its own emission.
     fn interpolate(&self, position: DVec3, surface: SurfaceId) -> Probe {
         let normal = self.scene.surface(surface).normal();
+        let frame = self.scene.surface(surface).frame();
+        let at = frame.to_plane(position);
         let hidden = Probe {
             position,
             surface,
@@ -498,9 +501,9 @@ impl Solution<'_> {
             for &triangle in &split {
                 let [a, b, c] = triangle.map(|v| self.mesh.vertices[v as usize].position);
                 let weights = barycentric(position, a, b, c, normal);
-                // How far outside the triangle (0 inside): each negative
-                // weight times the altitude onto its vertex's opposite side.
-                let outside = distance_outside_triangle(weights, [a, b, c]);
+                // How far outside the triangle (0 inside).
+                let corners = [a, b, c].map(|q| frame.to_plane(q));
+                let outside = distance_outside_triangle(at, corners, weights);
                 if best.is_none_or(|(o, _, _)| outside < o) {
                     best = Some((outside, triangle, weights));
                 }
@@ -538,29 +541,20 @@ impl Solution<'_> {
     }
 }
 
-/// How far a point with barycentric `weights` in `triangle` lies outside
-/// it (0 inside): the largest of −w_k h_k over its negative weights, h_k the
-/// triangle's altitude onto vertex k (w_k falls by 1 over h_k); infinite
-/// for weights a degenerate triangle leaves undefined.
-fn distance_outside_triangle(weights: [f64; 3], triangle: [DVec3; 3]) -> f64 {
+/// The distance from `p` to the triangle `corners` (plane coordinates), 0
+/// inside it, given `p`'s barycentric `weights` there: the distance to the
+/// nearest of its sides when a weight is negative. Infinite for weights a
+/// degenerate triangle leaves undefined: it covers nothing.
+fn distance_outside_triangle(p: DVec2, corners: [DVec2; 3], weights: [f64; 3]) -> f64 {
     if !weights.iter().all(|w| w.is_finite()) {
-        // A degenerate triangle covers nothing.
         return f64::INFINITY;
     }
-    let twice_area = (triangle[1] - triangle[0])
-        .cross(triangle[2] - triangle[0])
-        .length();
+    if weights.iter().all(|&w| w >= 0.0) {
+        return 0.0;
+    }
     (0..3)
-        .map(|k| {
-            let opposite = triangle[(k + 2) % 3].distance(triangle[(k + 1) % 3]);
-            let altitude = if opposite > 0.0 {
-                twice_area / opposite
-            } else {
-                0.0
-            };
-            -weights[k] * altitude
-        })
-        .fold(0.0, f64::max)
+        .map(|k| distance_to_segment(p, corners[k], corners[(k + 1) % 3]))
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Barycentric weights of `p` (projected onto the triangle's plane) in the
@@ -604,5 +598,50 @@ fn distance_inside_polygon(p: DVec2, polygon: &[DVec2]) -> f64 {
         distance_to_boundary(polygon, p)
     } else {
         0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SLIVER: [DVec2; 3] = [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(1.0, 0.0),
+        DVec2::new(1.0, 0.01),
+    ];
+
+    /// The weights of `p` in the sliver, through the 3-D barycentric.
+    fn weights(p: DVec2) -> [f64; 3] {
+        let lift = |q: DVec2| DVec3::new(q.x, q.y, 0.0);
+        let [a, b, c] = SLIVER.map(lift);
+        barycentric(lift(p), a, b, c, DVec3::Z)
+    }
+
+    #[test]
+    fn the_distance_outside_a_triangle_is_to_its_nearest_side() {
+        let inside = DVec2::new(0.9, 0.005);
+        assert_eq!(
+            distance_outside_triangle(inside, SLIVER, weights(inside)),
+            0.0
+        );
+        // Beyond the sharp corner at the origin: a unit from it, where the
+        // sides' lines are a hundredth away.
+        let beyond = DVec2::new(-1.0, 0.005);
+        let d = distance_outside_triangle(beyond, SLIVER, weights(beyond));
+        assert!((d - 1.0).abs() < 1e-4, "{d}");
+        let below = DVec2::new(0.5, -0.25);
+        let d = distance_outside_triangle(below, SLIVER, weights(below));
+        assert!((d - 0.25).abs() < 1e-12, "{d}");
+    }
+
+    #[test]
+    fn a_degenerate_triangle_covers_nothing() {
+        let flat = [DVec2::ZERO, DVec2::X, 2.0 * DVec2::X];
+        let lift = |q: DVec2| DVec3::new(q.x, q.y, 0.0);
+        let [a, b, c] = flat.map(lift);
+        let p = DVec2::new(0.5, 0.0);
+        let w = barycentric(lift(p), a, b, c, DVec3::Z);
+        assert_eq!(distance_outside_triangle(p, flat, w), f64::INFINITY);
     }
 }

@@ -35,9 +35,9 @@ pub enum MeshSpec {
     },
     /// The radial contour-level mesh of D directions and K levels with the
     /// receiver's shadow boundaries as edges, each with vertices at its ends
-    /// and where it crosses the layout's contours: along a boundary the
-    /// unoccluded field then changes by at most one level step between
-    /// vertices, as it does everywhere else in the layout.
+    /// and where it crosses the layout's contour pieces: along a boundary
+    /// the unoccluded field then changes by about one level step between
+    /// vertices, as it does between the layout's rings.
     #[serde(rename = "shadow_contour")]
     ShadowContour {
         /// D, the rays from the light's maximum.
@@ -297,7 +297,8 @@ impl ReceiverComparison {
     }
 
     /// The series of a log–log plot of an error `measure` (such as the RMS
-    /// error) against vertices: square meshes, the seed paper's contour
+    /// error) against vertices, those measured on this receiver: square
+    /// meshes, the seed paper's contour
     /// sizes, the balanced D = 2K contour sizes, the contour sizes with the
     /// receiver's shadow boundaries, contour meshes refined to a relative
     /// error, and level lines.
@@ -335,6 +336,8 @@ impl ReceiverComparison {
                     points,
                 }
             })
+            // A family not measured on this receiver has no legend entry.
+            .filter(|series| !series.points.is_empty())
             .collect()
     }
 
@@ -355,7 +358,6 @@ impl ReceiverComparison {
         measure: impl Fn(&MeshRecord) -> f64,
         target: f64,
     ) -> Option<f64> {
-        let rms = target;
         let mut points: Vec<(f64, f64)> = self
             .records
             .iter()
@@ -372,8 +374,8 @@ impl ReceiverComparison {
         }
         frontier.windows(2).find_map(|w| {
             let ((v0, e0), (v1, e1)) = (w[0], w[1]);
-            (rms <= e0 && rms >= e1).then(|| {
-                let s = (rms.ln() - e0.ln()) / (e1.ln() - e0.ln());
+            (target <= e0 && target >= e1).then(|| {
+                let s = (target.ln() - e0.ln()) / (e1.ln() - e0.ln());
                 (v0.ln() + s * (v1.ln() - v0.ln())).exp()
             })
         })

@@ -36,7 +36,7 @@ fn table_floor() -> ReceiverComparison {
 }
 
 #[test]
-fn shadow_aware_contour_meshes_beat_square_30_by_five_times_under_a_table() {
+fn shadow_aware_contour_meshes_need_five_times_fewer_vertices_than_square_30_under_a_table() {
     let comparison = table_floor();
     let record = |spec| comparison.record(spec).unwrap();
     let square = record(MeshSpec::Square { n: 30 });
@@ -64,7 +64,8 @@ fn shadow_aware_contour_meshes_beat_square_30_by_five_times_under_a_table() {
     let fewer = square.vertex_count() as f64 / shadow_aware.vertex_count() as f64;
     assert!(fewer >= 5.0, "{fewer:.2}× fewer vertices");
     // Its boundaries have vertices at their ends and where they cross the
-    // rings, not at the element spacing: 98 more than the seed's layout.
-    assert!(shadow_aware.vertex_count() < 2 * seed.vertex_count() + 10);
-    assert!(shadow_aware.shadow_points > 0);
+    // rings, not at the element spacing: 98 more than the seed's layout's
+    // 91 (at the spacing, 228 more).
+    assert!(shadow_aware.vertex_count() > seed.vertex_count());
+    assert!(shadow_aware.vertex_count() < 3 * seed.vertex_count());
 }
