@@ -252,9 +252,10 @@ fn print_comparison(comparison: &ReceiverComparison) {
                         .min_by_key(|r| r.vertex_count());
                     match smallest.filter(|r| measure(r) <= error) {
                         Some(r) => println!(
-                            "  {reference}'s {name}, {error:.4}, is beaten by the smallest contour mesh, {} with {} vertices",
+                            "  {reference}'s {name}, {error:.4}, is above every contour mesh's: the smallest, {} with {} vertices, errs {:.4}",
                             r.spec,
-                            r.vertex_count()
+                            r.vertex_count(),
+                            measure(r)
                         ),
                         None => println!(
                             "  {reference}'s {name}, {error:.4}, is below every contour mesh's"
