@@ -387,16 +387,21 @@ impl PatchLocator {
 mod tests {
     use super::*;
 
+    /// Cached rays of patches only, `PATCH_RAYS` hits after another.
+    fn patch_rays(patch_hits: Vec<u32>) -> AmbientRays {
+        AmbientRays {
+            patch_hits,
+            vertex_hits: Vec::new(),
+            vertex_cells: Vec::new(),
+        }
+    }
+
     /// Two patches that see only each other (every ray of each hits the
     /// other): A = ρ (ΔB + A) on both, so A = ρ ΔB / (1 − ρ) and the ambient
     /// irradiance G = ΔB + A = ΔB / (1 − ρ), Cohen's closed-scene term.
     #[test]
     fn an_enclosure_of_uniform_patches_gets_cohens_term() {
-        let rays = AmbientRays {
-            patch_hits: [vec![1; PATCH_RAYS], vec![0; PATCH_RAYS]].concat(),
-            vertex_hits: Vec::new(),
-            vertex_cells: Vec::new(),
-        };
+        let rays = patch_rays([vec![1; PATCH_RAYS], vec![0; PATCH_RAYS]].concat());
         let unshot = [Rgb::splat(2.0), Rgb::splat(2.0)];
         let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];
         let residual = rays.patch_residual(&unshot, &reflectance, &[false; 2]);
@@ -456,11 +461,7 @@ mod tests {
         let half: Vec<u32> = (0..PATCH_RAYS)
             .map(|k| if k % 2 == 0 { 1 } else { MISS })
             .collect();
-        let rays = AmbientRays {
-            patch_hits: [half, vec![MISS; PATCH_RAYS]].concat(),
-            vertex_hits: Vec::new(),
-            vertex_cells: Vec::new(),
-        };
+        let rays = patch_rays([half, vec![MISS; PATCH_RAYS]].concat());
         let unshot = [Rgb::ZERO, Rgb::splat(4.0)];
         let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];
         let residual = rays.patch_residual(&unshot, &reflectance, &[false; 2]);
@@ -476,11 +477,7 @@ mod tests {
         let few: Vec<u32> = (0..PATCH_RAYS)
             .map(|k| if k % 4 == 0 { 1 } else { MISS })
             .collect();
-        let rays = AmbientRays {
-            patch_hits: [few, vec![MISS; PATCH_RAYS]].concat(),
-            vertex_hits: Vec::new(),
-            vertex_cells: Vec::new(),
-        };
+        let rays = patch_rays([few, vec![MISS; PATCH_RAYS]].concat());
         let residual = rays.patch_residual(&unshot, &reflectance, &[true; 2]);
         assert!((residual[0].r - 0.5).abs() < 1e-12, "{residual:?}");
     }

@@ -100,11 +100,16 @@ fn the_floor_under_a_block_is_cut_out_along_the_contact_lines() {
     );
 }
 
-#[test]
-fn no_darkness_bleeds_out_from_under_a_block() {
+/// [`block_on_floor`] meshed by [`mesh_of`] and solved to 0.1 %.
+fn solved_block_on_floor() -> Solver {
     let scene = block_on_floor();
     let mesh = mesh_of(&scene);
-    let solver = solved_to_a_thousandth(scene, mesh);
+    solved_to_a_thousandth(scene, mesh)
+}
+
+#[test]
+fn no_darkness_bleeds_out_from_under_a_block() {
+    let solver = solved_block_on_floor();
     let solution = solver.solution_with_ambient();
     // Just outside each side of the block, the rendered mesh agrees with an
     // exact gather: the dark floor under the block no longer exists.
@@ -623,9 +628,7 @@ fn books_farther_apart_than_the_contact_tolerance_keep_their_sides() {
 
 #[test]
 fn a_mesh_probe_under_a_block_reads_the_dark_the_mesh_dropped() {
-    let scene = block_on_floor();
-    let mesh = mesh_of(&scene);
-    let solver = solved_to_a_thousandth(scene, mesh);
+    let solver = solved_block_on_floor();
     let solution = solver.solution_with_ambient();
     let probe = |x: f64, mode| {
         let point = isorad::scene::ProbePoint {
