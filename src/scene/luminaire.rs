@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::{Rgb, SurfaceId, Visibility};
+use super::{Rgb, ShadowCache, SurfaceId, Visibility};
 use crate::photometry::{IntensityDistribution, LUMENS_PER_WATT};
 
 /// A luminaire from a photometric file (a scene file's `[[luminaire]]`):
@@ -146,11 +146,14 @@ impl PhotometricLuminaire {
         let offset = visibility.surface_offset();
         let start = x + normal * offset;
         let samples = self.opening_samples();
+        // The samples' rays are nearly parallel: what blocks one mostly
+        // blocks the next.
+        let mut cache = ShadowCache::default();
         let seen = samples
             .iter()
             .filter(|&&target| {
                 let back = (x - target).normalize_or_zero() * offset;
-                visibility.is_unblocked(start, target + back, [surface, surface])
+                visibility.is_unblocked_cached(start, target + back, [surface, surface], &mut cache)
             })
             .count();
         seen as f64 / samples.len() as f64

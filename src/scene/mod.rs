@@ -31,7 +31,7 @@ pub use surface::{PlaneFrame, Surface};
 pub use surface_boxes::SurfaceBoxes;
 pub use surface_id::SurfaceId;
 pub(crate) use triangulate::triangulate_polygon;
-pub use visibility::Visibility;
+pub use visibility::{ShadowCache, Visibility};
 
 use std::path::{Path, PathBuf};
 

