@@ -1,10 +1,11 @@
 //! What the visibility bench and `examples/bench_report.rs` share: random
-//! shadow segments between points on a scene's surfaces, and a bare obvhs
-//! occlusion query over the same triangles, so isorad's `Visibility` layer can
-//! be measured against obvhs called directly on the same rays.
+//! shadow segments between points on a scene's surfaces, the segments of a
+//! mesh's shots as the solver casts them, and a bare obvhs occlusion query
+//! over the same triangles, so isorad's `Visibility` layer can be measured
+//! against obvhs called directly on the same rays.
 
 use glam::{DVec3, Vec3A};
-use isorad::{Scene, SurfaceId};
+use isorad::{Scene, SurfaceId, mesh::Mesh};
 use obvhs::{
     BvhBuildParams, cwbvh::CwBvh, cwbvh::builder::build_cwbvh_from_tris, ray::Ray,
     rt_triangle::RtTriangle, triangle::Triangle,
@@ -90,6 +91,40 @@ pub fn random_segments(scene: &Scene, count: usize, seed: u64) -> Vec<Segment> {
                 from,
                 to,
                 end_surfaces: [s0, s1],
+            });
+        }
+    }
+    segments
+}
+
+/// The shadow segments of `shots` shots of a mesh's patches, spread evenly
+/// over its patch list, as the solver casts a dim reflected shot's: one from
+/// every vertex that faces the patch (and is not on the patch's surface), in
+/// the mesh's vertex order, to a uniform random point on the patch. Ends are
+/// lifted 10⁻⁴ of the scene's diagonal along their normals, as in
+/// [`random_segments`].
+pub fn shot_segments(scene: &Scene, mesh: &Mesh, shots: usize, seed: u64) -> Vec<Segment> {
+    let lift = 1e-4 * scene.diagonal();
+    let mut rng = SplitMix64::new(seed);
+    let mut segments = Vec::new();
+    let stride = (mesh.patches.len() / shots.max(1)).max(1);
+    for patch in mesh.patches.iter().step_by(stride).take(shots) {
+        let shooter_normal = scene.surface(patch.surface).normal();
+        let centre = patch.cell.centre();
+        for vertex in &mesh.vertices {
+            let normal = scene.surface(vertex.surface).normal();
+            let x = vertex.receiver_position;
+            if vertex.surface == patch.surface || shooter_normal.dot(x - centre) <= 0.0 {
+                continue;
+            }
+            let y = patch.cell.point(rng.next_f64(), rng.next_f64());
+            if normal.dot(y - x) <= 0.0 {
+                continue;
+            }
+            segments.push(Segment {
+                from: x + lift * normal,
+                to: y + lift * shooter_normal,
+                end_surfaces: [vertex.surface, patch.surface],
             });
         }
     }

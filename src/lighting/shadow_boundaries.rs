@@ -42,8 +42,8 @@ use super::Luminaire;
 use super::sample_stream::SampleStream;
 use super::stratified::stratified_points;
 use crate::scene::{
-    PlaneFrame, Scene, SurfaceId, Visibility, clip_segment_to_polygon, distance_to_boundary,
-    distance_to_segment,
+    PlaneFrame, Scene, ShadowCache, SurfaceId, Visibility, clip_segment_to_polygon,
+    distance_to_boundary, distance_to_segment,
 };
 
 /// Corners of a luminaire's polygons used as projection centres, at most
@@ -224,13 +224,14 @@ pub fn light_reaches(
     let offset = visibility.surface_offset();
     let mut random = SampleStream::new(u64::from(receiver), 0x5EE5_11A7);
     let points = stratified_points(&surface.plane_vertices(), REACH_POINTS, 0.01, &mut random);
+    let mut cache = ShadowCache::default();
     points.iter().any(|&(p, _)| {
         let x = frame.to_world(p) + n * offset;
         from.iter().any(|&y| {
             let d = y - x;
             n.dot(d) > 0.0 && {
                 let end = y - d.normalize_or_zero() * offset;
-                visibility.is_unblocked(x, end, [receiver, lamp])
+                visibility.is_unblocked_cached(x, end, [receiver, lamp], &mut cache)
             }
         })
     })
@@ -457,14 +458,22 @@ fn event_runs(
     let (frame, normal) = (target.frame(), target.normal());
     let offset = visibility.surface_offset();
     let step = (hi - lo) / EVENT_SAMPLES as f64;
-    let real = |k: usize| {
+    // Neighbouring samples' rays are nearly parallel: one shadow cache for
+    // the rays to the receiver, one for those to the light.
+    let (mut to_receiver, mut to_light) = (ShadowCache::default(), ShadowCache::default());
+    let mut real = |k: usize| {
         let q = a.lerp(b, lo + step * k as f64);
         let x = frame.to_world(project(frame, v, q)) + normal * offset;
         let short = |from: DVec3, to: DVec3| to + (from - to).normalize_or_zero() * offset;
-        visibility.is_unblocked(x, short(x, q), [receiver, occluder])
-            && visibility.is_unblocked(short(v, q), short(q, v), [occluder, lamp])
+        visibility.is_unblocked_cached(x, short(x, q), [receiver, occluder], &mut to_receiver)
+            && visibility.is_unblocked_cached(
+                short(v, q),
+                short(q, v),
+                [occluder, lamp],
+                &mut to_light,
+            )
     };
-    let passing: Vec<bool> = (0..=EVENT_SAMPLES).map(real).collect();
+    let passing: Vec<bool> = (0..=EVENT_SAMPLES).map(&mut real).collect();
     let mut runs = Vec::new();
     let mut k = 0;
     while k <= EVENT_SAMPLES {

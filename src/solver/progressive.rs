@@ -927,16 +927,21 @@ const SHADOW_CACHE_RUN: usize = 256;
 
 /// `f` of each item, in parallel over runs of [`SHADOW_CACHE_RUN`] items,
 /// each run with a fresh [`ShadowCache`]; in the items' order.
-fn in_shadow_cache_runs<T: Sync, R: Send>(
+fn in_shadow_cache_runs<T: Sync, R: Send + Default>(
     items: &[T],
     f: impl Fn(&T, &mut ShadowCache) -> R + Sync,
 ) -> Vec<R> {
-    let f = &f;
-    items
-        .par_chunks(SHADOW_CACHE_RUN)
-        .flat_map_iter(|run| {
+    let mut results: Vec<R> = std::iter::repeat_with(R::default)
+        .take(items.len())
+        .collect();
+    results
+        .par_chunks_mut(SHADOW_CACHE_RUN)
+        .zip(items.par_chunks(SHADOW_CACHE_RUN))
+        .for_each(|(results, run)| {
             let mut cache = ShadowCache::default();
-            run.iter().map(move |item| f(item, &mut cache))
-        })
-        .collect()
+            for (result, item) in results.iter_mut().zip(run) {
+                *result = f(item, &mut cache);
+            }
+        });
+    results
 }
