@@ -92,7 +92,9 @@ pub fn contact_segments(
     let outline = target.plane_vertices();
     let (min, max) = boxes.bounds(receiver);
     let mut contacts = ReceiverContacts::default();
-    let largest_gap = COVERING_GAP * target.area().sqrt();
+    // Outlines of parallel surfaces too far in front to cover the receiver.
+    let mut near = Vec::new();
+    let largest_gap = NEAR_OUTLINE_GAP * target.area().sqrt();
     for id in boxes.near(min, max, tolerance.max(largest_gap)) {
         let other = scene.surface(id);
         if id == receiver {
@@ -116,6 +118,20 @@ pub fn contact_segments(
             {
                 contacts.lines.extend(lines);
                 contacts.covered = true;
+            } else if let Some(lines) = covering_outline(
+                other,
+                id,
+                frame,
+                &outline,
+                (gap, near_outline_gap(target, other)),
+                (tolerance, inset),
+            ) {
+                // Its vertices gather one gap, not two, beyond the line: the
+                // dark band behind it is as wide as the gap.
+                near.extend(lines.into_iter().map(|line| Contact {
+                    clearance: 0.5 * line.clearance,
+                    ..line
+                }));
             }
             continue;
         }
@@ -147,7 +163,45 @@ pub fn contact_segments(
             }
         }
     }
+    // A near outline's edge running along another line (a neighbouring
+    // book's side a millimetre off, the board it stands on) adds nothing.
+    let alongside = |line: &Contact, others: &[&Contact]| {
+        let middle = line.ends[0].lerp(line.ends[1], 0.5);
+        let direction = (line.ends[1] - line.ends[0]).normalize_or_zero();
+        others.iter().any(|other| {
+            let along = (other.ends[1] - other.ends[0]).normalize_or_zero();
+            other.surface != line.surface
+                && direction.perp_dot(along).abs() < 0.05
+                && distance_to_segment(middle, other.ends[0], other.ends[1]) <= tolerance
+        })
+    };
+    let all: Vec<&Contact> = contacts.lines.iter().chain(&near).collect();
+    let kept: Vec<Contact> = near
+        .iter()
+        .filter(|line| !alongside(line, &all))
+        .copied()
+        .collect();
+    contacts.lines.extend(kept);
     contacts
+}
+
+/// How far in front of a receiver, as a fraction of the smaller one's size
+/// (√area), a parallel surface beyond [`covering_gap`] or [`slot_gap`]
+/// still draws its outline on the receiver, as element edges, without
+/// hiding what lies under it: a book standing 2 cm in front of a wall.
+/// Light reaches into the gap only about as far as the gap is wide, so the
+/// wall behind the book is dark and the wall just above it lit, a step the
+/// wall's elements, decimetres across, spread over a whole element (its
+/// vertices above the books of `bench/generate_building.py`'s cluttered
+/// office read 0.84 of a path tracer's irradiance where a gather at the
+/// same points reads 0.99). A cable tray 40 cm under a ceiling casts a
+/// soft shadow there, not a step, and stays clear of the bound.
+const NEAR_OUTLINE_GAP: f64 = 0.2;
+
+/// The largest gap at which `other`, parallel to `receiver` and in front
+/// of it, draws its outline on it ([`NEAR_OUTLINE_GAP`]).
+fn near_outline_gap(receiver: &Surface, other: &Surface) -> f64 {
+    NEAR_OUTLINE_GAP * receiver.area().min(other.area()).sqrt()
 }
 
 /// How far in front of a receiver, as a fraction of the smaller one's size

@@ -660,3 +660,69 @@ fn a_mesh_probe_under_a_block_reads_the_dark_the_mesh_dropped() {
         gathered.irradiance
     );
 }
+
+/// A book 6 cm thick, 30 cm tall and 20 cm deep standing on a 4 × 4 m
+/// floor with its back 2 cm in front of a wall (y = 0.3, facing −y), under
+/// a light as large as the floor, 4 m up.
+fn book_before_a_wall() -> Scene {
+    let mut b = SceneBuilder::default();
+    let white = b.material("white", 0.5, 0.0);
+    let light = b.material("light", 0.0, 10.0);
+    b.polygon("floor", white, square_z(-2.0, 2.0, 0.0, true));
+    b.polygon("light", light, square_z(-2.0, 2.0, 4.0, false));
+    let wall = vec![
+        DVec3::new(-2.0, 0.3, 0.0),
+        DVec3::new(2.0, 0.3, 0.0),
+        DVec3::new(2.0, 0.3, 3.0),
+        DVec3::new(-2.0, 0.3, 3.0),
+    ];
+    b.polygon_facing("wall", white, wall, DVec3::new(0.0, -1.0, 0.0));
+    let (lo, hi) = (DVec3::new(-0.03, 0.08, 0.0), DVec3::new(0.03, 0.28, 0.3));
+    open_box(&mut b, "book", white, lo, hi);
+    b.scene
+}
+
+/// Further from the wall than the contact tolerance, the book hides none
+/// of it, but its outline is drawn on the wall as element edges: the wall
+/// behind the book is dark and the wall just above it lit, a step that an
+/// element 20 cm across spread over the wall above the book.
+#[test]
+fn a_book_two_centimetres_before_a_wall_draws_its_outline_on_the_wall() {
+    let scene = book_before_a_wall();
+    let wall = SurfaceId::new(2);
+    let mesh = mesh_of(&scene);
+    let on_wall = |p: DVec3| {
+        mesh.vertices
+            .iter()
+            .any(|v| v.surface == wall && v.position.distance(p) < 1e-6)
+    };
+    for x in [-0.03, 0.03] {
+        assert!(
+            on_wall(DVec3::new(x, 0.3, 0.3)),
+            "no wall vertex at the book's top corner x = {x}"
+        );
+    }
+    assert!(
+        (valid_area_of(&scene, &mesh, wall) - 12.0).abs() < 1e-9,
+        "the wall keeps all of its area"
+    );
+    let solver = solved_to_a_thousandth(scene, mesh);
+    let solution = solver.solution_with_ambient();
+    // Just above the book, the mesh reads what a gather finds there.
+    for z in [0.32, 0.36] {
+        let point = isorad::scene::ProbePoint {
+            position: DVec3::new(0.0, 0.3, z),
+            normal: None,
+            line: 1,
+        };
+        let mesh_probe = solution.probe(&point, isorad::ProbeMode::Mesh).unwrap();
+        let gathered = gather_at(&solution, point.position, None);
+        let ratio = mesh_probe.irradiance.r / gathered.irradiance.r;
+        assert!(
+            (ratio - 1.0).abs() < 0.05,
+            "{z}: mesh {:?} against gather {:?}",
+            mesh_probe.irradiance,
+            gathered.irradiance
+        );
+    }
+}
