@@ -35,7 +35,8 @@ pub struct Contact {
     /// How far to its `facing` side the receiver's vertices on the line
     /// gather: 0 for a surface standing on the receiver (the dark corner
     /// beside a block's foot is real and as wide as the block is high),
-    /// twice the gap for one covering it (see [`covering_outline`]).
+    /// twice the gap for one covering it (see [`covering_outline`]), the
+    /// gap for one a little farther off (see [`NEAR_OUTLINE_GAP`]).
     pub clearance: f64,
 }
 
@@ -75,6 +76,8 @@ pub struct ReceiverContacts {
 /// ([`covering_outline`]): one lying on it, facing the same way (a ceiling
 /// panel hung a centimetre below a ceiling), or one facing it across a
 /// narrow slot (the sides of two books a millimetre apart on a shelf).
+/// One a little farther off adds its outline too, but hides nothing
+/// ([`NEAR_OUTLINE_GAP`]).
 ///
 /// Only the surfaces whose bounding boxes come within `tolerance` of the
 /// receiver's are looked at, found through `boxes` (built once for the
@@ -196,6 +199,12 @@ pub fn contact_segments(
 /// office read 0.84 of a path tracer's irradiance where a gather at the
 /// same points reads 0.99). A cable tray 40 cm under a ceiling casts a
 /// soft shadow there, not a step, and stays clear of the bound.
+///
+/// The outline's vertices gather on the lit side, so an element behind
+/// the book whose corners all lie on the outline reads that light too: no
+/// viewer sees it, and in a closed zone each reflected shot's elements are
+/// scaled to take exactly its power (`Solver::landing_scale`), so the
+/// light it takes is not made up.
 const NEAR_OUTLINE_GAP: f64 = 0.2;
 
 /// The largest gap at which `other`, parallel to `receiver` and in front

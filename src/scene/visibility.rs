@@ -164,11 +164,12 @@ impl Visibility {
     /// A cached triangle that the segment crosses blocks it, whatever the
     /// BVH says, so the answer is [`Visibility::is_unblocked`]'s except
     /// for a segment that grazes a triangle which the BVH's f32 boxes
-    /// leave out (13 in a million of the cached answers in that office,
-    /// on seams): there the triangle's own test decides. A cache used for
-    /// a fixed sequence of rays gives a fixed answer, so callers that want
-    /// reproducible results keep one per fixed run of rays (the solver: one
-    /// per chunk of a shot's receivers), not one per thread.
+    /// leave out (about one in eight thousand of the cached answers in
+    /// that office, on seams): there the triangle's own test decides. A
+    /// cache used for a fixed sequence of rays gives a fixed answer, so
+    /// callers that want reproducible results keep one per fixed run of
+    /// rays (the solver: one per run of 256 of a shot's receivers), not
+    /// one per thread.
     ///
     /// # References
     /// E. A. Haines, D. P. Greenberg, "The Light Buffer: A Shadow-Testing
