@@ -307,7 +307,8 @@ fn ray_throughput_section(md: &mut String) -> Report {
          quieter one's: 0.52 and 0.60 on the furnished office, 0.59 and 0.68 on the \
          cluttered one); on the Cornell box and `scenes/room`, whose few large triangles make \
          a ray nearly free (the room's rays are hardly ever blocked), the work around each \
-         ray is most of the time. Half the cluttered office's shot rays are blocked, and \
+         ray is most of the time. Half the cluttered office's solver rays are blocked \
+         (emitters' shots included; 68 % of the dim shots' rays in the table), and \
          the shadow cache (the last two triangles that blocked a ray of the same run of \
          receivers, tried before the traversal: Haines & Greenberg 1986) answers three in \
          four of those with one triangle test, which is why `Visibility` with the cache \
@@ -317,7 +318,7 @@ fn ray_throughput_section(md: &mut String) -> Report {
          through the cache, 7 % of meshing's uncached), `Shooter::gather` 12 %, \
          Lambert's polygon factor 8 %, `Solver::receive` (the one serial step of a \
          shot) 6 %, the ambient rays' closest hits 5 %. Before the cache the shadow \
-         rays were 54 % and the solve took a seventh more processor time (11.3 s \
+         rays were 54 % and the solve took a fifth more processor time (11.3 s \
          against 9.5 s, three interleaved runs each). `Solver::receive` done in \
          parallel over runs of the zone's elements gave no gain (2026-12-02: furnished \
          office 0.93–0.95 s against 0.89 s serial), so it stays serial.\n"

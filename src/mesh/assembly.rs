@@ -83,7 +83,7 @@ pub fn mesh_surfaces(
     let boxes = SurfaceBoxes::new(scene);
     for (id, surface) in scene.surfaces_with_ids() {
         let grid = square_grid(surface, id, settings);
-        let contacts = contact_segments(scene, &boxes, id, tolerance, inset);
+        let contacts = contact_segments(scene, &boxes, id, (tolerance, inset), settings.max_edge);
         let covering_here: Vec<Contact> = contacts
             .lines
             .iter()

@@ -76,19 +76,20 @@ pub struct ReceiverContacts {
 /// ([`covering_outline`]): one lying on it, facing the same way (a ceiling
 /// panel hung a centimetre below a ceiling), or one facing it across a
 /// narrow slot (the sides of two books a millimetre apart on a shelf).
-/// One a little farther off adds its outline too, but hides nothing
-/// ([`NEAR_OUTLINE_GAP`]).
+/// One a little farther off, up to [`near_outline_gap`] for elements of
+/// `spacing`, adds its outline too, but hides nothing.
 ///
-/// Only the surfaces whose bounding boxes come within `tolerance` of the
-/// receiver's are looked at, found through `boxes` (built once for the
-/// scene).
+/// Only the surfaces whose bounding boxes come within `tolerance`, or
+/// within the widest gap at which a parallel surface covers the receiver
+/// or draws its outline on it, of the receiver's are looked at, found
+/// through `boxes` (built once for the scene).
 #[must_use]
 pub fn contact_segments(
     scene: &Scene,
     boxes: &SurfaceBoxes,
     receiver: SurfaceId,
-    tolerance: f64,
-    inset: f64,
+    (tolerance, inset): (f64, f64),
+    spacing: f64,
 ) -> ReceiverContacts {
     let target = scene.surface(receiver);
     let frame = target.frame();
@@ -97,7 +98,8 @@ pub fn contact_segments(
     let mut contacts = ReceiverContacts::default();
     // Outlines of parallel surfaces too far in front to cover the receiver.
     let mut near = Vec::new();
-    let largest_gap = NEAR_OUTLINE_GAP * target.area().sqrt();
+    let largest_gap =
+        (COVERING_GAP * target.area().sqrt()).max(near_outline_gap(target, target, spacing));
     for id in boxes.near(min, max, tolerance.max(largest_gap)) {
         let other = scene.surface(id);
         if id == receiver {
@@ -126,7 +128,7 @@ pub fn contact_segments(
                 id,
                 frame,
                 &outline,
-                (gap, near_outline_gap(target, other)),
+                (gap, near_outline_gap(target, other, spacing)),
                 (tolerance, inset),
             ) {
                 // Its vertices gather one gap, not two, beyond the line: the
@@ -166,22 +168,40 @@ pub fn contact_segments(
             }
         }
     }
-    // A near outline's edge running along another line (a neighbouring
-    // book's side a millimetre off, the board it stands on) adds nothing.
-    let alongside = |line: &Contact, others: &[&Contact]| {
-        let middle = line.ends[0].lerp(line.ends[1], 0.5);
-        let direction = (line.ends[1] - line.ends[0]).normalize_or_zero();
-        others.iter().any(|other| {
-            let along = (other.ends[1] - other.ends[0]).normalize_or_zero();
-            other.surface != line.surface
-                && direction.perp_dot(along).abs() < 0.05
-                && distance_to_segment(middle, other.ends[0], other.ends[1]) <= tolerance
-        })
+    // A near outline's edge adds nothing along another line within
+    // `tolerance`: along the whole of a contact (the board a book stands
+    // on), or beside another near outline's edge that faces the other way
+    // (the next book's side, a millimetre off: dark on both sides; its
+    // middle is enough, so that only the taller of two neighbours' sides
+    // is looked at again). Of two facing the same way along each other's
+    // whole length (the back and front of a panel hung in front of a
+    // wall), the one nearer the receiver is kept.
+    let near_line = |p: DVec2, other: &Contact| {
+        distance_to_segment(p, other.ends[0], other.ends[1]) <= tolerance
     };
-    let all: Vec<&Contact> = contacts.lines.iter().chain(&near).collect();
+    let whole_along = |line: &Contact, other: &Contact| {
+        let middle = line.ends[0].lerp(line.ends[1], 0.5);
+        other.surface != line.surface
+            && [line.ends[0], line.ends[1], middle]
+                .iter()
+                .all(|&p| near_line(p, other))
+    };
     let kept: Vec<Contact> = near
         .iter()
-        .filter(|line| !alongside(line, &all))
+        .filter(|line| {
+            let middle = line.ends[0].lerp(line.ends[1], 0.5);
+            let along_contact = contacts.lines.iter().any(|other| whole_along(line, other));
+            let along_near = near.iter().any(|other| {
+                if other.facing.dot(line.facing) < 0.0 {
+                    other.surface != line.surface && near_line(middle, other)
+                } else {
+                    whole_along(line, other)
+                        && (other.clearance, other.surface.index())
+                            < (line.clearance, line.surface.index())
+                }
+            });
+            !(along_contact || along_near)
+        })
         .copied()
         .collect();
     contacts.lines.extend(kept);
@@ -208,9 +228,15 @@ pub fn contact_segments(
 const NEAR_OUTLINE_GAP: f64 = 0.2;
 
 /// The largest gap at which `other`, parallel to `receiver` and in front
-/// of it, draws its outline on it ([`NEAR_OUTLINE_GAP`]).
-fn near_outline_gap(receiver: &Surface, other: &Surface) -> f64 {
-    NEAR_OUTLINE_GAP * receiver.area().min(other.area()).sqrt()
+/// of it, draws its outline on it, for elements of `spacing`:
+/// [`NEAR_OUTLINE_GAP`] of the smaller one's √area, and no more than the
+/// first row beside a contact ([`BESIDE_CONTACT_ROWS`]), within which the
+/// outline's vertices gather one gap beyond the line
+/// ([`gather_beside_covering_outlines`]). A partition a metre in front of
+/// a long wall casts a soft shadow on it, not a step.
+fn near_outline_gap(receiver: &Surface, other: &Surface, spacing: f64) -> f64 {
+    (NEAR_OUTLINE_GAP * receiver.area().min(other.area()).sqrt())
+        .min(BESIDE_CONTACT_ROWS[0] * spacing)
 }
 
 /// How far in front of a receiver, as a fraction of the smaller one's size
@@ -317,8 +343,9 @@ fn covering_outline(
 }
 
 /// Moves the receivers of the vertices on the outlines of parallel
-/// surfaces covering a receiver ([`covering_outline`]; `covering`: per
-/// receiver, those contacts) by each line's
+/// surfaces covering a receiver or lying a little in front of it
+/// ([`covering_outline`], [`NEAR_OUTLINE_GAP`]; `covering`: per receiver,
+/// those contacts) by each line's
 /// `clearance` to its facing side (both sides' at a footprint's corner),
 /// where that stays short of the first row of vertices beside the line
 /// ([`BESIDE_CONTACT_ROWS`] of the element `spacing`). A wider dark band,

@@ -945,3 +945,31 @@ fn in_shadow_cache_runs<T: Sync, R: Send + Default>(
         });
     results
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each run of receivers starts with a fresh shadow cache at the same
+    /// receivers, however many threads share the runs: the cache's answers,
+    /// and so a solve, cannot depend on rayon's scheduling.
+    #[test]
+    fn shadow_cache_runs_start_fresh_at_fixed_receivers_on_any_pool() {
+        let items: Vec<usize> = (0..1000).collect();
+        let expected: Vec<bool> = items.iter().map(|i| i % SHADOW_CACHE_RUN == 0).collect();
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let fresh: Vec<bool> = pool.install(|| {
+                in_shadow_cache_runs(&items, |_, cache| {
+                    let fresh = cache.is_fresh();
+                    cache.fill_for_test();
+                    fresh
+                })
+            });
+            assert_eq!(fresh, expected, "{threads} threads");
+        }
+    }
+}

@@ -726,3 +726,44 @@ fn a_book_two_centimetres_before_a_wall_draws_its_outline_on_the_wall() {
         );
     }
 }
+
+/// A panel 1 cm thick, 50 × 40 cm, hung with its back 1.5 cm in front of
+/// the wall of [`book_before_a_wall`]'s room (no book): its back faces the
+/// wall across the gap, and its front, 2.5 cm out, faces the room. Both
+/// draw the same outline on the wall, and one of them must stay.
+#[test]
+fn a_panel_hung_before_a_wall_draws_its_outline_once() {
+    let mut b = SceneBuilder::default();
+    let white = b.material("white", 0.5, 0.0);
+    let light = b.material("light", 0.0, 10.0);
+    b.polygon("floor", white, square_z(-2.0, 2.0, 0.0, true));
+    b.polygon("light", light, square_z(-2.0, 2.0, 4.0, false));
+    let wall = vec![
+        DVec3::new(-2.0, 0.3, 0.0),
+        DVec3::new(2.0, 0.3, 0.0),
+        DVec3::new(2.0, 0.3, 3.0),
+        DVec3::new(-2.0, 0.3, 3.0),
+    ];
+    b.polygon_facing("wall", white, wall, DVec3::new(0.0, -1.0, 0.0));
+    let face = |y: f64| {
+        vec![
+            DVec3::new(-0.25, y, 1.0),
+            DVec3::new(0.25, y, 1.0),
+            DVec3::new(0.25, y, 1.4),
+            DVec3::new(-0.25, y, 1.4),
+        ]
+    };
+    b.polygon_facing("panel back", white, face(0.285), DVec3::Y);
+    b.polygon_facing("panel front", white, face(0.275), -DVec3::Y);
+    let scene = b.scene;
+    let mesh = mesh_of(&scene);
+    let wall = SurfaceId::new(2);
+    for corner in [DVec3::new(-0.25, 0.3, 1.0), DVec3::new(0.25, 0.3, 1.4)] {
+        assert!(
+            mesh.vertices
+                .iter()
+                .any(|v| v.surface == wall && v.position.distance(corner) < 1e-6),
+            "no wall vertex at the panel's corner {corner}"
+        );
+    }
+}
