@@ -303,9 +303,9 @@ fn ray_throughput_section(md: &mut String) -> Report {
     writeln!(
         md,
         "\nOn the generated offices the solver reaches 0.5–0.7 of obvhs's rate on its own \
-         kind of rays (two runs of this section on 2026-12-03, a busy machine's and a \
-         quieter one's: 0.52 and 0.60 on the furnished office, 0.59 and 0.68 on the \
-         cluttered one); on the Cornell box and `scenes/room`, whose few large triangles make \
+         kind of rays (three runs of this section on 2026-12-03, on a machine that other \
+         work slowed by up to a third: 0.51–0.60 on the furnished office, 0.59–0.68 on \
+         the cluttered one); on the Cornell box and `scenes/room`, whose few large triangles make \
          a ray nearly free (the room's rays are hardly ever blocked), the work around each \
          ray is most of the time. Half the cluttered office's solver rays are blocked \
          (emitters' shots included; 68 % of the dim shots' rays in the table), and \
