@@ -403,9 +403,7 @@ impl Solver {
                 }
             }
             None => {
-                let indices: Vec<usize> = (0..incident.len()).collect();
-                let gathered: Vec<Gathered> =
-                    in_shadow_cache_runs(&indices, |&v, cache| gather(v, cache));
+                let gathered: Vec<Gathered> = indices_in_shadow_cache_runs(incident.len(), gather);
                 for (h, g) in incident.iter_mut().zip(gathered) {
                     self.rays += u64::from(g.rays);
                     *h = g.irradiance;
@@ -931,16 +929,22 @@ fn in_shadow_cache_runs<T: Sync, R: Send + Default>(
     items: &[T],
     f: impl Fn(&T, &mut ShadowCache) -> R + Sync,
 ) -> Vec<R> {
-    let mut results: Vec<R> = std::iter::repeat_with(R::default)
-        .take(items.len())
-        .collect();
+    indices_in_shadow_cache_runs(items.len(), |k, cache| f(&items[k], cache))
+}
+
+/// `f` of each index below `count`, as [`in_shadow_cache_runs`] does it.
+fn indices_in_shadow_cache_runs<R: Send + Default>(
+    count: usize,
+    f: impl Fn(usize, &mut ShadowCache) -> R + Sync,
+) -> Vec<R> {
+    let mut results: Vec<R> = std::iter::repeat_with(R::default).take(count).collect();
     results
         .par_chunks_mut(SHADOW_CACHE_RUN)
-        .zip(items.par_chunks(SHADOW_CACHE_RUN))
-        .for_each(|(results, run)| {
+        .enumerate()
+        .for_each(|(run, results)| {
             let mut cache = ShadowCache::default();
-            for (result, item) in results.iter_mut().zip(run) {
-                *result = f(item, &mut cache);
+            for (k, result) in results.iter_mut().enumerate() {
+                *result = f(run * SHADOW_CACHE_RUN + k, &mut cache);
             }
         });
     results
