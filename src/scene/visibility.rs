@@ -358,3 +358,58 @@ fn unit_scale(min: DVec3, max: DVec3) -> f64 {
         1.0
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Material, Rgb};
+
+    /// A floor at y = 0 under a plate at y = 1 (x, z in [−1, 1]).
+    fn plate_over_floor() -> Scene {
+        let mut scene = Scene::new();
+        let grey = scene
+            .add_material(Material::diffuse("grey", Rgb::splat(0.5)))
+            .unwrap();
+        let square = |y: f64, size: f64| -> Vec<DVec3> {
+            [(-1.0, -1.0), (-1.0, 1.0), (1.0, 1.0), (1.0, -1.0)]
+                .iter()
+                .map(|&(x, z)| DVec3::new(x * size, y, z * size))
+                .collect()
+        };
+        scene.add_polygon("floor", grey, &square(0.0, 3.0)).unwrap();
+        scene.add_polygon("plate", grey, &square(1.0, 1.0)).unwrap();
+        scene
+    }
+
+    /// A blocked ray leaves its blocker in the cache, where the next ray
+    /// through the plate finds it; a ray beside the plate traverses and
+    /// keeps it; another BVH's query replaces the owner.
+    #[test]
+    fn the_cache_keeps_the_triangle_that_blocked_the_last_ray() {
+        let scene = plate_over_floor();
+        let visibility = Visibility::new(&scene);
+        let plate = SurfaceId::new(1);
+        let ends = [SurfaceId::NONE; 2];
+        let mut cache = ShadowCache::default();
+        let up = |x: f64| (DVec3::new(x, 0.01, 0.0), DVec3::new(x, 2.0, 0.0));
+        let (from, to) = up(0.1);
+        assert!(!visibility.is_unblocked_cached(from, to, ends, &mut cache));
+        assert_eq!(cache.owner, visibility.id);
+        let first = cache.recent[0];
+        assert_eq!(visibility.triangle_surfaces[first as usize], plate);
+        // Nearly parallel, through the same triangle or its neighbour.
+        let (from, to) = up(0.12);
+        assert!(!visibility.is_unblocked_cached(from, to, ends, &mut cache));
+        assert!(cache.recent.contains(&first));
+        // Beside the plate: unblocked, and the cache is kept.
+        let (from, to) = up(2.0);
+        assert!(visibility.is_unblocked_cached(from, to, ends, &mut cache));
+        assert!(cache.recent.contains(&first));
+        // Another BVH's blocked ray makes the cache its own.
+        let other = Visibility::new(&scene);
+        let (from, to) = up(0.1);
+        assert!(!other.is_unblocked_cached(from, to, ends, &mut cache));
+        assert_eq!(cache.owner, other.id);
+        assert_eq!(cache.recent[1], ShadowCache::NONE);
+    }
+}
