@@ -661,10 +661,10 @@ fn a_mesh_probe_under_a_block_reads_the_dark_the_mesh_dropped() {
     );
 }
 
-/// A book 6 cm thick, 30 cm tall and 20 cm deep standing on a 4 × 4 m
-/// floor with its back 2 cm in front of a wall (y = 0.3, facing −y), under
-/// a light as large as the floor, 4 m up.
-fn book_before_a_wall() -> Scene {
+/// A 4 × 4 m floor under a light as large as it, 4 m up, and a wall
+/// (surface 2) standing on it at y = 0.3, facing −y; and the white
+/// material's index.
+fn floor_and_wall() -> (SceneBuilder, usize) {
     let mut b = SceneBuilder::default();
     let white = b.material("white", 0.5, 0.0);
     let light = b.material("light", 0.0, 10.0);
@@ -677,6 +677,13 @@ fn book_before_a_wall() -> Scene {
         DVec3::new(-2.0, 0.3, 3.0),
     ];
     b.polygon_facing("wall", white, wall, DVec3::new(0.0, -1.0, 0.0));
+    (b, white)
+}
+
+/// [`floor_and_wall`] with a book 6 cm thick, 30 cm tall and 20 cm deep
+/// standing on the floor, its back 2 cm in front of the wall.
+fn book_before_a_wall() -> Scene {
+    let (mut b, white) = floor_and_wall();
     let (lo, hi) = (DVec3::new(-0.03, 0.08, 0.0), DVec3::new(0.03, 0.28, 0.3));
     open_box(&mut b, "book", white, lo, hi);
     b.scene
@@ -728,23 +735,12 @@ fn a_book_two_centimetres_before_a_wall_draws_its_outline_on_the_wall() {
 }
 
 /// A panel 1 cm thick, 50 × 40 cm, hung with its back 1.5 cm in front of
-/// the wall of [`book_before_a_wall`]'s room (no book): its back faces the
-/// wall across the gap, and its front, 2.5 cm out, faces the room. Both
-/// draw the same outline on the wall, and one of them must stay.
+/// the wall of [`floor_and_wall`]: its back faces the wall across the gap,
+/// and its front, 2.5 cm out, faces the room. Both draw the same outline
+/// on the wall, and one of them must stay.
 #[test]
 fn a_panel_hung_before_a_wall_draws_its_outline_once() {
-    let mut b = SceneBuilder::default();
-    let white = b.material("white", 0.5, 0.0);
-    let light = b.material("light", 0.0, 10.0);
-    b.polygon("floor", white, square_z(-2.0, 2.0, 0.0, true));
-    b.polygon("light", light, square_z(-2.0, 2.0, 4.0, false));
-    let wall = vec![
-        DVec3::new(-2.0, 0.3, 0.0),
-        DVec3::new(2.0, 0.3, 0.0),
-        DVec3::new(2.0, 0.3, 3.0),
-        DVec3::new(-2.0, 0.3, 3.0),
-    ];
-    b.polygon_facing("wall", white, wall, DVec3::new(0.0, -1.0, 0.0));
+    let (mut b, white) = floor_and_wall();
     let face = |y: f64| {
         vec![
             DVec3::new(-0.25, y, 1.0),
