@@ -16,7 +16,7 @@ use isorad::{
 };
 
 mod common;
-use common::{RawBvh, random_segments, shot_segments};
+use common::{RawBvh, Segment, random_segments, shot_segments};
 
 const SEGMENTS: usize = 100_000;
 
@@ -35,59 +35,56 @@ fn visibility(c: &mut Criterion) {
         "{disagree} of {SEGMENTS} segments disagree"
     );
 
-    let mut group = c.benchmark_group("shadow_rays_cornell_100k");
-    group.sample_size(20);
-    group.throughput(Throughput::Elements(SEGMENTS as u64));
-    group.bench_function("isorad_visibility", |b| {
-        b.iter(|| {
-            segments
-                .iter()
-                .filter(|s| visibility.is_unblocked(s.from, s.to, s.end_surfaces))
-                .count()
-        })
-    });
-    group.bench_function("obvhs_direct", |b| {
-        b.iter(|| {
-            segments
-                .iter()
-                .filter(|s| raw.is_unblocked(black_box(s)))
-                .count()
-        })
-    });
-    group.finish();
+    let plain =
+        |s: &Segment, _: &mut ShadowCache| visibility.is_unblocked(s.from, s.to, s.end_surfaces);
+    let cached = |s: &Segment, cache: &mut ShadowCache| {
+        visibility.is_unblocked_cached(s.from, s.to, s.end_surfaces, cache)
+    };
+    let direct = |s: &Segment, _: &mut ShadowCache| raw.is_unblocked(black_box(s));
+    count_unblocked(
+        c,
+        "shadow_rays_cornell_100k",
+        &segments,
+        &[("isorad_visibility", &plain), ("obvhs_direct", &direct)],
+    );
 
     let mesh = mesh_square(&scene, &SquareMeshSettings::for_scene(&scene));
     let shots = shot_segments(&scene, &mesh, 40, 2);
-    let mut group = c.benchmark_group("shot_rays_cornell_40_shots");
+    count_unblocked(
+        c,
+        "shot_rays_cornell_40_shots",
+        &shots,
+        &[
+            ("isorad_visibility", &plain),
+            ("isorad_visibility_shadow_cache", &cached),
+            ("obvhs_direct", &direct),
+        ],
+    );
+}
+
+/// A shadow-ray query: whether a segment is unblocked, through a cache
+/// that a query may use.
+type Query<'a> = &'a dyn Fn(&Segment, &mut ShadowCache) -> bool;
+
+/// One benchmark group: each named query counting the unblocked
+/// `segments` in order, one cache for the whole sequence.
+fn count_unblocked(
+    c: &mut Criterion,
+    group: &str,
+    segments: &[Segment],
+    queries: &[(&str, Query)],
+) {
+    let mut group = c.benchmark_group(group);
     group.sample_size(20);
-    group.throughput(Throughput::Elements(shots.len() as u64));
-    group.bench_function("isorad_visibility", |b| {
-        b.iter(|| {
-            shots
-                .iter()
-                .filter(|s| visibility.is_unblocked(s.from, s.to, s.end_surfaces))
-                .count()
-        })
-    });
-    group.bench_function("isorad_visibility_shadow_cache", |b| {
-        b.iter(|| {
-            let mut cache = ShadowCache::default();
-            shots
-                .iter()
-                .filter(|s| {
-                    visibility.is_unblocked_cached(s.from, s.to, s.end_surfaces, &mut cache)
-                })
-                .count()
-        })
-    });
-    group.bench_function("obvhs_direct", |b| {
-        b.iter(|| {
-            shots
-                .iter()
-                .filter(|s| raw.is_unblocked(black_box(s)))
-                .count()
-        })
-    });
+    group.throughput(Throughput::Elements(segments.len() as u64));
+    for &(name, query) in queries {
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                let mut cache = ShadowCache::default();
+                segments.iter().filter(|s| query(s, &mut cache)).count()
+            })
+        });
+    }
     group.finish();
 }
 
