@@ -7,6 +7,7 @@ mod ambient;
 mod element_power;
 mod energy_balance;
 mod mesh_settings;
+mod patch_reception;
 mod penumbra;
 mod progressive;
 mod refinement;

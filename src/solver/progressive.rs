@@ -9,6 +9,7 @@ use super::ambient::AmbientRays;
 use super::element_power;
 use super::energy_balance::EnergyBalance;
 use super::mesh_settings::MeshKind;
+use super::patch_reception::{PatchReception, ReceptionPlan};
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
@@ -96,6 +97,17 @@ pub struct Solver {
     reference_power: f64,
     shots: usize,
     rays: u64,
+    /// Each patch's sample vertices for dim shots, and how its other
+    /// vertices are interpolated from them (built on first use).
+    reception: PatchReception,
+    /// Per patch, the irradiance above which its vertices interpolate the
+    /// current shot (all infinite between shots).
+    thresholds: Vec<Rgb>,
+    /// Vertex receptions of reflected shots, over all shots: those
+    /// interpolated rather than gathered, and all.
+    receptions: (u64, u64),
+    /// The last shot's reception plan, kept for its buffers.
+    reception_plan_buffer: ReceptionPlan,
     /// Radiosity shot by each patch in all, Σ ΔB: what new vertices of an
     /// adaptive mesh gather.
     shot: Vec<Rgb>,
@@ -220,6 +232,10 @@ impl Solver {
             reference_power,
             shots: 0,
             rays: 0,
+            reception: PatchReception::default(),
+            thresholds: Vec::new(),
+            receptions: (0, 0),
+            reception_plan_buffer: ReceptionPlan::default(),
             shot: vec![Rgb::ZERO; unshot_len],
             refiner: None,
         }
@@ -285,7 +301,9 @@ impl Solver {
             zones.of(self.mesh.patches[j].surface)
         });
         let mut incident = std::mem::take(&mut self.incident);
-        self.incident_from(j, power, radiosity, zone, &mut incident);
+        // Reflected light may be received patch by patch where it is dim.
+        let coarse = (!is_emitter).then_some(shot_power);
+        self.incident_from(j, (power, coarse), radiosity, zone, &mut incident);
         let lossless = self.surface_lossless[self.mesh.patches[j].surface.index()];
         let scale = if !is_emitter && lossless {
             self.landing_scale(shot_power, &incident, zone)
@@ -355,15 +373,21 @@ impl Solver {
     /// Irradiance at every vertex from patch j shooting `radiosity`,
     /// computed in parallel, into `incident` (all zero on entry, resized to
     /// the vertices): at the vertices of closed zone `zone` only when given
-    /// (the others get none).
+    /// (the others get none). `power` is the shot's power as a sum of
+    /// channels, and, when the shot may be received coarsely (a reflected
+    /// shot), by channel: then the patches it barely lights gather it at
+    /// their sample vertices only (see [`Solver::reception_plan`]).
     fn incident_from(
         &mut self,
         j: usize,
-        power: f64,
+        (power, coarse): (f64, Option<Rgb>),
         radiosity: ShotRadiosity,
         zone: Option<usize>,
         incident: &mut Vec<Rgb>,
     ) {
+        let plan = coarse
+            .filter(|_| self.settings.coarse_reception > 0.0)
+            .map(|shot_power| self.reception_plan(j, shot_power, zone));
         let patch = &self.mesh.patches[j];
         let shooter = self.shooter(j, power, radiosity);
         let (scene, mesh) = (&self.scene, &self.mesh);
@@ -392,9 +416,13 @@ impl Solver {
             shooter.gather(&receiver, density, shot, kernel, (visibility, cache))
         };
         incident.resize(mesh.vertices.len(), Rgb::ZERO);
-        match zone.zip(self.zones.as_ref()) {
-            Some((zone, (_, members))) => {
-                let vertices = &members.vertices[zone];
+        let vertices = match (&plan, zone.zip(self.zones.as_ref())) {
+            (Some(plan), _) => Some(&plan.gathered[..]),
+            (None, Some((zone, (_, members)))) => Some(&members.vertices[zone][..]),
+            (None, None) => None,
+        };
+        match vertices {
+            Some(vertices) => {
                 let gathered: Vec<Gathered> =
                     in_shadow_cache_runs(vertices, |&v, cache| gather(v as usize, cache));
                 for (&v, g) in vertices.iter().zip(gathered) {
@@ -410,6 +438,50 @@ impl Solver {
                 }
             }
         }
+        if let Some(plan) = plan {
+            for &(v, weights) in &plan.interpolated {
+                incident[v as usize] = weights.iter().map(|&(s, w)| incident[s as usize] * w).sum();
+            }
+            let count = (plan.interpolated.len() + plan.gathered.len()) as u64;
+            self.receptions.0 += plan.interpolated.len() as u64;
+            self.receptions.1 += count;
+            self.reception_plan_buffer = plan;
+        }
+    }
+
+    /// Which vertices of the receiving zone (`zone`, or the whole scene)
+    /// gather a reflected shot of `shot_power` from patch j, and which are
+    /// interpolated from their patch's samples: those whose irradiance so
+    /// far is at least the shot's bound on their patches over
+    /// [`SolverSettings::coarse_reception`], and whose samples agree with
+    /// them (see `solver/patch_reception.rs`).
+    fn reception_plan(&mut self, j: usize, shot_power: Rgb, zone: Option<usize>) -> ReceptionPlan {
+        self.reception.refresh(&self.mesh);
+        let mut plan = std::mem::take(&mut self.reception_plan_buffer);
+        let all_patches: Vec<u32>;
+        let all_vertices: Vec<u32>;
+        let (patches, vertices): (&[u32], &[u32]) = match zone.zip(self.zones.as_ref()) {
+            Some((zone, (_, members))) => (&members.patches[zone], &members.vertices[zone]),
+            None => {
+                all_patches = (0..self.mesh.patches.len() as u32).collect();
+                all_vertices = (0..self.mesh.vertices.len() as u32).collect();
+                (&all_patches, &all_vertices)
+            }
+        };
+        let fraction = self.settings.coarse_reception;
+        let never = Rgb::splat(f64::INFINITY);
+        self.thresholds.resize(self.mesh.patches.len(), never);
+        for &p in patches {
+            self.thresholds[p as usize] =
+                self.reception
+                    .interpolation_threshold((p as usize, j), shot_power, fraction);
+        }
+        self.reception
+            .plan(vertices, &self.thresholds, &self.irradiance, &mut plan);
+        for &p in patches {
+            self.thresholds[p as usize] = never;
+        }
+        plan
     }
 
     /// Patch j prepared to shoot `radiosity`, of `power` in all (sum of
@@ -733,6 +805,15 @@ impl Solver {
     #[must_use]
     pub fn rays(&self) -> u64 {
         self.rays
+    }
+
+    /// How many times so far a vertex received a reflected shot by
+    /// interpolation from its patch's samples rather than by gathering it
+    /// ([`SolverSettings::coarse_reception`]), and how many times a vertex
+    /// received a reflected shot at all.
+    #[must_use]
+    pub fn interpolated_receptions(&self) -> (u64, u64) {
+        self.receptions
     }
 
     /// The settings in use.

@@ -90,6 +90,15 @@ pub struct SolverSettings {
     /// Zones that lose light for real (open to the sky, or showing the
     /// black back of a one-sided surface) are left alone.
     pub conserve_closed_zones: bool,
+    /// Receive a reflected shot at a few vertices of a patch (those
+    /// nearest its corners and centre) and interpolate it to the others
+    /// where the most irradiance it can bring the patch, P / (π d²) for a
+    /// shot of power P from d away, is at most this fraction of the least
+    /// irradiance any of the patch's vertices has received (0.01): dim
+    /// shots then cost rays per patch instead of per vertex
+    /// (`solver/patch_reception.rs`). 0 gathers every shot at every vertex.
+    /// Emitters' shots are always gathered at every vertex.
+    pub coarse_reception: f64,
 }
 
 impl Default for SolverSettings {
@@ -104,6 +113,7 @@ impl Default for SolverSettings {
             shoot_from: ShootFrom::default(),
             cull_closed_zones: true,
             conserve_closed_zones: true,
+            coarse_reception: 0.01,
         }
     }
 }
@@ -156,6 +166,12 @@ impl SolverSettings {
             return Err(invalid(
                 "sample_density",
                 format!("{} is not positive", self.sample_density),
+            ));
+        }
+        if !(0.0..1.0).contains(&self.coarse_reception) {
+            return Err(invalid(
+                "coarse_reception",
+                format!("{} is not in [0, 1)", self.coarse_reception),
             ));
         }
         Ok(())

@@ -310,6 +310,8 @@ pub struct ZoneMembers {
     pub vertices: Vec<Vec<u32>>,
     /// Element indices per zone.
     pub elements: Vec<Vec<u32>>,
+    /// Patch indices per zone.
+    pub patches: Vec<Vec<u32>>,
     /// The mesh's vertex and element counts when these were listed.
     listed: (usize, usize),
 }
@@ -329,11 +331,15 @@ impl ZoneMembers {
         }
         self.vertices = vec![Vec::new(); zones.count().max(1)];
         self.elements = vec![Vec::new(); zones.count().max(1)];
+        self.patches = vec![Vec::new(); zones.count().max(1)];
         for (v, vertex) in mesh.vertices.iter().enumerate() {
             self.vertices[zones.of(vertex.surface)].push(v as u32);
         }
         for (e, element) in mesh.elements.iter().enumerate() {
             self.elements[zones.of(element.surface)].push(e as u32);
+        }
+        for (p, patch) in mesh.patches.iter().enumerate() {
+            self.patches[zones.of(patch.surface)].push(p as u32);
         }
         self.listed = counts;
     }

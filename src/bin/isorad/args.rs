@@ -37,6 +37,12 @@ pub struct Overrides {
     /// Form-factor kernel: mixed (default), wallace or exact.
     #[arg(long, value_enum, value_name = "KERNEL")]
     form_factor: Option<KernelArg>,
+    /// Receive a dim reflected shot at a few vertices of each patch and
+    /// interpolate it to the others where its bound is at most this
+    /// fraction of the light a vertex already has [default: 0.01]; 0
+    /// gathers every shot at every vertex.
+    #[arg(long, value_name = "FRACTION")]
+    coarse_reception: Option<f64>,
     /// Mesher: square, contour (the radial contour-level mesher on
     /// receivers lit by a dominant small emitter, square elsewhere), or
     /// adaptive (a coarser grid whose elements split while solving where the
@@ -94,6 +100,9 @@ impl Overrides {
         if let Some(kernel) = self.form_factor {
             solver.kernel = kernel.into();
         }
+        if let Some(fraction) = self.coarse_reception {
+            solver.coarse_reception = fraction;
+        }
         if let Some(kind) = self.mesh {
             mesh.kind = kind.into();
         }
@@ -136,6 +145,11 @@ impl Overrides {
     fn given(&self) -> Vec<(&'static str, &'static str)> {
         [
             ("--tolerance", "solver.tolerance", self.tolerance.is_some()),
+            (
+                "--coarse-reception",
+                "solver.coarse_reception",
+                self.coarse_reception.is_some(),
+            ),
             (
                 "--refine-threshold",
                 "mesh.refinement.threshold",

@@ -201,6 +201,13 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
         rays as f64 / solve_seconds.max(1e-9) / 1e6,
         100.0 * solver.unshot_fraction()
     );
+    let (interpolated, receptions) = solver.interpolated_receptions();
+    if interpolated > 0 {
+        eprintln!(
+            "coarse reception: {:.1} % of the reflected shots' receptions interpolated from patch samples",
+            100.0 * interpolated as f64 / receptions as f64
+        );
+    }
     eprintln!("{}", emitted_flux(scene));
     if let Some(mib) = peak_memory_mib() {
         eprintln!("peak memory: {mib:.0} MiB (resident)");

@@ -1,0 +1,558 @@
+//! Hierarchical reception: a dim reflected shot is gathered at a few
+//! vertices of each patch it can barely light, and interpolated to the
+//! patch's other vertices.
+//!
+//! Progressive shooting gathers every shot at every vertex that faces it,
+//! so the thousandth shot, from a book's spine, costs as much as the first
+//! from a lamp. Hanrahan, Salzman & Aupperle's "BF refinement" receives an
+//! interaction at the coarsest level whose error it bounds by the shooter's
+//! radiosity times the form factor. Here the levels are the patch and its
+//! vertices: a shot from patch j of power P lands on receiving patch p at
+//! an irradiance of at most
+//!
+//! ```text
+//!   H ≤ P / (π d²),
+//! ```
+//!
+//! since each point-to-point kernel cosθ_r cosθ_s / (π r²) is at most
+//! 1/(π d²), d a lower bound on the distance between the two cells (the gap
+//! between their bounding spheres, or either's height above the other's
+//! plane). A vertex of p whose irradiance so far is at least P / (π d² ε),
+//! channel by channel, may take the shot interpolated from p's sample
+//! vertices (those nearest its corners and its centre, linearly over the
+//! fan of triangles they span), at an error of at most a fraction ε of the
+//! light already there. Two more conditions keep the error from adding up
+//! over hundreds of shots in one direction:
+//!
+//! - every patch the vertex lies on must allow it, and it must be no
+//!   patch's sample;
+//! - the samples it is interpolated from must have received between half
+//!   and twice what it has ([`SAMPLE_AGREEMENT`]), so a sample behind an
+//!   object or under one does not lend its shade, shot after shot, to the
+//!   lit vertices around it.
+//!
+//! An unlit vertex (an umbra of direct light, a crack) gathers until it has
+//! some light. Emitters' shots are always gathered at every vertex: they
+//! draw the sharp shadows. A patch with too few vertices for a fan (a
+//! book's spine) samples at its centre vertex alone, whose value the
+//! others take. The ledger is untouched: elements take their power from the
+//! vertices' irradiance, interpolated or gathered.
+//!
+//! # References
+//! P. Hanrahan, D. Salzman, L. Aupperle, "A Rapid Hierarchical Radiosity
+//! Algorithm", SIGGRAPH 1991; N. Holzschuch, F. Sillion, "An exhaustive
+//! error-bounding algorithm for hierarchical radiosity", Computer Graphics
+//! Forum 1998.
+
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+use crate::mesh::{Cell, Mesh};
+use crate::scene::Rgb;
+
+/// The most sample vertices a patch has: one per corner and its centre.
+const SAMPLES: usize = 5;
+
+/// A patch samples a shot at a fan of samples only when it has at least
+/// this many vertices per sample; with fewer, at its centre alone.
+const VERTICES_PER_SAMPLE: usize = 2;
+
+/// An interpolated vertex's samples must have received at least this
+/// share of its irradiance so far, and it at least this share of theirs.
+const SAMPLE_AGREEMENT: f64 = 0.5;
+
+/// Vertices planned per parallel task.
+const PLAN_CHUNK: usize = 4096;
+
+/// Weights over three sample vertices (summing to 1).
+pub(crate) type SampleWeights = [(u32, f64); 3];
+
+/// What each patch samples a dim shot at, and how every other vertex is
+/// interpolated from those samples.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PatchReception {
+    /// Per patch: the centre and radius of a sphere that holds its cell.
+    spheres: Vec<(DVec3, f64)>,
+    /// Per patch: its cell.
+    cells: Vec<Cell>,
+    /// Per patch: whether it has samples (two or more vertices).
+    has_samples: Vec<bool>,
+    /// Per vertex: how it is interpolated; None for a sample of any patch
+    /// or a vertex of no patch, which always gather.
+    vertices: Vec<Option<VertexInterpolation>>,
+    /// The second and further patches of vertices on several.
+    other_patches: Vec<u32>,
+    /// The mesh's vertex and element counts when this was built.
+    built_for: (usize, usize),
+}
+
+/// How a vertex that is no sample is interpolated.
+#[derive(Clone, Copy, Debug)]
+struct VertexInterpolation {
+    /// Its first patch, whose samples it is interpolated from.
+    patch: u32,
+    /// Its other patches: `other_patches[others.0..others.1]`.
+    others: (u32, u32),
+    weights: SampleWeights,
+}
+
+/// Which vertices gather a shot, and which are interpolated.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ReceptionPlan {
+    /// Vertices that gather the shot, in the order given.
+    pub gathered: Vec<u32>,
+    /// Vertices interpolated from gathered ones, with their weights.
+    pub interpolated: Vec<(u32, SampleWeights)>,
+}
+
+impl PatchReception {
+    /// Samples and weights of every patch of `mesh`, unless already built
+    /// for a mesh of its size.
+    pub(crate) fn refresh(&mut self, mesh: &Mesh) {
+        let size = (mesh.vertices.len(), mesh.elements.len());
+        if size != self.built_for || self.cells.len() != mesh.patches.len() {
+            *self = PatchReception::new(mesh);
+        }
+    }
+
+    fn new(mesh: &Mesh) -> PatchReception {
+        let mut reception = PatchReception {
+            built_for: (mesh.vertices.len(), mesh.elements.len()),
+            ..PatchReception::default()
+        };
+        // Per vertex: its patches, and its first patch's weights unless it
+        // is a sample of some patch.
+        let mut patches_of: Vec<Vec<u32>> = vec![Vec::new(); mesh.vertices.len()];
+        let mut weights_of: Vec<Option<SampleWeights>> = vec![None; mesh.vertices.len()];
+        let mut is_sample = vec![false; mesh.vertices.len()];
+        let mut seen = vec![u32::MAX; mesh.vertices.len()];
+        let mut vertices = Vec::new();
+        for (p, patch) in mesh.patches.iter().enumerate() {
+            vertices.clear();
+            for &e in &patch.elements {
+                for &v in mesh.elements[e as usize].corners() {
+                    if seen[v as usize] != p as u32 {
+                        seen[v as usize] = p as u32;
+                        vertices.push(v);
+                    }
+                }
+            }
+            let cell = &patch.cell;
+            let centre = cell.centre();
+            let radius = cell
+                .polygon()
+                .iter()
+                .map(|c| c.distance(centre))
+                .fold(0.0, f64::max);
+            reception.spheres.push((centre, radius));
+            reception.cells.push(*cell);
+            let interpolation = Interpolation::new(mesh, cell, &vertices);
+            reception.has_samples.push(interpolation.is_some());
+            for &v in &vertices {
+                patches_of[v as usize].push(p as u32);
+                match interpolation.as_ref().map(|i| i.weights(mesh, v)) {
+                    Some(Some(weights)) => {
+                        weights_of[v as usize].get_or_insert(weights);
+                    }
+                    _ => is_sample[v as usize] = true,
+                }
+            }
+        }
+        for (v, patches) in patches_of.into_iter().enumerate() {
+            let interpolation = match (patches.split_first(), weights_of[v]) {
+                (Some((&patch, others)), Some(weights)) if !is_sample[v] => {
+                    let start = reception.other_patches.len() as u32;
+                    reception.other_patches.extend_from_slice(others);
+                    let end = reception.other_patches.len() as u32;
+                    Some(VertexInterpolation {
+                        patch,
+                        others: (start, end),
+                        weights,
+                    })
+                }
+                _ => None,
+            };
+            reception.vertices.push(interpolation);
+        }
+        reception
+    }
+
+    /// The irradiance a vertex of patch `p` must have received so far for
+    /// a shot of `power` (W per channel) from patch `j` to be interpolated
+    /// there at relative error `fraction`: the shot's bound P / (π d²)
+    /// over `fraction`; infinite when `p` has no samples or may touch `j`.
+    pub(crate) fn interpolation_threshold(
+        &self,
+        (p, j): (usize, usize),
+        power: Rgb,
+        fraction: f64,
+    ) -> Rgb {
+        let never = Rgb::splat(f64::INFINITY);
+        if !self.has_samples[p] || p == j || fraction <= 0.0 {
+            return never;
+        }
+        let d = self.least_distance(p, j);
+        if d <= 0.0 {
+            return never;
+        }
+        let needed = power / (std::f64::consts::PI * d * d * fraction);
+        if needed.r.is_nan() || needed.g.is_nan() || needed.b.is_nan() {
+            return never;
+        }
+        needed
+    }
+
+    /// A lower bound on the distance between any point of patch `p` and
+    /// any point of patch `j`: the gap between their bounding spheres, or
+    /// the height of either cell above the other's plane, whichever is
+    /// greater (a point of a cell is at least as far from another cell as
+    /// from that cell's plane).
+    fn least_distance(&self, p: usize, j: usize) -> f64 {
+        let ((cp, rp), (cj, rj)) = (self.spheres[p], self.spheres[j]);
+        let spheres = cp.distance(cj) - rp - rj;
+        let (a, b) = (&self.cells[p], &self.cells[j]);
+        spheres.max(height_above(a, b)).max(height_above(b, a))
+    }
+
+    /// Which of `vertices` gather a shot and which are interpolated, given
+    /// each patch's [`PatchReception::interpolation_threshold`]
+    /// (`thresholds[p]`) and the irradiance each vertex has received so far
+    /// (see the module's documentation for the conditions). In parallel.
+    pub(crate) fn plan(
+        &self,
+        vertices: &[u32],
+        thresholds: &[Rgb],
+        irradiance: &[Rgb],
+        plan: &mut ReceptionPlan,
+    ) {
+        plan.gathered.clear();
+        plan.interpolated.clear();
+        let chunks: Vec<ReceptionPlan> = vertices
+            .par_chunks(PLAN_CHUNK)
+            .map(|vertices| {
+                let mut chunk = ReceptionPlan::default();
+                for &v in vertices {
+                    match self.interpolation_weights(v, thresholds, irradiance) {
+                        Some(weights) => chunk.interpolated.push((v, weights)),
+                        None => chunk.gathered.push(v),
+                    }
+                }
+                chunk
+            })
+            .collect();
+        for chunk in chunks {
+            plan.gathered.extend(chunk.gathered);
+            plan.interpolated.extend(chunk.interpolated);
+        }
+    }
+
+    /// Vertex `v`'s weights if it may be interpolated: it is no sample, its
+    /// irradiance reaches the threshold of every patch it lies on, and its
+    /// samples agree with it ([`SAMPLE_AGREEMENT`]).
+    fn interpolation_weights(
+        &self,
+        v: u32,
+        thresholds: &[Rgb],
+        irradiance: &[Rgb],
+    ) -> Option<SampleWeights> {
+        let interpolation = self.vertices[v as usize].as_ref()?;
+        let h = irradiance[v as usize];
+        let reaches = |p: u32| {
+            let t = thresholds[p as usize];
+            h.r >= t.r && h.g >= t.g && h.b >= t.b
+        };
+        let (start, end) = interpolation.others;
+        let others = &self.other_patches[start as usize..end as usize];
+        if !reaches(interpolation.patch) || !others.iter().all(|&p| reaches(p)) {
+            return None;
+        }
+        let hv = h.element_sum();
+        let agrees = |&(s, w): &(u32, f64)| {
+            let hs = irradiance[s as usize].element_sum();
+            w == 0.0 || (hs >= SAMPLE_AGREEMENT * hv && hv >= SAMPLE_AGREEMENT * hs)
+        };
+        (hv > 0.0 && interpolation.weights.iter().all(agrees)).then_some(interpolation.weights)
+    }
+}
+
+/// The least distance from cell `a` to the plane of cell `b`: the least
+/// over `a`'s corners when all lie on one side of it, else 0.
+fn height_above(a: &Cell, b: &Cell) -> f64 {
+    let [b0, b1, b2, _] = b.corners;
+    let normal = (b1 - b0).cross(b2 - b0).normalize_or_zero();
+    if normal == DVec3::ZERO {
+        return 0.0;
+    }
+    let heights = a.polygon().iter().map(|&c| normal.dot(c - b0));
+    let (low, high) = heights.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), h| {
+        (lo.min(h), hi.max(h))
+    });
+    if low > 0.0 {
+        low
+    } else if high < 0.0 {
+        -high
+    } else {
+        0.0
+    }
+}
+
+/// A patch's sample vertices and the fan of triangles they span, in the
+/// patch's plane.
+struct Interpolation {
+    /// Sample vertices and their plane coordinates.
+    samples: Vec<(u32, DVec2)>,
+    /// Triangles of samples (indices into `samples`).
+    triangles: Vec<[usize; 3]>,
+    /// The plane's origin and axes.
+    frame: (DVec3, DVec3, DVec3),
+}
+
+impl Interpolation {
+    /// The samples of a patch of shape `cell` with `vertices`: the vertex
+    /// nearest each corner and the one nearest the centre, spanning a fan
+    /// of triangles, when there are three or more distinct ones and
+    /// [`VERTICES_PER_SAMPLE`] vertices per sample; else the vertex nearest
+    /// the centre alone, whose value the others take (a book's spine); None
+    /// for a patch of one vertex.
+    fn new(mesh: &Mesh, cell: &Cell, vertices: &[u32]) -> Option<Interpolation> {
+        let corners = cell.polygon();
+        let nearest = |point: DVec3| {
+            vertices.iter().copied().min_by(|&a, &b| {
+                let da = mesh.vertices[a as usize].position.distance_squared(point);
+                let db = mesh.vertices[b as usize].position.distance_squared(point);
+                da.total_cmp(&db).then(a.cmp(&b))
+            })
+        };
+        let centre = nearest(cell.centre())?;
+        if vertices.len() < 2 {
+            return None;
+        }
+        let origin = corners[0];
+        let u = (corners[1] - origin).normalize_or_zero();
+        let normal = (corners[1] - origin).cross(corners[2] - origin);
+        let v = normal.cross(u).normalize_or_zero();
+        let frame = (origin, u, v);
+        let to_plane = |s: u32| {
+            let d = mesh.vertices[s as usize].position - origin;
+            DVec2::new(d.dot(u), d.dot(v))
+        };
+        let constant = Interpolation {
+            samples: vec![(centre, to_plane(centre))],
+            triangles: Vec::new(),
+            frame,
+        };
+        if u == DVec3::ZERO || v == DVec3::ZERO {
+            return Some(constant);
+        }
+        let mut corner_samples: Vec<u32> = Vec::with_capacity(SAMPLES);
+        for &corner in corners {
+            let s = nearest(corner)?;
+            if !corner_samples.contains(&s) {
+                corner_samples.push(s);
+            }
+        }
+        let with_centre = !corner_samples.contains(&centre);
+        let count = corner_samples.len() + usize::from(with_centre);
+        let spans = corner_samples.len() >= 3 || (with_centre && corner_samples.len() == 2);
+        if !spans || vertices.len() < VERTICES_PER_SAMPLE * count {
+            return Some(constant);
+        }
+        let mut samples: Vec<(u32, DVec2)> =
+            corner_samples.iter().map(|&s| (s, to_plane(s))).collect();
+        let ring = samples.len();
+        let triangles: Vec<[usize; 3]> = if with_centre {
+            samples.push((centre, to_plane(centre)));
+            (0..ring)
+                .filter(|&k| ring > 2 || k == 0)
+                .map(|k| [k, (k + 1) % ring, ring])
+                .collect()
+        } else {
+            (1..ring - 1).map(|k| [0, k, k + 1]).collect()
+        };
+        let area = |[a, b, c]: [usize; 3]| {
+            let (a, b, c) = (samples[a].1, samples[b].1, samples[c].1);
+            (b - a).perp_dot(c - a)
+        };
+        let triangles: Vec<[usize; 3]> = triangles
+            .into_iter()
+            .filter(|&t| area(t).abs() > 1e-12 * cell.area)
+            .collect();
+        if triangles.is_empty() {
+            return Some(constant);
+        }
+        Some(Interpolation {
+            samples,
+            triangles,
+            frame,
+        })
+    }
+
+    /// Vertex `v`'s weights over three samples, None when it is a sample:
+    /// linear over the fan triangle it lies in (the one where its least
+    /// barycentric coordinate is greatest), negative coordinates clamped,
+    /// so that a vertex outside the fan takes the values of its nearest
+    /// edge; the centre sample's alone on a patch without a fan.
+    fn weights(&self, mesh: &Mesh, v: u32) -> Option<SampleWeights> {
+        if self.samples.iter().any(|&(s, _)| s == v) {
+            return None;
+        }
+        if self.triangles.is_empty() {
+            let s = self.samples[0].0;
+            return Some([(s, 1.0), (s, 0.0), (s, 0.0)]);
+        }
+        let (origin, u, w) = self.frame;
+        let d = mesh.vertices[v as usize].position - origin;
+        let x = DVec2::new(d.dot(u), d.dot(w));
+        let mut best = ([0.0; 3], f64::NEG_INFINITY, [0usize; 3]);
+        for &[a, b, c] in &self.triangles {
+            let (pa, pb, pc) = (self.samples[a].1, self.samples[b].1, self.samples[c].1);
+            let det = (pb - pa).perp_dot(pc - pa);
+            let lb = (x - pa).perp_dot(pc - pa) / det;
+            let lc = (pb - pa).perp_dot(x - pa) / det;
+            let coordinates = [1.0 - lb - lc, lb, lc];
+            let least = coordinates.iter().copied().fold(f64::INFINITY, f64::min);
+            if least > best.1 {
+                best = (coordinates, least, [a, b, c]);
+            }
+        }
+        let (coordinates, _, corners) = best;
+        let clamped = coordinates.map(|l| l.max(0.0));
+        let sum: f64 = clamped.iter().sum();
+        let weight = |k: usize| {
+            let l = if sum > 0.0 {
+                clamped[k] / sum
+            } else {
+                1.0 / 3.0
+            };
+            (self.samples[corners[k]].0, l)
+        };
+        Some([weight(0), weight(1), weight(2)])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{SquareMeshSettings, mesh_square};
+
+    /// The Cornell box on its default square mesh (blocks standing on the
+    /// floor, so some patches lose corners under them).
+    fn cornell_mesh() -> Mesh {
+        let scene = crate::load_scene("cornell").expect("built in").scene;
+        mesh_square(&scene, &SquareMeshSettings::for_scene(&scene))
+    }
+
+    fn linear(x: DVec3) -> f64 {
+        1.0 + 0.3 * x.x - 0.2 * x.y + 0.7 * x.z
+    }
+
+    #[test]
+    fn interpolation_weights_are_convex_and_reproduce_a_linear_field() {
+        let mesh = cornell_mesh();
+        let reception = PatchReception::new(&mesh);
+        let (mut interpolated, mut exact) = (0, 0);
+        for (v, interpolation) in reception.vertices.iter().enumerate() {
+            let Some(interpolation) = interpolation else {
+                continue;
+            };
+            interpolated += 1;
+            let weights = interpolation.weights;
+            let sum: f64 = weights.iter().map(|w| w.1).sum();
+            assert!(
+                (sum - 1.0).abs() < 1e-12,
+                "vertex {v}: weights sum to {sum}"
+            );
+            let patch = &mesh.patches[interpolation.patch as usize];
+            for &(s, w) in &weights {
+                assert!((0.0..=1.0).contains(&w), "vertex {v}: weight {w}");
+                assert!(s as usize != v, "vertex {v} is its own sample");
+                assert_eq!(mesh.vertices[s as usize].surface, patch.surface);
+            }
+            let at = |v: u32| linear(mesh.vertices[v as usize].position);
+            let value: f64 = weights.iter().map(|&(s, w)| w * at(s)).sum();
+            if (value - at(v as u32)).abs() < 1e-9 {
+                exact += 1;
+            }
+        }
+        println!("{exact} of {interpolated} interpolated vertices exact on a linear field");
+        assert!(interpolated > mesh.vertices.len() / 2, "{interpolated}");
+        // Only vertices outside their patch's fan (beside a block's foot,
+        // where a corner's nearest vertex moved) take a clamped value.
+        assert!(
+            exact as f64 > 0.95 * interpolated as f64,
+            "{exact} of {interpolated}"
+        );
+    }
+
+    /// A plan with the given threshold on every patch, every vertex having
+    /// received 1 W/m² except those listed with their own.
+    fn plan_with(mesh: &Mesh, threshold: f64, irradiance_of: &[(u32, f64)]) -> ReceptionPlan {
+        let reception = PatchReception::new(mesh);
+        let thresholds = vec![Rgb::splat(threshold); mesh.patches.len()];
+        let mut irradiance = vec![Rgb::ONE; mesh.vertices.len()];
+        for &(v, h) in irradiance_of {
+            irradiance[v as usize] = Rgb::splat(h);
+        }
+        let vertices: Vec<u32> = (0..mesh.vertices.len() as u32).collect();
+        let mut plan = ReceptionPlan::default();
+        reception.plan(&vertices, &thresholds, &irradiance, &mut plan);
+        assert_eq!(
+            plan.gathered.len() + plan.interpolated.len(),
+            mesh.vertices.len()
+        );
+        plan
+    }
+
+    #[test]
+    fn a_vertex_is_interpolated_only_above_its_threshold_and_beside_agreeing_samples() {
+        let mesh = cornell_mesh();
+        let reception = PatchReception::new(&mesh);
+        // Above every threshold, every vertex that is no sample interpolates.
+        let all = plan_with(&mesh, 0.5, &[]);
+        let expected = reception.vertices.iter().filter(|i| i.is_some()).count();
+        assert_eq!(all.interpolated.len(), expected);
+        for &v in &all.gathered {
+            assert!(reception.vertices[v as usize].is_none());
+        }
+        // Below them, or with no light at all, none does.
+        assert!(plan_with(&mesh, 2.0, &[]).interpolated.is_empty());
+        assert!(plan_with(&mesh, 0.0, &[]).interpolated.len() == expected);
+        let (v, weights) = all.interpolated[all.interpolated.len() / 2];
+        // A dark vertex gathers.
+        let dark = plan_with(&mesh, 0.5, &[(v, 0.4)]);
+        assert!(dark.gathered.contains(&v));
+        // So does a lit one whose sample lies in shade.
+        let sample = weights.iter().find(|w| w.1 > 0.0).expect("a weight").0;
+        let shaded = plan_with(&mesh, 0.0, &[(sample, 0.3)]);
+        assert!(shaded.gathered.contains(&v));
+    }
+
+    #[test]
+    fn the_distance_bound_is_never_more_than_the_cells_distance() {
+        let mesh = cornell_mesh();
+        let reception = PatchReception::new(&mesh);
+        let points = |cell: &Cell| {
+            let mut points = Vec::new();
+            for i in 0..=4 {
+                for j in 0..=4 {
+                    points.push(cell.point(f64::from(i) / 4.0, f64::from(j) / 4.0));
+                }
+            }
+            points
+        };
+        for p in (0..mesh.patches.len()).step_by(3) {
+            for j in (0..mesh.patches.len()).step_by(7) {
+                let bound = reception.least_distance(p, j);
+                let (a, b) = (points(&mesh.patches[p].cell), points(&mesh.patches[j].cell));
+                let nearest = a
+                    .iter()
+                    .flat_map(|x| b.iter().map(move |y| x.distance(*y)))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    bound <= nearest + 1e-9,
+                    "patches {p}, {j}: {bound} > {nearest}"
+                );
+            }
+        }
+    }
+}
