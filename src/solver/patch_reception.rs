@@ -36,7 +36,11 @@
 //! draw the sharp shadows. A patch with too few vertices for a fan (a
 //! book's spine) samples at its centre vertex alone, whose value the
 //! others take. The ledger is untouched: elements take their power from the
-//! vertices' irradiance, interpolated or gathered.
+//! vertices' irradiance, interpolated or gathered. (In a closed zone the
+//! elements' powers are then scaled to land whole, by up to
+//! `LANDING_SCALE`'s upper end, and a shooter's unshot field can be
+//! negative in places after adaptive refinement's corrections; the bound
+//! holds up to those factors.)
 //!
 //! # References
 //! P. Hanrahan, D. Salzman, L. Aupperle, "A Rapid Hierarchical Radiosity
@@ -77,8 +81,9 @@ pub(crate) struct PatchReception {
     cells: Vec<Cell>,
     /// Per patch: whether it has samples (two or more vertices).
     has_samples: Vec<bool>,
-    /// Per vertex: how it is interpolated; None for a sample of any patch
-    /// or a vertex of no patch, which always gather.
+    /// Per vertex: how it is interpolated; None for a sample of any patch,
+    /// a vertex of no patch, or one of a patch too small to sample (one
+    /// vertex), which always gather.
     vertices: Vec<Option<VertexInterpolation>>,
     /// The second and further patches of vertices on several.
     other_patches: Vec<u32>,
@@ -101,18 +106,24 @@ struct VertexInterpolation {
 pub(crate) struct ReceptionPlan {
     /// Vertices that gather the shot, in the order given.
     pub gathered: Vec<u32>,
-    /// Vertices interpolated from gathered ones, with their weights.
-    pub interpolated: Vec<(u32, SampleWeights)>,
+    /// Vertices interpolated from gathered ones (their weights are
+    /// [`PatchReception::weights_of`]).
+    pub interpolated: Vec<u32>,
 }
 
 impl PatchReception {
     /// Samples and weights of every patch of `mesh`, unless already built
-    /// for a mesh of its size.
+    /// for it (a mesh of its size, not invalidated since).
     pub(crate) fn refresh(&mut self, mesh: &Mesh) {
         let size = (mesh.vertices.len(), mesh.elements.len());
         if size != self.built_for || self.cells.len() != mesh.patches.len() {
             *self = PatchReception::new(mesh);
         }
+    }
+
+    /// Marks the samples stale: the mesh changed (adaptive refinement).
+    pub(crate) fn invalidate(&mut self) {
+        self.cells.clear();
     }
 
     fn new(mesh: &Mesh) -> PatchReception {
@@ -195,7 +206,9 @@ impl PatchReception {
         if d <= 0.0 {
             return never;
         }
-        let needed = power / (std::f64::consts::PI * d * d * fraction);
+        // A channel of negative unshot power (adaptive refinement's
+        // corrections can leave one) reaches as far as its magnitude.
+        let needed = power.abs() / (std::f64::consts::PI * d * d * fraction);
         if needed.r.is_nan() || needed.g.is_nan() || needed.b.is_nan() {
             return never;
         }
@@ -232,9 +245,10 @@ impl PatchReception {
             .map(|vertices| {
                 let mut chunk = ReceptionPlan::default();
                 for &v in vertices {
-                    match self.interpolation_weights(v, thresholds, irradiance) {
-                        Some(weights) => chunk.interpolated.push((v, weights)),
-                        None => chunk.gathered.push(v),
+                    if self.may_interpolate(v, thresholds, irradiance) {
+                        chunk.interpolated.push(v);
+                    } else {
+                        chunk.gathered.push(v);
                     }
                 }
                 chunk
@@ -246,16 +260,19 @@ impl PatchReception {
         }
     }
 
-    /// Vertex `v`'s weights if it may be interpolated: it is no sample, its
+    /// The samples vertex `v` is interpolated from and their weights (None
+    /// for a vertex that always gathers).
+    pub(crate) fn weights_of(&self, v: u32) -> Option<SampleWeights> {
+        self.vertices[v as usize].as_ref().map(|i| i.weights)
+    }
+
+    /// Whether vertex `v` may be interpolated: it is no sample, its
     /// irradiance reaches the threshold of every patch it lies on, and its
     /// samples agree with it ([`SAMPLE_AGREEMENT`]).
-    fn interpolation_weights(
-        &self,
-        v: u32,
-        thresholds: &[Rgb],
-        irradiance: &[Rgb],
-    ) -> Option<SampleWeights> {
-        let interpolation = self.vertices[v as usize].as_ref()?;
+    fn may_interpolate(&self, v: u32, thresholds: &[Rgb], irradiance: &[Rgb]) -> bool {
+        let Some(interpolation) = self.vertices[v as usize].as_ref() else {
+            return false;
+        };
         let h = irradiance[v as usize];
         let reaches = |p: u32| {
             let t = thresholds[p as usize];
@@ -264,14 +281,14 @@ impl PatchReception {
         let (start, end) = interpolation.others;
         let others = &self.other_patches[start as usize..end as usize];
         if !reaches(interpolation.patch) || !others.iter().all(|&p| reaches(p)) {
-            return None;
+            return false;
         }
         let hv = h.element_sum();
         let agrees = |&(s, w): &(u32, f64)| {
             let hs = irradiance[s as usize].element_sum();
             w == 0.0 || (hs >= SAMPLE_AGREEMENT * hv && hv >= SAMPLE_AGREEMENT * hs)
         };
-        (hv > 0.0 && interpolation.weights.iter().all(agrees)).then_some(interpolation.weights)
+        hv > 0.0 && interpolation.weights.iter().all(agrees)
     }
 }
 
@@ -318,8 +335,12 @@ impl Interpolation {
         let corners = cell.polygon();
         let nearest = |point: DVec3| {
             vertices.iter().copied().min_by(|&a, &b| {
-                let da = mesh.vertices[a as usize].position.distance_squared(point);
-                let db = mesh.vertices[b as usize].position.distance_squared(point);
+                let da = mesh.vertices[a as usize]
+                    .receiver_position
+                    .distance_squared(point);
+                let db = mesh.vertices[b as usize]
+                    .receiver_position
+                    .distance_squared(point);
                 da.total_cmp(&db).then(a.cmp(&b))
             })
         };
@@ -333,7 +354,7 @@ impl Interpolation {
         let v = normal.cross(u).normalize_or_zero();
         let frame = (origin, u, v);
         let to_plane = |s: u32| {
-            let d = mesh.vertices[s as usize].position - origin;
+            let d = mesh.vertices[s as usize].receiver_position - origin;
             DVec2::new(d.dot(u), d.dot(v))
         };
         let constant = Interpolation {
@@ -401,7 +422,7 @@ impl Interpolation {
             return Some([(s, 1.0), (s, 0.0), (s, 0.0)]);
         }
         let (origin, u, w) = self.frame;
-        let d = mesh.vertices[v as usize].position - origin;
+        let d = mesh.vertices[v as usize].receiver_position - origin;
         let x = DVec2::new(d.dot(u), d.dot(w));
         let mut best = ([0.0; 3], f64::NEG_INFINITY, [0usize; 3]);
         for &[a, b, c] in &self.triangles {
@@ -468,7 +489,7 @@ mod tests {
                 assert!(s as usize != v, "vertex {v} is its own sample");
                 assert_eq!(mesh.vertices[s as usize].surface, patch.surface);
             }
-            let at = |v: u32| linear(mesh.vertices[v as usize].position);
+            let at = |v: u32| linear(mesh.vertices[v as usize].receiver_position);
             let value: f64 = weights.iter().map(|&(s, w)| w * at(s)).sum();
             if (value - at(v as u32)).abs() < 1e-9 {
                 exact += 1;
@@ -514,13 +535,17 @@ mod tests {
         for &v in &all.gathered {
             assert!(reception.vertices[v as usize].is_none());
         }
-        // Below them, or with no light at all, none does.
+        // Below them none does.
         assert!(plan_with(&mesh, 2.0, &[]).interpolated.is_empty());
-        assert!(plan_with(&mesh, 0.0, &[]).interpolated.len() == expected);
-        let (v, weights) = all.interpolated[all.interpolated.len() / 2];
-        // A dark vertex gathers.
-        let dark = plan_with(&mesh, 0.5, &[(v, 0.4)]);
-        assert!(dark.gathered.contains(&v));
+        let v = all.interpolated[all.interpolated.len() / 2];
+        let weights = reception.weights_of(v).expect("interpolated");
+        // A vertex below its threshold gathers, though its samples agree.
+        let dim = plan_with(&mesh, 0.7, &[(v, 0.6)]);
+        assert!(dim.gathered.contains(&v));
+        // An unlit vertex gathers whatever the threshold.
+        let unlit = plan_with(&mesh, 0.0, &[(v, 0.0)]);
+        assert!(unlit.gathered.contains(&v));
+        assert_eq!(unlit.interpolated.len(), expected - 1);
         // So does a lit one whose sample lies in shade.
         let sample = weights.iter().find(|w| w.1 > 0.0).expect("a weight").0;
         let shaded = plan_with(&mesh, 0.0, &[(sample, 0.3)]);

@@ -439,8 +439,11 @@ impl Solver {
             }
         }
         if let Some(plan) = plan {
-            for &(v, weights) in &plan.interpolated {
-                incident[v as usize] = weights.iter().map(|&(s, w)| incident[s as usize] * w).sum();
+            for &v in &plan.interpolated {
+                if let Some(weights) = self.reception.weights_of(v) {
+                    let light = weights.iter().map(|&(s, w)| incident[s as usize] * w);
+                    incident[v as usize] = light.sum();
+                }
             }
             let count = (plan.interpolated.len() + plan.gathered.len()) as u64;
             self.receptions.0 += plan.interpolated.len() as u64;
@@ -904,10 +907,12 @@ impl Solver {
             }
         }
         self.refiner = Some(refiner);
-        // The mesh changed: its members are listed by zone again.
+        // The mesh changed: its members are listed by zone again, and its
+        // patches' samples found again.
         if let Some((_, members)) = &mut self.zones {
             members.invalidate();
         }
+        self.reception.invalidate();
     }
 
     /// The unshot corners of the mesh's new elements after a split (see

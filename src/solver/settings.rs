@@ -90,12 +90,13 @@ pub struct SolverSettings {
     /// Zones that lose light for real (open to the sky, or showing the
     /// black back of a one-sided surface) are left alone.
     pub conserve_closed_zones: bool,
-    /// Receive a reflected shot at a few vertices of a patch (those
-    /// nearest its corners and centre) and interpolate it to the others
-    /// where the most irradiance it can bring the patch, P / (π d²) for a
-    /// shot of power P from d away, is at most this fraction of the least
-    /// irradiance any of the patch's vertices has received (0.01): dim
-    /// shots then cost rays per patch instead of per vertex
+    /// A vertex takes a reflected shot interpolated from a few vertices of
+    /// its patch (those nearest the patch's corners and centre) instead of
+    /// gathering it where the most irradiance the shot can bring the patch,
+    /// P / (π d²) for a shot of power P from d away, is at most this
+    /// fraction of the irradiance the vertex has received so far (0.01),
+    /// and those samples have received between half and twice its light:
+    /// dim shots then cost rays per patch rather than per vertex
     /// (`solver/patch_reception.rs`). 0 gathers every shot at every vertex.
     /// Emitters' shots are always gathered at every vertex.
     pub coarse_reception: f64,

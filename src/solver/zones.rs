@@ -300,8 +300,8 @@ impl ZoneLabels {
     }
 }
 
-/// The vertices and elements of a mesh, zone by zone, so that a shot
-/// visits only its own zone's. Rebuilt after [`ZoneMembers::invalidate`]
+/// The vertices, elements and patches of a mesh, zone by zone, so that a
+/// shot visits only its own zone's. Rebuilt after [`ZoneMembers::invalidate`]
 /// (adaptive refinement renumbers the elements) or when the mesh's counts
 /// changed since.
 #[derive(Clone, Debug, Default)]

@@ -204,7 +204,7 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
     let (interpolated, receptions) = solver.interpolated_receptions();
     if interpolated > 0 {
         eprintln!(
-            "coarse reception: {:.1} % of the reflected shots' receptions interpolated from patch samples",
+            "coarse reception: {:.1} % of the vertices reflected shots visited took them interpolated from patch samples",
             100.0 * interpolated as f64 / receptions as f64
         );
     }
