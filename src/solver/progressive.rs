@@ -74,6 +74,9 @@ pub struct Solver {
     /// Each patch's area, side by side: the next shooter and the unshot
     /// power are found by scanning ΔB_p A_p over every patch at every shot.
     patch_areas: Vec<f64>,
+    /// Each surface's reflectance, side by side: every shot reads it at
+    /// every vertex and element it reaches.
+    surface_reflectance: Vec<Rgb>,
     /// A shot's irradiance per vertex, kept between shots (a building's
     /// closed rooms each write only their own vertices, and clear them).
     incident: Vec<Rgb>,
@@ -184,6 +187,11 @@ impl Solver {
         let unshot_len = unshot.len();
         let unshot_corners = UnshotCorners::new(&mesh, &unshot);
         let patch_areas = mesh.patches.iter().map(|p| p.area).collect();
+        let surface_reflectance = scene
+            .surfaces
+            .iter()
+            .map(|surface| scene.material_of(surface).reflectance)
+            .collect();
         let zones = match zones {
             None if settings.cull_closed_zones => Some(Zones::new(&scene, &visibility)),
             zones => zones,
@@ -221,6 +229,7 @@ impl Solver {
             unshot,
             unshot_corners,
             patch_areas,
+            surface_reflectance,
             incident: Vec::new(),
             emitted_power,
             shot_power: Rgb::ZERO,
@@ -441,7 +450,9 @@ impl Solver {
         if let Some(plan) = plan {
             for &v in &plan.interpolated {
                 if let Some(weights) = self.reception.weights_of(v) {
-                    let light = weights.iter().map(|&(s, w)| incident[s as usize] * w);
+                    let light = weights
+                        .iter()
+                        .map(|&(s, w)| incident[s as usize] * f64::from(w));
                     incident[v as usize] = light.sum();
                 }
             }
@@ -618,11 +629,8 @@ impl Solver {
             }
             self.received_power += incident_power;
             let patch = element.patch as usize;
-            let reflectance = self
-                .scene
-                .material_of(self.scene.surface(element.surface))
-                .reflectance;
-            self.unshot[patch] += reflectance * incident_power / self.mesh.patches[patch].area;
+            let reflectance = self.surface_reflectance[element.surface.index()];
+            self.unshot[patch] += reflectance * incident_power / self.patch_areas[patch];
             self.absorbed_power += (Rgb::ONE - reflectance) * incident_power;
             self.unshot_corners
                 .add(e, element, |v| reflectance * scale * incident[v as usize]);
@@ -633,8 +641,7 @@ impl Solver {
     }
 
     fn reflectance(&self, vertex: usize) -> Rgb {
-        let surface = self.scene.surface(self.mesh.vertices[vertex].surface);
-        self.scene.material_of(surface).reflectance
+        self.surface_reflectance[self.mesh.vertices[vertex].surface.index()]
     }
 
     /// Whether some emission (a photometric luminaire, or an emitting
