@@ -93,7 +93,8 @@ pub struct SolverSettings {
     /// A vertex takes a reflected shot interpolated from a few vertices of
     /// its patch (those nearest the patch's corners and centre) instead of
     /// gathering it where the most irradiance the shot can bring the patch,
-    /// P / (π d²) for a shot of power P from d away, is at most this
+    /// P / (π d²) for a shot of power P from d away (less where either
+    /// patch sees the other at a slant), is at most this
     /// fraction of the irradiance the vertex has received so far (0.01),
     /// and those samples have received between half and twice its light:
     /// dim shots then cost rays per patch rather than per vertex
