@@ -82,6 +82,9 @@ pub(crate) struct PatchReception {
     spheres: Vec<(DVec3, f64)>,
     /// Per patch: its cell.
     cells: Vec<Cell>,
+    /// Per patch: a point of its plane and its unit normal (None for a
+    /// degenerate cell).
+    planes: Vec<Option<(DVec3, DVec3)>>,
     /// Per patch: whether it has samples (two or more vertices).
     has_samples: Vec<bool>,
     /// Per vertex: how it is interpolated; None for a sample of any patch,
@@ -160,6 +163,7 @@ impl PatchReception {
                 .fold(0.0, f64::max);
             reception.spheres.push((centre, radius));
             reception.cells.push(*cell);
+            reception.planes.push(plane_of(cell));
             let interpolation = Interpolation::new(mesh, cell, &vertices);
             reception.has_samples.push(interpolation.is_some());
             for &v in &vertices {
@@ -205,14 +209,10 @@ impl PatchReception {
         if !self.has_samples[p] || p == j || fraction <= 0.0 {
             return never;
         }
-        let d = self.least_distance(p, j);
+        let (d, cosines) = self.shot_geometry(p, j);
         if d <= 0.0 {
             return never;
         }
-        // Each cosine is at most the other cell's greatest height above the
-        // plane over d.
-        let (a, b) = (&self.cells[p], &self.cells[j]);
-        let cosines = cosine_bound(b, a, d) * cosine_bound(a, b, d);
         // A channel of negative unshot power (adaptive refinement's
         // corrections can leave one) reaches as far as its magnitude.
         let needed = power.abs() * cosines / (std::f64::consts::PI * d * d * fraction);
@@ -222,16 +222,25 @@ impl PatchReception {
         needed
     }
 
-    /// A lower bound on the distance between any point of patch `p` and
-    /// any point of patch `j`: the gap between their bounding spheres, or
-    /// the height of either cell above the other's plane, whichever is
-    /// greater (a point of a cell is at least as far from another cell as
-    /// from that cell's plane).
-    fn least_distance(&self, p: usize, j: usize) -> f64 {
+    /// For patches `p` and `j`: a lower bound d on the distance between
+    /// any point of one and any point of the other (the gap between their
+    /// bounding spheres, or the height of either cell above the other's
+    /// plane, whichever is greater: a point of a cell is at least as far
+    /// from another cell as from that cell's plane), and a bound on the
+    /// product of the cosines at the two ends of any segment between them
+    /// (each at most the other cell's greatest height above the cell's
+    /// plane over d, and at most 1).
+    fn shot_geometry(&self, p: usize, j: usize) -> (f64, f64) {
         let ((cp, rp), (cj, rj)) = (self.spheres[p], self.spheres[j]);
         let spheres = cp.distance(cj) - rp - rj;
-        let (a, b) = (&self.cells[p], &self.cells[j]);
-        spheres.max(height_above(a, b)).max(height_above(b, a))
+        let j_over_p = self.planes[p].map(|plane| heights_above(&self.cells[j], plane));
+        let p_over_j = self.planes[j].map(|plane| heights_above(&self.cells[p], plane));
+        let d = spheres.max(gap(j_over_p)).max(gap(p_over_j));
+        let cosine = |heights: Option<(f64, f64)>| match heights {
+            Some((low, high)) => (low.abs().max(high.abs()) / d).min(1.0),
+            None => 1.0,
+        };
+        (d, cosine(j_over_p) * cosine(p_over_j))
     }
 
     /// Which of `vertices` gather a shot and which are interpolated, given
@@ -299,40 +308,29 @@ impl PatchReception {
     }
 }
 
-/// The least distance from cell `a` to the plane of cell `b`: the least
-/// over `a`'s corners when all lie on one side of it, else 0.
-fn height_above(a: &Cell, b: &Cell) -> f64 {
-    match heights_above(a, b) {
+/// A point of a cell's plane and its unit normal (along its corners'
+/// winding); None for a degenerate cell.
+fn plane_of(cell: &Cell) -> Option<(DVec3, DVec3)> {
+    let [a, b, c, _] = cell.corners;
+    let normal = (b - a).cross(c - a).normalize_or_zero();
+    (normal != DVec3::ZERO).then_some((a, normal))
+}
+
+/// The least and the greatest height of `cell`'s corners above `plane`.
+fn heights_above(cell: &Cell, (origin, normal): (DVec3, DVec3)) -> (f64, f64) {
+    let heights = cell.polygon().iter().map(|&c| normal.dot(c - origin));
+    heights.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), h| {
+        (lo.min(h), hi.max(h))
+    })
+}
+
+/// The least distance from a cell to a plane, from the range of its
+/// corners' heights above it: 0 when they lie on both sides (or unknown).
+fn gap(heights: Option<(f64, f64)>) -> f64 {
+    match heights {
         Some((low, _)) if low > 0.0 => low,
         Some((_, high)) if high < 0.0 => -high,
         _ => 0.0,
-    }
-}
-
-/// The least and the greatest height of cell `a`'s corners above the
-/// plane of cell `b` (signed along `b`'s corners' normal); None for a
-/// degenerate `b`.
-fn heights_above(a: &Cell, b: &Cell) -> Option<(f64, f64)> {
-    let [b0, b1, b2, _] = b.corners;
-    let normal = (b1 - b0).cross(b2 - b0).normalize_or_zero();
-    if normal == DVec3::ZERO {
-        return None;
-    }
-    let heights = a.polygon().iter().map(|&c| normal.dot(c - b0));
-    Some(
-        heights.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), h| {
-            (lo.min(h), hi.max(h))
-        }),
-    )
-}
-
-/// A bound on the cosine, at any point of cell `b`, of the angle to any
-/// point of cell `a` at least `d` away: the greatest height of `a` above
-/// `b`'s plane over `d`, at most 1 (0 for coplanar cells).
-fn cosine_bound(a: &Cell, b: &Cell, d: f64) -> f64 {
-    match heights_above(a, b) {
-        Some((low, high)) => (low.abs().max(high.abs()) / d).min(1.0),
-        None => 1.0,
     }
 }
 
@@ -598,11 +596,11 @@ mod tests {
         for p in (0..mesh.patches.len()).step_by(3) {
             for j in (0..mesh.patches.len()).step_by(7) {
                 let (cp, cj) = (&mesh.patches[p].cell, &mesh.patches[j].cell);
-                let d = reception.least_distance(p, j);
+                let (d, cosines) = reception.shot_geometry(p, j);
                 if d <= 0.0 {
                     continue;
                 }
-                let bound = cosine_bound(cj, cp, d) * cosine_bound(cp, cj, d) / (PI * d * d);
+                let bound = cosines / (PI * d * d);
                 if bound < 1.0 / (PI * d * d) {
                     tilted += 1;
                 }
