@@ -111,6 +111,9 @@ pub struct Solver {
     receptions: (u64, u64),
     /// The last shot's reception plan, kept for its buffers.
     reception_plan_buffer: ReceptionPlan,
+    /// Every patch's and every vertex's index, for the plans of a scene
+    /// without closed zones.
+    every_index: (Vec<u32>, Vec<u32>),
     /// Radiosity shot by each patch in all, Σ ΔB: what new vertices of an
     /// adaptive mesh gather.
     shot: Vec<Rgb>,
@@ -245,6 +248,7 @@ impl Solver {
             thresholds: Vec::new(),
             receptions: (0, 0),
             reception_plan_buffer: ReceptionPlan::default(),
+            every_index: (Vec::new(), Vec::new()),
             shot: vec![Rgb::ZERO; unshot_len],
             refiner: None,
         }
@@ -472,15 +476,17 @@ impl Solver {
     fn reception_plan(&mut self, j: usize, shot_power: Rgb, zone: Option<usize>) -> ReceptionPlan {
         self.reception.refresh(&self.mesh);
         let mut plan = std::mem::take(&mut self.reception_plan_buffer);
-        let all_patches: Vec<u32>;
-        let all_vertices: Vec<u32>;
+        // Without zones, every patch and vertex, listed once per mesh size.
+        let (every_patch, every_vertex) = &mut self.every_index;
+        if every_patch.len() != self.mesh.patches.len() {
+            *every_patch = (0..self.mesh.patches.len() as u32).collect();
+        }
+        if every_vertex.len() != self.mesh.vertices.len() {
+            *every_vertex = (0..self.mesh.vertices.len() as u32).collect();
+        }
         let (patches, vertices): (&[u32], &[u32]) = match zone.zip(self.zones.as_ref()) {
             Some((zone, (_, members))) => (&members.patches[zone], &members.vertices[zone]),
-            None => {
-                all_patches = (0..self.mesh.patches.len() as u32).collect();
-                all_vertices = (0..self.mesh.vertices.len() as u32).collect();
-                (&all_patches, &all_vertices)
-            }
+            None => (&self.every_index.0, &self.every_index.1),
         };
         let fraction = self.settings.coarse_reception;
         let never = Rgb::splat(f64::INFINITY);
