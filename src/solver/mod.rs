@@ -6,6 +6,7 @@
 mod ambient;
 mod element_power;
 mod energy_balance;
+mod indexed_update;
 mod mesh_settings;
 mod patch_reception;
 mod penumbra;

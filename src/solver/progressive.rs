@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use super::ambient::AmbientRays;
 use super::element_power;
 use super::energy_balance::EnergyBalance;
+use super::indexed_update;
 use super::mesh_settings::MeshKind;
 use super::patch_reception::{PatchReception, ReceptionPlan};
 use super::refinement::{Refiner, elements_to_split};
@@ -80,6 +81,8 @@ pub struct Solver {
     /// A shot's irradiance per vertex, kept between shots (a building's
     /// closed rooms each write only their own vertices, and clear them).
     incident: Vec<Rgb>,
+    /// A shot's power per receiving element, kept between shots.
+    element_powers: Vec<Rgb>,
     emitted_power: Rgb,
     shot_power: Rgb,
     received_power: Rgb,
@@ -234,6 +237,7 @@ impl Solver {
             patch_areas,
             surface_reflectance,
             incident: Vec::new(),
+            element_powers: Vec::new(),
             emitted_power,
             shot_power: Rgb::ZERO,
             received_power: Rgb::ZERO,
@@ -318,16 +322,12 @@ impl Solver {
         let coarse = (!is_emitter).then_some(shot_power);
         self.incident_from(j, (power, coarse), radiosity, zone, &mut incident);
         let lossless = self.surface_lossless[self.mesh.patches[j].surface.index()];
-        let scale = if !is_emitter && lossless {
-            self.landing_scale(shot_power, &incident, zone)
-        } else {
-            Rgb::ONE
-        };
+        let lands_whole = (!is_emitter && lossless).then_some(shot_power);
         let emitter = is_emitter.then(|| {
             let patch = &self.mesh.patches[j];
             (patch.cell, self.scene.surface(patch.surface).normal())
         });
-        self.receive(&incident, zone, emitter, scale);
+        self.receive(&incident, zone, emitter, lands_whole);
         // Cleared where it was written, for the next shot.
         match zone.zip(self.zones.as_ref()) {
             Some((zone, (_, members))) => {
@@ -356,7 +356,7 @@ impl Solver {
             self.luminaire_light(k, &(0..self.mesh.vertices.len() as u32).collect::<Vec<_>>());
         let samples = self.scene.luminaires[k].opening_samples().len();
         self.rays += (incident.len() * samples) as u64;
-        self.receive(&incident, None, None, Rgb::ONE);
+        self.receive(&incident, None, None, None);
         self.shot_power += self.scene.luminaires[k].power();
         self.luminaire_shot[k] = true;
         self.shots += 1;
@@ -524,9 +524,9 @@ impl Solver {
     }
 
     /// The factor, channel by channel, by which the elements of a reflected
-    /// shot's closed zone (`zone`, or the whole scene) take their power from
-    /// the shot's irradiance `incident`, so that together they receive
-    /// exactly the shot's power P:
+    /// shot's closed zone (or the whole scene) scale the power they took
+    /// from the shot's irradiance, `received` in all, so that together they
+    /// receive exactly the shot's power P (`shot_power`):
     ///
     /// ```text
     ///   s = P / Σ_e A_e mean_corners(H),
@@ -559,19 +559,7 @@ impl Solver {
     /// # References
     /// M. F. Cohen, J. R. Wallace, *Radiosity and Realistic Image
     /// Synthesis*, Academic Press 1993.
-    fn landing_scale(&self, shot_power: Rgb, incident: &[Rgb], zone: Option<usize>) -> Rgb {
-        let mesh = &self.mesh;
-        let element_power = |e: usize| {
-            let element = &mesh.elements[e];
-            element.corner_mean(|v| incident[v as usize]) * element.area
-        };
-        let received: Rgb = match zone.zip(self.zones.as_ref()) {
-            Some((z, (_, members))) => members.elements[z]
-                .iter()
-                .map(|&e| element_power(e as usize))
-                .sum(),
-            None => (0..mesh.elements.len()).map(element_power).sum(),
-        };
+    fn landing_scale(shot_power: Rgb, received: Rgb) -> Rgb {
         let scale = |shot: f64, got: f64| {
             if got > 0.0 {
                 (shot / got).clamp(LANDING_SCALE.0, LANDING_SCALE.1)
@@ -592,13 +580,16 @@ impl Solver {
     /// For the shot of an emitting patch (its polygon and normal), the
     /// elements' received power takes the curvature of its unoccluded field
     /// (see `element_power.rs`); otherwise it is the corners' mean times the
-    /// area, times `scale` (see [`Solver::landing_scale`]).
+    /// area, scaled to land whole when `lands_whole` gives the shot's power
+    /// (see [`Solver::landing_scale`]). The vertices, the elements' powers
+    /// and their corners are updated in parallel, the sums in order, so
+    /// that a solve is the same on any number of threads.
     fn receive(
         &mut self,
         incident: &[Rgb],
         zone: Option<usize>,
         emitter: Option<(Cell, DVec3)>,
-        scale: Rgb,
+        lands_whole: Option<Rgb>,
     ) {
         // The zone's lists, taken out of `self` while its fields change.
         let members = zone.and_then(|zone| Some((zone, self.zones.take()?)));
@@ -611,36 +602,57 @@ impl Solver {
                 (&all_vertices, &all_elements)
             }
         };
-        for &v in vertices {
-            let (v, h) = (v as usize, incident[v as usize]);
-            if h != Rgb::ZERO {
-                self.irradiance[v] += h;
-                let reflected = self.reflectance(v) * h;
-                self.radiosity[v] += reflected;
+        let (mesh, reflectances) = (&self.mesh, &self.surface_reflectance);
+        let reflectance_of = |surface: SurfaceId| reflectances[surface.index()];
+        indexed_update::par_update_at(&mut self.irradiance, vertices, &|k, h| {
+            *h += incident[vertices[k] as usize];
+        });
+        indexed_update::par_update_at(&mut self.radiosity, vertices, &|k, b| {
+            let v = vertices[k] as usize;
+            if incident[v] != Rgb::ZERO {
+                *b += reflectance_of(mesh.vertices[v].surface) * incident[v];
+            }
+        });
+        let mut powers = std::mem::take(&mut self.element_powers);
+        match emitter {
+            Some((cell, normal)) => {
+                let emitter = (cell.polygon(), normal);
+                let zone = (vertices, elements);
+                powers =
+                    element_power::emitter_shot_powers(&self.scene, mesh, emitter, incident, zone);
+            }
+            None => {
+                let power = |&e: &u32| {
+                    let element = &mesh.elements[e as usize];
+                    element.corner_mean(|v| incident[v as usize]) * element.area
+                };
+                if elements.len() > indexed_update::SERIAL_PART {
+                    elements.par_iter().map(power).collect_into_vec(&mut powers);
+                } else {
+                    powers.clear();
+                    powers.extend(elements.iter().map(power));
+                }
             }
         }
-        let emitter_powers = emitter.map(|(cell, normal)| {
-            let emitter = (cell.polygon(), normal);
-            let zone = (vertices, elements);
-            element_power::emitter_shot_powers(&self.scene, &self.mesh, emitter, incident, zone)
+        let scale = lands_whole.map_or(Rgb::ONE, |shot_power| {
+            Solver::landing_scale(shot_power, powers.iter().copied().sum())
         });
-        for (i, &e) in elements.iter().enumerate() {
-            let (e, element) = (e as usize, &self.mesh.elements[e as usize]);
-            let incident_power = match &emitter_powers {
-                Some(powers) => powers[i],
-                None => element.corner_mean(|v| incident[v as usize]) * element.area * scale,
-            };
+        for (&e, &power) in elements.iter().zip(&powers) {
+            let incident_power = power * scale;
             if incident_power == Rgb::ZERO {
                 continue;
             }
+            let element = &mesh.elements[e as usize];
             self.received_power += incident_power;
             let patch = element.patch as usize;
-            let reflectance = self.surface_reflectance[element.surface.index()];
+            let reflectance = reflectance_of(element.surface);
             self.unshot[patch] += reflectance * incident_power / self.patch_areas[patch];
             self.absorbed_power += (Rgb::ONE - reflectance) * incident_power;
-            self.unshot_corners
-                .add(e, element, |v| reflectance * scale * incident[v as usize]);
         }
+        self.unshot_corners.add_shot(mesh, elements, |element, v| {
+            reflectance_of(element.surface) * scale * incident[v as usize]
+        });
+        self.element_powers = powers;
         if let Some((_, zones)) = members {
             self.zones = Some(zones);
         }

@@ -11,6 +11,7 @@
 
 use glam::DVec3;
 
+use super::indexed_update::par_update_at;
 use crate::mesh::{Cell, Element, Mesh, Patch};
 use crate::scene::Rgb;
 
@@ -38,11 +39,21 @@ impl UnshotCorners {
         UnshotCorners { corners }
     }
 
-    /// Adds a per-vertex value (reflected irradiance) at element `e`'s corners.
-    pub(crate) fn add(&mut self, e: usize, element: &Element, value: impl Fn(u32) -> Rgb) {
-        for (slot, &v) in self.corners[e].iter_mut().zip(element.corners()) {
-            *slot += value(v);
-        }
+    /// Adds a per-vertex value (reflected irradiance) at the corners of
+    /// each of `elements` (ascending indices, a closed zone's or all), in
+    /// parallel: `value(element, v)` at its corner v.
+    pub(crate) fn add_shot(
+        &mut self,
+        mesh: &Mesh,
+        elements: &[u32],
+        value: impl Fn(&Element, u32) -> Rgb + Sync,
+    ) {
+        par_update_at(&mut self.corners, elements, &|k, corners| {
+            let element = &mesh.elements[elements[k] as usize];
+            for (slot, &v) in corners.iter_mut().zip(element.corners()) {
+                *slot += value(element, v);
+            }
+        });
     }
 
     /// Clears a patch's share: it has shot it.

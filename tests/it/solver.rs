@@ -431,6 +431,28 @@ fn closed_rooms_exchange_no_rays() {
     );
 }
 
+/// A shot's reception updates the vertices and elements of a large closed
+/// zone in parallel parts, and sums their powers in order: the solve is the
+/// same bit for bit on one thread as on three.
+#[test]
+fn a_zoned_solve_is_the_same_on_any_number_of_threads() {
+    let mut settings = isorad::Settings::default();
+    settings.solver.tolerance = 0.2;
+    settings.mesh.max_edge = isorad::Length::Absolute(0.08);
+    let solve = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool");
+        pool.install(|| solve_with_cull(two_closed_rooms(), settings.clone(), true))
+    };
+    let (one, three) = (solve(1), solve(3));
+    // Each room's zone has well over the 8,192 members a part holds.
+    assert!(one.radiosity.len() > 25_000, "{}", one.radiosity.len());
+    assert_eq!(one.rays, three.rays);
+    assert_eq!(one.radiosity, three.radiosity);
+}
+
 /// Two rooms that share one wall, a single face turned toward the second:
 /// the first room's rays land on its back, which is black and passes no
 /// light, so the rooms are two zones (they were one while any hit joined),
