@@ -109,6 +109,8 @@ pub struct Solver {
     /// Per patch, the irradiance above which its vertices interpolate the
     /// current shot (all infinite between shots).
     thresholds: Vec<Rgb>,
+    /// The current shot's thresholds, in the order of its zone's patches.
+    patch_thresholds: Vec<Rgb>,
     /// Vertex receptions of reflected shots, over all shots: those
     /// interpolated rather than gathered, and all.
     receptions: (u64, u64),
@@ -250,6 +252,7 @@ impl Solver {
             rays: 0,
             reception: PatchReception::default(),
             thresholds: Vec::new(),
+            patch_thresholds: Vec::new(),
             receptions: (0, 0),
             reception_plan_buffer: ReceptionPlan::default(),
             every_index: (Vec::new(), Vec::new()),
@@ -491,10 +494,21 @@ impl Solver {
         let fraction = self.settings.coarse_reception;
         let never = Rgb::splat(f64::INFINITY);
         self.thresholds.resize(self.mesh.patches.len(), never);
-        for &p in patches {
-            self.thresholds[p as usize] =
-                self.reception
-                    .interpolation_threshold((p as usize, j), shot_power, fraction);
+        let reception = &self.reception;
+        let threshold =
+            |&p: &u32| reception.interpolation_threshold((p as usize, j), shot_power, fraction);
+        // A patch's bound costs about as much as a hundred vertices' updates.
+        if patches.len() > indexed_update::SERIAL_PART / 64 {
+            patches
+                .par_iter()
+                .map(threshold)
+                .collect_into_vec(&mut self.patch_thresholds);
+        } else {
+            self.patch_thresholds.clear();
+            self.patch_thresholds.extend(patches.iter().map(threshold));
+        }
+        for (&p, &t) in patches.iter().zip(&self.patch_thresholds) {
+            self.thresholds[p as usize] = t;
         }
         self.reception
             .plan(vertices, &self.thresholds, &self.irradiance, &mut plan);
