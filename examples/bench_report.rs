@@ -302,10 +302,12 @@ fn ray_throughput_section(md: &mut String) -> Report {
     shot_ray_table(md)?;
     writeln!(
         md,
-        "\nOn the generated offices the solver reaches 0.6–0.8 of obvhs's rate on its own \
-         kind of rays (0.61 and 0.77 in this run, on a quiet machine, the solve timed \
-         alone; three earlier runs that day, which timed meshing with the solve on a \
-         machine other work slowed, gave 0.51–0.60 and 0.59–0.68); on the Cornell box and `scenes/room`, whose few large triangles make \
+        "\nOn the generated offices the solver reaches 0.5–0.8 of obvhs's rate on its own \
+         kind of rays (the table's last column; on 2026-12-03, before dim reflected \
+         shots were received at their patches' samples, 0.61 and 0.77 on a quiet \
+         machine, for 9.75 M and 41.9 M rays). Coarse reception takes rays off, not the \
+         work of each shot around them (its plan, its accumulation at every vertex and \
+         element), so it lowers this rate while it shortens the solve. On the Cornell box and `scenes/room`, whose few large triangles make \
          a ray nearly free (the room's rays are hardly ever blocked), the work around each \
          ray is most of the time. Half the cluttered office's solver rays are blocked \
          (emitters' shots included; 68 % of the dim shots' rays in the table), and \
