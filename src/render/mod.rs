@@ -6,6 +6,7 @@
 //! come from `view.rs`). Images hold linear radiance, W/(m²·sr); only
 //! [`write_png`] applies a [`ToneMap`].
 
+mod edge_refinement;
 mod image;
 mod output;
 mod rasterizer;

@@ -15,10 +15,13 @@
 //! double coverage).
 //!
 //! The image is cut into bands of rows rendered in parallel (rayon); each
-//! triangle is binned into the bands its screen bounds overlap.
+//! triangle is binned into the bands its screen bounds overlap. The pixels
+//! whose samples disagree (an outline through them) are then drawn again
+//! with e × e samples (see the `edge_refinement` module).
 
 use rayon::prelude::*;
 
+use super::edge_refinement::{EDGE_CONTRAST, SampleRange, edge_pixels, refine_edges};
 use super::image::Image;
 use super::setup::{Setup, View, clamp_range};
 use super::shaded_triangle::ShadedTriangle;
@@ -39,6 +42,12 @@ pub struct RenderSettings {
     /// Clamped to 1..=[`RenderSettings::MAX_SUPERSAMPLING`]. With 1 the one
     /// sample sits exactly at the pixel centre. Default 3.
     pub supersampling: u32,
+    /// Samples per pixel along each axis where a pixel's samples disagree
+    /// (an object's outline, a sharp shadow): such pixels are drawn again
+    /// with e × e samples (see the `edge_refinement` module). Clamped to
+    /// 1..=[`RenderSettings::MAX_SUPERSAMPLING`]; at most `supersampling`
+    /// turns the refinement off. Default 16.
+    pub edge_supersampling: u32,
     /// Radiance where no triangle is seen, W/(m²·sr). Default black.
     /// Non-finite channels are drawn as 0.
     pub background: Rgb,
@@ -48,6 +57,7 @@ impl Default for RenderSettings {
     fn default() -> Self {
         RenderSettings {
             supersampling: 3,
+            edge_supersampling: 16,
             background: Rgb::ZERO,
         }
     }
@@ -62,11 +72,12 @@ impl RenderSettings {
     pub fn preview() -> Self {
         RenderSettings {
             supersampling: 1,
+            edge_supersampling: 1,
             ..Self::default()
         }
     }
 
-    /// 4 × 4 samples per pixel.
+    /// 4 × 4 samples per pixel, 16 × 16 on edges.
     #[must_use]
     pub fn final_quality() -> Self {
         RenderSettings {
@@ -82,6 +93,14 @@ impl RenderSettings {
         self
     }
 
+    /// These settings with `edge_supersampling` samples per axis on the
+    /// pixels whose samples disagree (1 turns the refinement off).
+    #[must_use]
+    pub fn with_edge_supersampling(mut self, edge_supersampling: u32) -> Self {
+        self.edge_supersampling = edge_supersampling;
+        self
+    }
+
     /// These settings with the given background radiance.
     #[must_use]
     pub fn with_background(mut self, background: Rgb) -> Self {
@@ -92,6 +111,11 @@ impl RenderSettings {
     /// Samples per axis actually used: `supersampling` clamped to 1..=16.
     fn samples_per_axis(&self) -> u32 {
         self.supersampling.clamp(1, Self::MAX_SUPERSAMPLING)
+    }
+
+    /// Samples per axis on edges: `edge_supersampling` clamped to 1..=16.
+    fn edge_samples_per_axis(&self) -> u32 {
+        self.edge_supersampling.clamp(1, Self::MAX_SUPERSAMPLING)
     }
 }
 
@@ -130,41 +154,62 @@ pub fn rasterize(
     let Some(view) = View::new(camera, samples) else {
         return Image::filled(width, height, background);
     };
-    // Set up every triangle, in submission order.
-    let setups: Vec<Setup> = triangles
-        .par_iter()
-        .filter_map(|triangle| Setup::new(triangle, &view))
-        .collect();
-    // Bin triangles by the bands of rows their bounds overlap.
-    let band_rows = (BAND_SAMPLE_ROWS / samples).max(1);
-    let bins = bin_by_band(&setups, band_rows * samples, height.div_ceil(band_rows));
-    // Render the bands in parallel, each into its own rows of the image.
     let mut pixels = vec![[0.0_f32; 3]; width as usize * height as usize];
-    let band_pixels = band_rows as usize * width as usize;
-    pixels
-        .par_chunks_mut(band_pixels)
-        .zip(bins.par_iter())
-        .enumerate()
-        .for_each(|(band, (out, bin))| {
-            let first_row = band as u32 * band_rows * samples;
-            let mut buffer = SampleBuffer::new(
-                first_row,
-                out.len() as u32 / width * samples,
-                &view,
-                background,
-            );
-            for &index in bin {
-                buffer.draw(&setups[index as usize], &view);
-            }
-            buffer.resolve(out, samples);
-        });
+    let mut disagree = vec![false; pixels.len()];
+    {
+        // Set up every triangle, in submission order.
+        let setups: Vec<Setup> = triangles
+            .par_iter()
+            .filter_map(|triangle| Setup::new(triangle, &view))
+            .collect();
+        // Bin triangles by the bands of rows their bounds overlap.
+        let band_rows = (BAND_SAMPLE_ROWS / samples).max(1);
+        let bins = bin_by_band(&setups, band_rows * samples, height.div_ceil(band_rows));
+        // Render the bands in parallel, each into its own rows of the image.
+        let band_pixels = band_rows as usize * width as usize;
+        pixels
+            .par_chunks_mut(band_pixels)
+            .zip(disagree.par_chunks_mut(band_pixels))
+            .zip(bins.par_iter())
+            .enumerate()
+            .for_each(|(band, ((out, out_disagree), bin))| {
+                let first_row = band as u32 * band_rows * samples;
+                let mut buffer = SampleBuffer::new(
+                    first_row,
+                    out.len() as u32 / width * samples,
+                    &view,
+                    background,
+                );
+                for &index in bin {
+                    buffer.draw(&setups[index as usize], &view);
+                }
+                buffer.resolve(out, out_disagree, samples);
+            });
+    }
+    // Draw the pixels whose samples disagree again, more finely.
+    let edge_samples = settings.edge_samples_per_axis();
+    if edge_samples > samples {
+        let edges = edge_pixels(width, &pixels, &disagree);
+        drop(disagree);
+        refine_edges(
+            (&mut pixels, &edges),
+            triangles,
+            camera,
+            edge_samples,
+            background,
+        );
+    }
     Image::from_pixels(width, height, pixels)
         .unwrap_or_else(|| Image::filled(width, height, background))
 }
 
 /// For each band of `band_sample_rows` sample rows, the indices of the
 /// triangles whose row range overlaps it, in submission order.
-fn bin_by_band(setups: &[Setup], band_sample_rows: u32, band_count: u32) -> Vec<Vec<u32>> {
+pub(super) fn bin_by_band(
+    setups: &[Setup],
+    band_sample_rows: u32,
+    band_count: u32,
+) -> Vec<Vec<u32>> {
     let mut bins = vec![Vec::new(); band_count as usize];
     for (index, setup) in setups.iter().enumerate() {
         let first = setup.rows.0 / band_sample_rows;
@@ -234,50 +279,74 @@ impl SampleBuffer {
         partial: [f64; 3],
         index: usize,
     ) {
-        // Inside when all edge functions are ≥ 0, a tie (e = 0) going to the
-        // edge's owner by the top-left rule.
-        let Some(e) = setup.covers(x, y, partial, view) else {
-            return;
-        };
-        // Depth t = |D| / Σ e_k; clip near, then the z-test.
-        let sum = e[0] + e[1] + e[2];
-        let depth = setup.volume / sum;
-        let visible = sum > 0.0 && depth >= setup.z_near && depth < self.depth[index];
-        if !visible {
-            return;
-        }
-        // Perspective-correct Gouraud: L = Σ e_k L_k / Σ e_k.
-        let [l0, l1, l2] = setup.radiance;
-        let radiance = (l0 * e[0] + l1 * e[1] + l2 * e[2]) / sum;
-        self.depth[index] = depth;
-        self.radiance[index] = radiance.to_f32_array();
+        shade_sample(
+            setup,
+            view,
+            (x, y),
+            partial,
+            (&mut self.depth[index], &mut self.radiance[index]),
+        );
     }
 
-    /// Box-filters the samples into `out`, the band's pixels (row-major).
-    fn resolve(&self, out: &mut [[f32; 3]], samples: u32) {
+    /// Box-filters the samples into `out`, the band's pixels (row-major),
+    /// and marks in `disagree` the pixels whose samples span more than
+    /// [`EDGE_CONTRAST`] of their greatest value.
+    fn resolve(&self, out: &mut [[f32; 3]], disagree: &mut [bool], samples: u32) {
         let width = (self.columns / samples) as usize;
         let s = samples as usize;
         let weight = 1.0 / (s * s) as f64;
-        for (index, pixel) in out.iter_mut().enumerate() {
+        for (index, (pixel, disagrees)) in out.iter_mut().zip(disagree).enumerate() {
             let (i, j) = (index % width, index / width);
             let mut sum = [0.0_f64; 3];
+            let mut range = SampleRange::EMPTY;
             for row in j * s..(j + 1) * s {
                 let start = row * self.columns as usize + i * s;
                 for sample in &self.radiance[start..start + s] {
+                    range.include(*sample);
                     for (total, &value) in sum.iter_mut().zip(sample) {
                         *total += f64::from(value);
                     }
                 }
             }
             *pixel = sum.map(|total| (total * weight) as f32);
+            *disagrees = range.spans_more_than(EDGE_CONTRAST);
         }
     }
+}
+
+/// Tests one sample (tangent-plane (x, y), row part `partial`) against
+/// `setup` and the depth `nearest` seen there so far, and when the triangle
+/// covers it nearer, stores its depth and radiance in (`nearest`, `radiance`).
+#[inline]
+pub(super) fn shade_sample(
+    setup: &Setup,
+    view: &View,
+    (x, y): (f64, f64),
+    partial: [f64; 3],
+    (nearest, radiance): (&mut f64, &mut [f32; 3]),
+) {
+    // Inside when all edge functions are ≥ 0, a tie (e = 0) going to the
+    // edge's owner by the top-left rule.
+    let Some(e) = setup.covers(x, y, partial, view) else {
+        return;
+    };
+    // Depth t = |D| / Σ e_k; clip near, then the z-test.
+    let sum = e[0] + e[1] + e[2];
+    let depth = setup.volume / sum;
+    let visible = sum > 0.0 && depth >= setup.z_near && depth < *nearest;
+    if !visible {
+        return;
+    }
+    // Perspective-correct Gouraud: L = Σ e_k L_k / Σ e_k.
+    let [l0, l1, l2] = setup.radiance;
+    *nearest = depth;
+    *radiance = ((l0 * e[0] + l1 * e[1] + l2 * e[2]) / sum).to_f32_array();
 }
 
 /// The inclusive range of sample columns in which row-part edge values
 /// `partial` can all be ≥ 0, within the triangle's column bounds, with one
 /// sample of margin for rounding; `None` when the row misses the triangle.
-fn row_span(setup: &Setup, partial: [f64; 3], view: &View) -> Option<(u32, u32)> {
+pub(super) fn row_span(setup: &Setup, partial: [f64; 3], view: &View) -> Option<(u32, u32)> {
     // Each edge a·x + partial ≥ 0 bounds x on one side (or the whole row).
     let (mut x_lo, mut x_hi) = (f64::NEG_INFINITY, f64::INFINITY);
     for (edge, &p) in setup.edges.iter().zip(&partial) {

@@ -405,6 +405,140 @@ fn supersampling_box_filters_partial_coverage() {
     assert_close(image.mean(), Rgb::splat(10.5 / 20.0), 1e-12, "mean");
 }
 
+/// A pixel crossed by an outline is read in steps of 1/s of its width with
+/// s × s samples; edge refinement reads it with the edge samples' grid.
+#[test]
+fn edge_refinement_reads_partial_coverage_finely() {
+    // A vertical edge at 0.3 of the width of pixel column 10.
+    let eye = DVec3::ZERO;
+    let camera = camera(eye, DVec3::Z, 20, 10, 60.0);
+    let tan_half = 30_f64.to_radians().tan();
+    let x_edge = (2.0 * 10.3 / 20.0 - 1.0) * tan_half * 2.0;
+    // right = forward × up = −x: the triangle covers image x < 10.3 pixels.
+    let positions = facing(
+        [
+            DVec3::new(-x_edge, -50.0, 1.0),
+            DVec3::new(50.0, -50.0, 1.0),
+            DVec3::new(-x_edge, 50.0, 1.0),
+        ],
+        eye,
+    );
+    let triangles = [flat(positions, Rgb::ONE)];
+    let coarse = RenderSettings::default().with_edge_supersampling(1);
+    let refined = RenderSettings::default().with_edge_supersampling(16);
+    let coarse = rasterize(&triangles, &camera, &coarse);
+    let refined = rasterize(&triangles, &camera, &refined);
+    for j in 0..10 {
+        // Three sample columns at 1/6, 1/2, 5/6 of the pixel: one covered.
+        assert_close(
+            as_rgb(coarse.pixel(10, j)),
+            Rgb::splat(1.0 / 3.0),
+            1e-6,
+            "3 × 3",
+        );
+        // Sixteen at (k + 1/2)/16: five lie left of 0.3.
+        assert_eq!(refined.pixel(10, j), [5.0 / 16.0; 3], "row {j}");
+        assert_eq!(refined.pixel(9, j), [1.0; 3]);
+        assert_eq!(refined.pixel(11, j), [0.0; 3]);
+    }
+}
+
+/// The refined pixels are exactly those of a render with e × e samples
+/// everywhere, every pixel an outline crosses is refined, and a surface's
+/// smooth shading is not.
+#[test]
+fn edge_refinement_matches_full_supersampling_where_outlines_cross() {
+    let eye = DVec3::new(0.3, 0.2, -4.0);
+    let camera = camera(eye, DVec3::new(0.0, 0.0, 0.0), 64, 48, 50.0);
+    // A wall whose radiance rises gently from left to right, and two tilted
+    // triangles in front of it, one bright and one dark, at odd angles.
+    let wall = [
+        [
+            DVec3::new(-3.0, -3.0, 1.0),
+            DVec3::new(3.0, -3.0, 1.0),
+            DVec3::new(3.0, 3.0, 1.0),
+        ],
+        [
+            DVec3::new(-3.0, -3.0, 1.0),
+            DVec3::new(3.0, 3.0, 1.0),
+            DVec3::new(-3.0, 3.0, 1.0),
+        ],
+    ];
+    let shade = |p: DVec3| Rgb::splat(1.0 + 0.05 * p.x);
+    let mut triangles: Vec<ShadedTriangle> = wall
+        .iter()
+        .map(|&positions| {
+            let positions = facing(positions, eye);
+            ShadedTriangle {
+                positions,
+                radiance: positions.map(shade),
+            }
+        })
+        .collect();
+    triangles.push(flat(
+        facing(
+            [
+                DVec3::new(-1.3, -0.9, 0.2),
+                DVec3::new(0.7, -1.1, 0.0),
+                DVec3::new(-0.2, 1.3, 0.4),
+            ],
+            eye,
+        ),
+        Rgb::splat(4.0),
+    ));
+    triangles.push(flat(
+        facing(
+            [
+                DVec3::new(0.1, -0.3, -0.3),
+                DVec3::new(1.7, 0.2, -0.1),
+                DVec3::new(0.9, 1.6, -0.2),
+            ],
+            eye,
+        ),
+        Rgb::splat(0.2),
+    ));
+    let render = |s: u32, e: u32| {
+        let settings = RenderSettings::default()
+            .with_supersampling(s)
+            .with_edge_supersampling(e);
+        rasterize(&triangles, &camera, &settings)
+    };
+    let (coarse, fine, refined) = (render(3, 1), render(16, 1), render(3, 16));
+    let mut refined_count = 0;
+    let (mut coarse_error, mut refined_error) = (0.0, 0.0);
+    for ((c, f), r) in coarse
+        .pixels()
+        .iter()
+        .zip(fine.pixels())
+        .zip(refined.pixels())
+    {
+        assert!(
+            r == f || r == c,
+            "refined {r:?}, 3 × 3 {c:?}, 16 × 16 {f:?}"
+        );
+        if r == f && r != c {
+            refined_count += 1;
+        }
+        // Where the 3 × 3 samples miss an outline's coverage by more than a
+        // percent, the pixel was refined.
+        if (c[0] - f[0]).abs() > 0.01 * f[0].max(1e-6) {
+            assert_eq!(r, f);
+        }
+        coarse_error += f64::from((c[0] - f[0]).abs());
+        refined_error += f64::from((r[0] - f[0]).abs());
+    }
+    let pixels = coarse.pixels().len();
+    assert!(refined_count > 40, "{refined_count} pixels refined");
+    assert!(
+        refined_count < pixels / 4,
+        "{refined_count} of {pixels} refined"
+    );
+    assert!(
+        refined_error < 0.01 * coarse_error,
+        "off the 16 × 16 render: {refined_error} refined, {coarse_error} at 3 × 3"
+    );
+}
+
 #[test]
 fn camera_right_and_up_land_in_the_right_half_and_top_rows() {
     // The Cornell box camera: world −x is image right.

@@ -44,6 +44,11 @@ pub struct RenderArgs {
     /// Anti-aliasing: S × S samples per pixel.
     #[arg(long, default_value_t = 3)]
     supersampling: u32,
+    /// Anti-aliasing where a pixel's samples disagree (outlines, sharp
+    /// shadows): E × E samples there; at most S turns it off.
+    #[arg(long, value_name = "E", default_value_t = 16,
+          value_parser = clap::value_parser!(u32).range(1..=16))]
+    edge_supersampling: u32,
     /// Write the images (ambient term added) every N shots while solving.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     preview_every: Option<u64>,
@@ -91,6 +96,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         .context("camera")?;
     let mut render_settings = RenderSettings::default();
     render_settings.supersampling = args.supersampling.clamp(1, 16);
+    render_settings.edge_supersampling = args.edge_supersampling;
     // Intermediate and final images add the ambient term for the light not yet shot.
     let write_images = |solver: &Solver| -> anyhow::Result<f64> {
         let image = solver
