@@ -31,12 +31,18 @@ use super::setup::{Setup, View};
 use super::shaded_triangle::ShadedTriangle;
 use crate::scene::Camera;
 
-/// A pixel is refined when its samples and its neighbours' means span more
-/// than this fraction of their greatest value (in some channel).
+/// A pixel is refined when its own samples, or its mean with its
+/// neighbours' means, span more than this fraction of their greatest value
+/// (in some channel): on the shipped office at 1920 × 1080, a tenth of the
+/// pixels. At 0.02 and 0.05 the golden tests' metric is the same to the
+/// third decimal on the offices and the Cornell box, for up to four times
+/// the refined pixels; at 0.2 it is 0.001 points worse.
 pub(super) const EDGE_CONTRAST: f32 = 0.1;
 
-/// Pixel rows per band of the refinement pass.
-const BAND_PIXEL_ROWS: u32 = 8;
+/// Pixel rows per band of the refinement pass: two keep a band's samples
+/// under 40 MB (20 bytes each) even when every pixel of a 3840-pixel row is
+/// refined.
+const BAND_PIXEL_ROWS: u32 = 2;
 
 /// The least and greatest value of each channel over a set of samples.
 #[derive(Clone, Copy, Debug, PartialEq)]
