@@ -131,7 +131,8 @@ const BAND_SAMPLE_ROWS: u32 = 24;
 /// The radiance of a covered sample is Σ b_k L_k, with b_k the barycentric
 /// coordinates of the point where its ray meets the triangle (perspective
 /// correct). The nearest triangle wins; on an exact depth tie the first one
-/// submitted.
+/// submitted. A pixel is the mean of its s × s samples on a regular grid, or
+/// of e × e where its samples disagree (`settings.edge_supersampling`).
 ///
 /// Triangles with non-finite positions or radiance, zero area, or seen
 /// exactly edge-on are skipped. A camera that cannot form an image (see
