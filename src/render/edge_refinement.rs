@@ -26,7 +26,7 @@
 
 use rayon::prelude::*;
 
-use super::rasterizer::{bin_by_band, row_span, shade_sample};
+use super::rasterizer::{binned_setups, row_span, shade_sample};
 use super::setup::{Setup, View};
 use super::shaded_triangle::ShadedTriangle;
 use crate::scene::Camera;
@@ -116,15 +116,7 @@ pub(super) fn refine_edges(
     let Some(view) = View::new(camera, samples) else {
         return;
     };
-    let setups: Vec<Setup> = triangles
-        .par_iter()
-        .filter_map(|triangle| Setup::new(triangle, &view))
-        .collect();
-    let bins = bin_by_band(
-        &setups,
-        BAND_PIXEL_ROWS * samples,
-        camera.height.div_ceil(BAND_PIXEL_ROWS),
-    );
+    let (setups, bins) = binned_setups(triangles, &view, BAND_PIXEL_ROWS, camera.height);
     let band_pixels = BAND_PIXEL_ROWS as usize * width;
     pixels
         .par_chunks_mut(band_pixels)

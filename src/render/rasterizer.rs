@@ -158,14 +158,8 @@ pub fn rasterize(
     let mut pixels = vec![[0.0_f32; 3]; width as usize * height as usize];
     let mut disagree = vec![false; pixels.len()];
     {
-        // Set up every triangle, in submission order.
-        let setups: Vec<Setup> = triangles
-            .par_iter()
-            .filter_map(|triangle| Setup::new(triangle, &view))
-            .collect();
-        // Bin triangles by the bands of rows their bounds overlap.
         let band_rows = (BAND_SAMPLE_ROWS / samples).max(1);
-        let bins = bin_by_band(&setups, band_rows * samples, height.div_ceil(band_rows));
+        let (setups, bins) = binned_setups(triangles, &view, band_rows, height);
         // Render the bands in parallel, each into its own rows of the image.
         let band_pixels = band_rows as usize * width as usize;
         pixels
@@ -204,13 +198,27 @@ pub fn rasterize(
         .unwrap_or_else(|| Image::filled(width, height, background))
 }
 
+/// Every triangle set up for `view`, in submission order, and for each band
+/// of `band_rows` pixel rows of an image `height` pixels high, the indices
+/// of the set-ups whose row range overlaps it.
+pub(super) fn binned_setups(
+    triangles: &[ShadedTriangle],
+    view: &View,
+    band_rows: u32,
+    height: u32,
+) -> (Vec<Setup>, Vec<Vec<u32>>) {
+    let setups: Vec<Setup> = triangles
+        .par_iter()
+        .filter_map(|triangle| Setup::new(triangle, view))
+        .collect();
+    let samples = view.rows / height.max(1);
+    let bins = bin_by_band(&setups, band_rows * samples, height.div_ceil(band_rows));
+    (setups, bins)
+}
+
 /// For each band of `band_sample_rows` sample rows, the indices of the
 /// triangles whose row range overlaps it, in submission order.
-pub(super) fn bin_by_band(
-    setups: &[Setup],
-    band_sample_rows: u32,
-    band_count: u32,
-) -> Vec<Vec<u32>> {
+fn bin_by_band(setups: &[Setup], band_sample_rows: u32, band_count: u32) -> Vec<Vec<u32>> {
     let mut bins = vec![Vec::new(); band_count as usize];
     for (index, setup) in setups.iter().enumerate() {
         let first = setup.rows.0 / band_sample_rows;

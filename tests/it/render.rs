@@ -375,14 +375,13 @@ fn quad_of_two_triangles_has_no_cracks() {
     }
 }
 
-#[test]
-fn supersampling_box_filters_partial_coverage() {
-    // A vertical edge exactly through the centres of column 10: with 4 × 4
-    // samples, pixels of that column are half covered.
+/// A 20 × 10 camera at the origin looking along +z, and a white triangle
+/// covering the image left of `x` pixels (a vertical edge there).
+fn covered_left_of(x: f64) -> (Camera, ShadedTriangle) {
     let eye = DVec3::ZERO;
     let camera = camera(eye, DVec3::Z, 20, 10, 60.0);
     let tan_half = 30_f64.to_radians().tan();
-    let x_edge = (2.0 * 10.5 / 20.0 - 1.0) * tan_half * 2.0;
+    let x_edge = (2.0 * x / 20.0 - 1.0) * tan_half * 2.0;
     // right = forward × up = −x, so image x maps to world −x.
     let positions = facing(
         [
@@ -392,11 +391,15 @@ fn supersampling_box_filters_partial_coverage() {
         ],
         eye,
     );
-    let image = rasterize(
-        &[flat(positions, Rgb::ONE)],
-        &camera,
-        &RenderSettings::final_quality(),
-    );
+    (camera, flat(positions, Rgb::ONE))
+}
+
+#[test]
+fn supersampling_box_filters_partial_coverage() {
+    // A vertical edge exactly through the centres of column 10: with 4 × 4
+    // samples, pixels of that column are half covered.
+    let (camera, triangle) = covered_left_of(10.5);
+    let image = rasterize(&[triangle], &camera, &RenderSettings::final_quality());
     for j in 0..10 {
         assert_eq!(image.pixel(9, j), [1.0; 3]);
         assert_eq!(image.pixel(10, j), [0.5; 3]);
@@ -410,20 +413,8 @@ fn supersampling_box_filters_partial_coverage() {
 #[test]
 fn edge_refinement_reads_partial_coverage_finely() {
     // A vertical edge at 0.3 of the width of pixel column 10.
-    let eye = DVec3::ZERO;
-    let camera = camera(eye, DVec3::Z, 20, 10, 60.0);
-    let tan_half = 30_f64.to_radians().tan();
-    let x_edge = (2.0 * 10.3 / 20.0 - 1.0) * tan_half * 2.0;
-    // right = forward × up = −x: the triangle covers image x < 10.3 pixels.
-    let positions = facing(
-        [
-            DVec3::new(-x_edge, -50.0, 1.0),
-            DVec3::new(50.0, -50.0, 1.0),
-            DVec3::new(-x_edge, 50.0, 1.0),
-        ],
-        eye,
-    );
-    let triangles = [flat(positions, Rgb::ONE)];
+    let (camera, triangle) = covered_left_of(10.3);
+    let triangles = [triangle];
     let coarse = RenderSettings::default().with_edge_supersampling(1);
     let refined = RenderSettings::default().with_edge_supersampling(16);
     let coarse = rasterize(&triangles, &camera, &coarse);
