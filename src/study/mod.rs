@@ -28,7 +28,8 @@ use std::time::Instant;
 use crate::lighting::DirectField;
 use crate::lighting::luminaires;
 use crate::mesh::{
-    ContourSettings, ErrorGrid, PlaneTriangulation, SquareMeshSettings, is_enclosed, mesh_square,
+    ContourSettings, ErrorGrid, GreedySettings, PlaneTriangulation, SampledField,
+    SquareMeshSettings, greedy_insertion, is_enclosed, mesh_square,
 };
 use crate::scene::{Scene, SurfaceId, Visibility};
 use crate::solver::{MeshSettings, field_layout, receiver_shadow_boundaries, total_field_layout};
@@ -54,6 +55,13 @@ pub struct CompareSettings {
     /// ([`MeshSpec::ShadowContour`]) where the receiver has any (true); the
     /// fixed layouts themselves are the seed's, without them.
     pub shadow_boundaries: bool,
+    /// Vertex budgets of the greedy-insertion meshes
+    /// ([`MeshSpec::Greedy`]), on the field sampled with visibility.
+    pub greedy_vertices: Vec<usize>,
+    /// Lattice cells along the receiver's longer side on which the
+    /// greedy-insertion meshes sample the field (a lattice apart from the
+    /// error grid's).
+    pub greedy_lattice: usize,
     /// The mesh settings the renderer would use (a scene file's `[mesh]`):
     /// the element spacing the level lines fill gaps to and the shadow
     /// boundaries are merged at.
@@ -82,6 +90,8 @@ impl Default for CompareSettings {
             grid: 400,
             shadow_rays: 16,
             shadow_boundaries: true,
+            greedy_vertices: vec![50, 100, 200, 300, 500, 800],
+            greedy_lattice: 192,
             mesh: MeshSettings::default(),
         }
     }
@@ -101,7 +111,9 @@ const PENUMBRA_SHADOW_RAYS: usize = 1024;
 /// fraction, from `shadow_rays` rays per luminaire polygon, or 1024 where
 /// those find a penumbra; points inside an object standing on the receiver
 /// (a block's footprint, [`is_enclosed`]) are left out, as the renderer's
-/// mesh leaves out its elements there.
+/// mesh leaves out its elements there. The greedy-insertion meshes see the
+/// same field only at the samples of their own lattice
+/// (`greedy_lattice`), not at the error grid's points.
 #[must_use]
 pub fn compare_receiver(
     scene: &Scene,
@@ -249,6 +261,26 @@ pub fn compare_receiver(
         };
         comparison.add(built, triangulation, &exact, &grid);
     }
+    if !settings.greedy_vertices.is_empty() {
+        let start = Instant::now();
+        let sampled = SampledField::sample(&outline, settings.greedy_lattice, &measured);
+        let sampling = start.elapsed().as_secs_f64();
+        for &vertices in &settings.greedy_vertices {
+            let start = Instant::now();
+            let greedy = GreedySettings {
+                max_vertices: vertices,
+                rms_rel_error: 0.0,
+            };
+            let (triangulation, _) = greedy_insertion(&outline, &sampled, &exact, &[], &greedy);
+            let built = Built {
+                spec: MeshSpec::Greedy { vertices },
+                newton_iterations: 0,
+                shadow_points: 0,
+                seconds: sampling + start.elapsed().as_secs_f64(),
+            };
+            comparison.add(built, triangulation, &exact, &grid);
+        }
+    }
     comparison
 }
 
@@ -288,7 +320,8 @@ fn square_triangulation(
 /// The seed paper's Figure 5 trio and the meshes isorad renders with,
 /// where measured: square 10×10 | contour 20×5 (the seed's) |
 /// shadow-aware contour 20×5 | contour refined to 1 % | level lines to
-/// 1 % | square 30×30, with their exact vertex values.
+/// 1 % | greedy insertion to 300 vertices | square 30×30, with their exact
+/// vertex values.
 #[must_use]
 pub fn panels_for_figure(comparison: &ReceiverComparison) -> Vec<MeshPanel> {
     [
@@ -303,6 +336,7 @@ pub fn panels_for_figure(comparison: &ReceiverComparison) -> Vec<MeshPanel> {
         },
         MeshSpec::ContourToError { per_mille: 10 },
         MeshSpec::LevelLines { per_mille: 10 },
+        MeshSpec::Greedy { vertices: 300 },
         MeshSpec::Square { n: 30 },
     ]
     .into_iter()

@@ -59,11 +59,18 @@ pub enum MeshSpec {
         /// The error aimed for, in thousandths.
         per_mille: u32,
     },
+    /// Greedy insertion on the direct field sampled with visibility
+    /// (`greedy_insertion`), to a vertex budget.
+    #[serde(rename = "greedy")]
+    Greedy {
+        /// The most vertices the mesh may have.
+        vertices: usize,
+    },
 }
 
 impl MeshSpec {
-    /// The mesher's name: "square", "contour", "shadow_contour" or
-    /// "level_lines".
+    /// The mesher's name: "square", "contour", "shadow_contour",
+    /// "level_lines" or "greedy".
     #[must_use]
     pub fn mesher(&self) -> &'static str {
         match self {
@@ -72,10 +79,11 @@ impl MeshSpec {
             MeshSpec::ContourToError { .. } => "contour",
             MeshSpec::ShadowContour { .. } => "shadow_contour",
             MeshSpec::LevelLines { .. } => "level_lines",
+            MeshSpec::Greedy { .. } => "greedy",
         }
     }
 
-    /// The size as a table shows it: "NxN", "DxK" or "e1.0%".
+    /// The size as a table shows it: "NxN", "DxK", "e1.0%" or "v300".
     #[must_use]
     pub fn size(&self) -> String {
         match *self {
@@ -85,6 +93,7 @@ impl MeshSpec {
             MeshSpec::ContourToError { per_mille } | MeshSpec::LevelLines { per_mille } => {
                 format!("e{:.1}%", f64::from(per_mille) / 10.0)
             }
+            MeshSpec::Greedy { vertices } => format!("v{vertices}"),
         }
     }
 
@@ -118,6 +127,7 @@ impl fmt::Display for MeshSpec {
             MeshSpec::LevelLines { per_mille } => {
                 write!(f, "level lines ε {:.1} %", f64::from(per_mille) / 10.0)
             }
+            MeshSpec::Greedy { vertices } => write!(f, "greedy ≤ {vertices} vertices"),
         }
     }
 }
@@ -193,6 +203,9 @@ impl serde::Serialize for MeshRecord {
                 newton_iterations: usize,
                 shadow_points: usize,
             },
+            Greedy {
+                max_vertices: usize,
+            },
         }
         /// The record as the JSON has it.
         #[derive(serde::Serialize)]
@@ -223,6 +236,9 @@ impl serde::Serialize for MeshRecord {
                     shadow_points: self.shadow_points,
                 }
             }
+            MeshSpec::Greedy { vertices } => Params::Greedy {
+                max_vertices: vertices,
+            },
         };
         Json {
             receiver: &self.receiver,
@@ -304,13 +320,14 @@ impl ReceiverComparison {
     /// error, and level lines.
     #[must_use]
     pub fn plot_series(&self, measure: impl Fn(&MeshRecord) -> f64) -> Vec<Series> {
-        const FAMILIES: [&str; 6] = [
+        const FAMILIES: [&str; 7] = [
             "square N × N",
             "contour D × K, seed sizes",
             "contour D × K, D = 2K",
             "contour D × K with shadow boundaries",
             "contour to a relative error ε",
             "level lines to a relative error ε",
+            "greedy insertion",
         ];
         let family = |spec: MeshSpec| match spec {
             MeshSpec::Square { .. } => FAMILIES[0],
@@ -319,6 +336,7 @@ impl ReceiverComparison {
             MeshSpec::ShadowContour { .. } => FAMILIES[3],
             MeshSpec::ContourToError { .. } => FAMILIES[4],
             MeshSpec::LevelLines { .. } => FAMILIES[5],
+            MeshSpec::Greedy { .. } => FAMILIES[6],
         };
         FAMILIES
             .into_iter()

@@ -29,7 +29,7 @@ pub struct CompareArgs {
     json: Option<PathBuf>,
     /// Write the meshes side by side: square 10×10 | contour 20×5 |
     /// shadow-aware contour 20×5 | contour ε 1 % | level lines ε 1 % |
-    /// square 30×30 (those measured).
+    /// greedy ≤ 300 vertices | square 30×30 (those measured).
     #[arg(long)]
     image: Option<PathBuf>,
     /// Write log–log plots of error against vertices (.png or .svg): the
@@ -261,6 +261,37 @@ fn print_comparison(comparison: &ReceiverComparison) {
                             "  {reference}'s {name}, {error:.4}, is below every contour mesh's"
                         ),
                     }
+                }
+            }
+            // The same for each mesher on its own.
+            let mut meshers: Vec<&str> = Vec::new();
+            for record in comparison.records.iter().filter(|r| r.spec.is_contour()) {
+                if !meshers.contains(&record.spec.mesher()) {
+                    meshers.push(record.spec.mesher());
+                }
+            }
+            for mesher in meshers {
+                let of = |spec: &MeshSpec| spec.mesher() == mesher;
+                let smallest = comparison
+                    .records
+                    .iter()
+                    .filter(|r| of(&r.spec))
+                    .min_by_key(|r| r.vertex_count());
+                match (
+                    comparison.vertices_for_measure(of, measure, error),
+                    smallest,
+                ) {
+                    (Some(vertices), _) => println!(
+                        "    {mesher}: {vertices:.0} vertices, {:.1}× fewer",
+                        square.vertex_count() as f64 / vertices
+                    ),
+                    (None, Some(r)) if measure(r) <= error => println!(
+                        "    {mesher}: its smallest, {} with {} vertices, errs {:.4}",
+                        r.spec,
+                        r.vertex_count(),
+                        measure(r)
+                    ),
+                    (None, _) => println!("    {mesher}: every mesh errs more"),
                 }
             }
         }
