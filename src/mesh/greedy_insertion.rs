@@ -262,25 +262,17 @@ fn triangle_errors(
         .map(|&[a, b, c]| {
             let mut error = TriangleError::default();
             let (pa, pb, pc) = (points[a], points[b], points[c]);
-            let twice_area = (pb - pa).perp_dot(pc - pa);
-            if twice_area.abs() <= f64::MIN_POSITIVE {
-                return error;
-            }
             let mut largest = 0.0;
             for k in sampled.samples_in(pa.min(pb).min(pc), pa.max(pb).max(pc)) {
                 if claimed[k] {
                     continue;
                 }
-                let p = sampled.points[k];
-                let wa = (pc - pb).perp_dot(p - pb) / twice_area;
-                let wb = (pa - pc).perp_dot(p - pc) / twice_area;
-                let wc = 1.0 - wa - wb;
-                if wa < -1e-12 || wb < -1e-12 || wc < -1e-12 {
+                let Some(shown) = interpolate(points, values, [a, b, c], sampled.points[k]) else {
                     continue;
-                }
+                };
                 claimed[k] = true;
                 let exact = sampled.values[k];
-                let gap = wa * values[a] + wb * values[b] + wc * values[c] - exact;
+                let gap = shown - exact;
                 error.energy += gap * gap;
                 error.signal += exact * exact;
                 if gap.abs() > largest {
