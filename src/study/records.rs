@@ -103,8 +103,9 @@ impl MeshSpec {
         matches!(self, MeshSpec::Square { .. })
     }
 
-    /// True for a contour mesh: radial, of fixed size or refined to an
-    /// error, or along level lines.
+    /// True for every mesh that is compared with the square ones: the
+    /// contour meshes (radial, of fixed size or refined to an error, or
+    /// along level lines) and greedy insertion.
     #[must_use]
     pub fn is_contour(&self) -> bool {
         !self.is_square()

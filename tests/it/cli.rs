@@ -287,7 +287,7 @@ fn compare_writes_records_pictures_and_a_plot() {
     assert!(contour["vertices"].as_u64() < square30["vertices"].as_u64());
     assert!(dir.path().join("c.png").is_file() && dir.path().join("c.svg").is_file());
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(stdout.contains("the contour meshes' vertices for the same RMS error"));
+    assert!(stdout.contains("the contour and greedy meshes' vertices for the same RMS error"));
     assert!(stdout.contains("for the same mean relative error"));
 }
 

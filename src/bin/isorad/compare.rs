@@ -1,5 +1,5 @@
-//! `isorad compare`: contour meshes (radial, and level lines) against
-//! square meshes on the receivers the contour meshers take.
+//! `isorad compare`: contour meshes (radial, and level lines) and greedy
+//! insertion against square meshes on the receivers the contour meshers take.
 
 use std::path::{Path, PathBuf};
 
@@ -223,11 +223,13 @@ fn print_comparison(comparison: &ReceiverComparison) {
             })
             .collect();
         if ratios.is_empty() {
-            println!("  (no contour mesh falls within the square meshes' range of {name})");
+            println!(
+                "  (no contour or greedy mesh falls within the square meshes' range of {name})"
+            );
         } else {
             ratios.sort_by(f64::total_cmp);
             println!(
-                "  square meshes need {:.1}× (median; {:.1}× to {:.1}×) the contour meshes' vertices for the same {name}",
+                "  square meshes need {:.1}× (median; {:.1}× to {:.1}×) the contour and greedy meshes' vertices for the same {name}",
                 ratios[ratios.len() / 2],
                 ratios[0],
                 ratios[ratios.len() - 1]
@@ -240,7 +242,7 @@ fn print_comparison(comparison: &ReceiverComparison) {
             let error = measure(square);
             match comparison.vertices_for_measure(MeshSpec::is_contour, measure, error) {
                 Some(vertices) => println!(
-                    "  {reference}'s {name}, {error:.4}, takes the contour meshes {vertices:.0} vertices: {:.1}× fewer than its {}",
+                    "  {reference}'s {name}, {error:.4}, takes the contour and greedy meshes {vertices:.0} vertices: {:.1}× fewer than its {}",
                     square.vertex_count() as f64 / vertices,
                     square.vertex_count()
                 ),
@@ -252,13 +254,13 @@ fn print_comparison(comparison: &ReceiverComparison) {
                         .min_by_key(|r| r.vertex_count());
                     match smallest.filter(|r| measure(r) <= error) {
                         Some(r) => println!(
-                            "  {reference}'s {name}, {error:.4}, is above every contour mesh's: the smallest, {} with {} vertices, errs {:.4}",
+                            "  {reference}'s {name}, {error:.4}, is above every contour and greedy mesh's: the smallest, {} with {} vertices, errs {:.4}",
                             r.spec,
                             r.vertex_count(),
                             measure(r)
                         ),
                         None => println!(
-                            "  {reference}'s {name}, {error:.4}, is below every contour mesh's"
+                            "  {reference}'s {name}, {error:.4}, is below every contour and greedy mesh's"
                         ),
                     }
                 }
