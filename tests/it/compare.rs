@@ -10,6 +10,11 @@ use isorad::{
     study::{CompareSettings, MeshSpec, ReceiverComparison, compare_receiver},
 };
 
+/// The id of the surface named `name`.
+fn surface_named(scene: &isorad::Scene, name: &str) -> SurfaceId {
+    SurfaceId::new(scene.surfaces.iter().position(|s| s.name == name).unwrap())
+}
+
 /// The table floor compared with square 30 × 30 and the seed's 10 × 3
 /// layout, without and with the shadow boundaries.
 fn table_floor() -> ReceiverComparison {
@@ -18,13 +23,7 @@ fn table_floor() -> ReceiverComparison {
     let scene = &loaded.scene;
     let visibility = Visibility::new(scene);
     let lamps = luminaires(scene);
-    let floor = SurfaceId::new(
-        scene
-            .surfaces
-            .iter()
-            .position(|s| s.name == "floor")
-            .unwrap(),
-    );
+    let floor = surface_named(scene, "floor");
     let field = dominant_field(scene, floor, &lamps, 0).unwrap();
     let mut settings = CompareSettings::default();
     settings.square_sizes = vec![30, 40];
@@ -185,13 +184,7 @@ fn six_light_floor() -> ReceiverComparison {
     let visibility = Visibility::new(scene);
     let lamps = luminaires(scene);
     assert_eq!(lamps.len(), 6);
-    let floor = SurfaceId::new(
-        scene
-            .surfaces
-            .iter()
-            .position(|s| s.name == "floor")
-            .unwrap(),
-    );
+    let floor = surface_named(scene, "floor");
     let fields: Vec<_> = (0..lamps.len())
         .filter_map(|k| dominant_field(scene, floor, &lamps, k))
         .collect();
