@@ -12,12 +12,13 @@ use crate::scene::SurfaceId;
 /// Which mesh of a receiver: the mesher and its size.
 ///
 /// Shown as "square 10×10", "contour 20×5", "shadow-aware contour 20×5",
-/// "contour ε 1.0 %" or "level lines ε 1.0 %"; in the records' JSON
-/// ([`MeshRecord`]) as `"mesher": "square"` with `"params": {"n": 10}`,
-/// `"contour"` with `{"directions": 20, "levels": 5, …}` or
-/// `{"max_relative_error": 0.01, …}`, `"shadow_contour"` with
-/// `{"directions": 20, "levels": 5, …}`, and `"level_lines"` with
-/// `{"max_relative_error": 0.01, …}`.
+/// "contour ε 1.0 %", "level lines ε 1.0 %" or "greedy ≤ 300 vertices"; in
+/// the records' JSON ([`MeshRecord`]) as `"mesher": "square"` with
+/// `"params": {"n": 10}`, `"contour"` with `{"directions": 20, "levels": 5,
+/// …}` or `{"max_relative_error": 0.01, …}`, `"shadow_contour"` with
+/// `{"directions": 20, "levels": 5, …}`, `"level_lines"` with
+/// `{"max_relative_error": 0.01, …}`, and `"greedy"` with
+/// `{"max_vertices": 300}`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(tag = "mesher", content = "params", rename_all = "lowercase")]
 pub enum MeshSpec {
@@ -138,8 +139,8 @@ impl fmt::Display for MeshSpec {
 ///
 /// Serialized as one record of [`write_json`]: `receiver`, `mesher`,
 /// `params` (`{"n"}`, `{"directions", "levels", "newton_iterations",
-/// "shadow_points"}` or `{"max_relative_error", "newton_iterations",
-/// "shadow_points"}`), `vertices`, `triangles`, `rms_rel_error`,
+/// "shadow_points"}`, `{"max_relative_error", "newton_iterations",
+/// "shadow_points"}` or `{"max_vertices"}`), `vertices`, `triangles`, `rms_rel_error`,
 /// `max_rel_error`, `mean_rel_error`, `seconds`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MeshRecord {
@@ -493,6 +494,10 @@ mod tests {
             serde_json::to_value(contour).unwrap(),
             json!({ "mesher": "contour", "params": { "directions": 20, "levels": 5 } })
         );
+        let greedy = MeshSpec::Greedy { vertices: 300 };
+        assert_eq!(greedy.to_string(), "greedy ≤ 300 vertices");
+        assert_eq!((greedy.mesher(), greedy.size()), ("greedy", "v300".into()));
+        assert!(greedy.is_contour() && !greedy.is_square());
     }
 
     #[test]
@@ -508,6 +513,7 @@ mod tests {
             records: vec![
                 record(MeshSpec::Square { n: 1 }, 0, 0),
                 record(contour, 41, 7),
+                record(MeshSpec::Greedy { vertices: 300 }, 0, 0),
             ],
         };
         let dir = tempfile::tempdir().unwrap();
@@ -536,6 +542,7 @@ mod tests {
                 "contour",
                 json!({ "directions": 20, "levels": 5, "newton_iterations": 41, "shadow_points": 7 })
             ),
+            with("greedy", json!({ "max_vertices": 300 })),
         ]);
         assert_eq!(written, expected);
     }
