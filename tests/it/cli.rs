@@ -289,6 +289,9 @@ fn compare_writes_records_pictures_and_a_plot() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("the contour and greedy meshes' vertices for the same RMS error"));
     assert!(stdout.contains("for the same mean relative error"));
+    // Each mesher's own vertices for square 30 × 30's errors.
+    assert!(stdout.contains("\n    greedy: "), "{stdout}");
+    assert!(stdout.contains("\n    contour: "), "{stdout}");
 }
 
 #[test]
