@@ -8,6 +8,7 @@ mod material;
 pub(crate) mod plane_polygon;
 pub(crate) mod polygon;
 mod rgb;
+mod shaft;
 pub(crate) mod surface;
 mod surface_boxes;
 mod surface_id;

@@ -1,10 +1,11 @@
 //! Shadow-ray visibility over an obvhs compressed wide BVH.
 
-use glam::{DVec3, Vec3A};
+use glam::{DVec3, UVec2, Vec3A};
 use obvhs::{
     BvhBuildParams,
     cwbvh::CwBvh,
     cwbvh::builder::build_cwbvh_from_tris,
+    cwbvh::node::{CwBvhNode, extract_byte64},
     ray::{Ray, RayHit},
     rt_triangle::RtTriangle,
     triangle::Triangle,
@@ -12,7 +13,14 @@ use obvhs::{
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
+use super::shaft::Shaft;
 use super::{Scene, SurfaceId};
+
+/// Shaft boxes are widened by this many BVH units (the scene's
+/// half-diagonal, about): for the rounding of their corners to f32, and so
+/// that a triangle touching a box reaches into the shaft (a floor
+/// vertex at a wall's foot, whose rays start on the wall).
+const SHAFT_WIDENING: f32 = 1e-6;
 
 /// Answers "is the open segment between two points unblocked?" for a scene.
 ///
@@ -283,11 +291,74 @@ impl Visibility {
         })
     }
 
+    /// True when no triangle but those of the two `end_surfaces` reaches
+    /// into the shaft between boxes `a` and `b` (each `(min, max)`): then
+    /// every segment from a point of one box to a point of the other is
+    /// unblocked, as [`Visibility::is_unblocked`] would find ray by ray
+    /// (Haines & Wallace's shaft culling, `shaft.rs`). The BVH is
+    /// traversed with the shaft in place of a ray, and stops at the first
+    /// triangle that reaches into it or touches a box; the test is
+    /// conservative, so a shaft a triangle only grazes from outside may be
+    /// called blocked.
+    #[must_use]
+    pub fn is_shaft_clear(
+        &self,
+        a: (DVec3, DVec3),
+        b: (DVec3, DVec3),
+        end_surfaces: [SurfaceId; 2],
+    ) -> bool {
+        let local = |(min, max): (DVec3, DVec3)| {
+            let to_local = |p: DVec3| {
+                let q = (p - self.centre) / self.scale;
+                Vec3A::new(q.x as f32, q.y as f32, q.z as f32)
+            };
+            let widen = Vec3A::splat(SHAFT_WIDENING);
+            (to_local(min) - widen, to_local(max) + widen)
+        };
+        let shaft = Shaft::new(local(a), local(b));
+        let mut state = self.bvh.new_traversal(Vec3A::ONE);
+        let mut node;
+        let mut clear = true;
+        'outer: {
+            obvhs::traverse!(
+                self.bvh,
+                node,
+                state,
+                shaft_hit_mask(node, &shaft, state.oct_inv4),
+                {
+                    let id = state.primitive_id as usize;
+                    if !end_surfaces.contains(&self.triangle_surfaces[id]) {
+                        let t = &self.triangles[id];
+                        if shaft.overlaps_triangle([t.v0, t.v0 - t.e1, t.v0 + t.e2]) {
+                            clear = false;
+                            break 'outer;
+                        }
+                    }
+                }
+            );
+        }
+        clear
+    }
+
     /// Number of triangles in the BVH (after any splitting by the builder).
     #[must_use]
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
     }
+}
+
+/// Which children of a wide BVH node reach into `shaft`, as the hit mask
+/// obvhs's traversal takes (the layout of `CwBvhNode::intersect_aabb`).
+fn shaft_hit_mask(node: &CwBvhNode, shaft: &Shaft, oct_inv4: u32) -> u32 {
+    let (child_bits, bit_index) = node.get_child_and_index_bits(oct_inv4);
+    let mut hits = 0;
+    for child in 0..8 {
+        let aabb = node.child_aabb(child);
+        if shaft.overlaps_box(aabb.min, aabb.max) {
+            hits |= extract_byte64(child_bits, child) << extract_byte64(bit_index, child);
+        }
+    }
+    hits
 }
 
 /// The triangles that blocked the last shadow rays of one run of queries
@@ -411,5 +482,74 @@ mod tests {
         assert!(!other.is_unblocked_cached(from, to, ends, &mut cache));
         assert_eq!(cache.owner, other.id);
         assert_eq!(cache.recent[1], ShadowCache::NONE);
+    }
+
+    /// A shaft through the plate is blocked, one beside it clear, and the
+    /// plate does not block a shaft that ends on it.
+    #[test]
+    fn a_shaft_is_clear_only_where_nothing_reaches_into_it() {
+        let scene = plate_over_floor();
+        let visibility = Visibility::new(&scene);
+        let (floor, plate) = (SurfaceId::new(0), SurfaceId::new(1));
+        let flat = |x: f64, y: f64, half: f64| {
+            (
+                DVec3::new(x - half, y, -half),
+                DVec3::new(x + half, y, half),
+            )
+        };
+        let ends = [floor, SurfaceId::NONE];
+        assert!(!visibility.is_shaft_clear(flat(0.0, 0.01, 0.2), flat(0.0, 2.0, 0.2), ends));
+        assert!(visibility.is_shaft_clear(flat(2.5, 0.01, 0.2), flat(2.5, 2.0, 0.2), ends));
+        // From the floor under the plate to the plate's underside.
+        let to_plate = [floor, plate];
+        assert!(visibility.is_shaft_clear(flat(0.0, 0.01, 0.5), flat(0.0, 0.99, 0.5), to_plate));
+        // Leaning into the plate: blocked.
+        assert!(!visibility.is_shaft_clear(flat(0.0, 0.01, 0.2), flat(1.5, 2.0, 0.2), ends));
+        // Passing beside it, through the corner of the union box over it.
+        assert!(visibility.is_shaft_clear(flat(0.0, 0.01, 0.2), flat(2.6, 2.0, 0.2), ends));
+    }
+
+    /// Wherever a shaft between two random boxes is clear, every segment
+    /// between points of the boxes is unblocked.
+    #[test]
+    fn every_segment_of_a_clear_shaft_is_unblocked() {
+        let scene = plate_over_floor();
+        let visibility = Visibility::new(&scene);
+        let mut state = 3_u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let random_box = |next: &mut dyn FnMut() -> f64| {
+            let centre = DVec3::new(4.0 * next() - 2.0, 0.05 + 2.0 * next(), 4.0 * next() - 2.0);
+            let half = DVec3::new(0.4 * next(), 0.4 * next(), 0.4 * next());
+            (centre - half, centre + half)
+        };
+        let ends = [SurfaceId::NONE; 2];
+        let (mut clear, mut blocked) = (0, 0);
+        for _ in 0..400 {
+            let (a, b) = (random_box(&mut next), random_box(&mut next));
+            if !visibility.is_shaft_clear(a, b, ends) {
+                blocked += 1;
+                continue;
+            }
+            clear += 1;
+            for _ in 0..64 {
+                let mut point = |(min, max): (DVec3, DVec3)| {
+                    min + (max - min) * DVec3::new(next(), next(), next())
+                };
+                let (p, q) = (point(a), point(b));
+                assert!(
+                    visibility.is_unblocked(p, q, ends),
+                    "{a:?} {b:?}: {p} to {q}"
+                );
+            }
+        }
+        assert!(
+            clear > 50 && blocked > 50,
+            "{clear} clear, {blocked} blocked"
+        );
     }
 }

@@ -16,6 +16,7 @@ mod run;
 mod scene_mesh;
 mod settings;
 mod settings_file;
+mod shaft_culling;
 mod shooter;
 mod solution;
 mod unshot;

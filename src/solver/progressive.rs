@@ -14,6 +14,7 @@ use super::patch_reception::{PatchReception, ReceptionPlan};
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
+use super::shaft_culling::ReceivingBoxes;
 use super::shooter::{Gathered, Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity};
 use super::solution::Solution;
 use super::unshot::UnshotCorners;
@@ -116,6 +117,15 @@ pub struct Solver {
     receptions: (u64, u64),
     /// The last shot's reception plan, kept for its buffers.
     reception_plan_buffer: ReceptionPlan,
+    /// The box of each patch's receiving points, for shaft culling.
+    receiving_boxes: ReceivingBoxes,
+    /// Per vertex: whether it sees all of the current shooter (kept between
+    /// shots so as not to allocate).
+    clear_receivers: Vec<bool>,
+    /// Shafts tested and found clear, over all shots.
+    shafts: (u64, u64),
+    /// Visibility samples the clear shafts answered without rays.
+    unblocked_by_shafts: u64,
     /// Every patch's and every vertex's index, for the plans of a scene
     /// without closed zones.
     every_index: (Vec<u32>, Vec<u32>),
@@ -255,6 +265,10 @@ impl Solver {
             patch_thresholds: Vec::new(),
             receptions: (0, 0),
             reception_plan_buffer: ReceptionPlan::default(),
+            receiving_boxes: ReceivingBoxes::default(),
+            clear_receivers: Vec::new(),
+            shafts: (0, 0),
+            unblocked_by_shafts: 0,
             every_index: (Vec::new(), Vec::new()),
             shot: vec![Rgb::ZERO; unshot_len],
             refiner: None,
@@ -412,6 +426,29 @@ impl Solver {
             .zip(self.zones.as_ref())
             .and_then(|(zone, (zones, _))| zones.visibility(zone))
             .unwrap_or(&self.visibility);
+        // The receiving patches that see all of the shooter cast no rays.
+        let mut clear = std::mem::take(&mut self.clear_receivers);
+        if self.settings.cull_shafts {
+            self.receiving_boxes.refresh(mesh);
+            let receiving_patches = zone
+                .zip(self.zones.as_ref())
+                .map(|(zone, (_, members))| &members.patches[zone][..]);
+            // An emitter's shot reaches vertices on its shadow boundaries,
+            // where an occluder's edge grazes the emitter's as seen from
+            // them: its shafts keep the whole cell.
+            let rim = coarse.is_some();
+            let (tested, cleared) = self.receiving_boxes.mark_clear(
+                (scene, mesh, visibility),
+                (&shooter, self.settings.sample_density, rim),
+                receiving_patches,
+                &mut clear,
+            );
+            self.shafts.0 += tested as u64;
+            self.shafts.1 += cleared as u64;
+        } else {
+            clear.clear();
+            clear.resize(mesh.vertices.len(), false);
+        }
         let (density, shot, kernel) = (
             self.settings.sample_density,
             self.shots as u64,
@@ -428,6 +465,7 @@ impl Solver {
                 normal: scene.surface(vertex.surface).normal(),
                 surface: vertex.surface,
                 key: index as u64,
+                clear: clear[index],
             };
             shooter.gather(&receiver, density, shot, kernel, (visibility, cache))
         };
@@ -443,6 +481,7 @@ impl Solver {
                     in_shadow_cache_runs(vertices, |&v, cache| gather(v as usize, cache));
                 for (&v, g) in vertices.iter().zip(gathered) {
                     self.rays += u64::from(g.rays);
+                    self.unblocked_by_shafts += u64::from(g.unblocked_by_shaft);
                     incident[v as usize] = g.irradiance;
                 }
             }
@@ -450,6 +489,7 @@ impl Solver {
                 let gathered: Vec<Gathered> = indices_in_shadow_cache_runs(incident.len(), gather);
                 for (h, g) in incident.iter_mut().zip(gathered) {
                     self.rays += u64::from(g.rays);
+                    self.unblocked_by_shafts += u64::from(g.unblocked_by_shaft);
                     *h = g.irradiance;
                 }
             }
@@ -468,6 +508,7 @@ impl Solver {
             self.receptions.1 += count;
             self.reception_plan_buffer = plan;
         }
+        self.clear_receivers = clear;
     }
 
     /// Which vertices of the receiving zone (`zone`, or the whole scene)
@@ -858,6 +899,14 @@ impl Solver {
         self.receptions
     }
 
+    /// Shaft culling's work so far ([`SolverSettings::cull_shafts`]): the
+    /// shafts tested, those found clear, and the visibility samples their
+    /// receivers took without shadow rays (each a ray saved).
+    #[must_use]
+    pub fn shaft_culling(&self) -> (u64, u64, u64) {
+        (self.shafts.0, self.shafts.1, self.unblocked_by_shafts)
+    }
+
     /// The settings in use.
     #[must_use]
     pub fn settings(&self) -> &SolverSettings {
@@ -1014,6 +1063,7 @@ impl Solver {
                 normal: scene.surface(vertex.surface).normal(),
                 surface: vertex.surface,
                 key: u64::from(v),
+                clear: false,
             };
             let mut irradiance = Rgb::ZERO;
             let mut rays = 0;

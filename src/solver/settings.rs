@@ -76,6 +76,13 @@ pub struct SolverSettings {
     /// the same radiosity, without the shadow rays that would all be
     /// blocked (true).
     pub cull_closed_zones: bool,
+    /// Skip the shadow rays of a shot to the receiving patches that see
+    /// all of the shooter: those whose shaft to it (the convex region
+    /// between the shooter's cell and the patch's receiving points) no
+    /// other surface reaches into (Haines & Wallace 1991; see
+    /// `solver/shaft_culling.rs`). The same radiosity, with fewer rays
+    /// (true).
+    pub cull_shafts: bool,
     /// Scale the power each element of a closed zone takes from a
     /// reflected shot so that together they receive exactly the shot's
     /// power (true; vertices keep the irradiance they gathered). From any
@@ -114,6 +121,7 @@ impl Default for SolverSettings {
             kernel: FormFactorKernel::default(),
             shoot_from: ShootFrom::default(),
             cull_closed_zones: true,
+            cull_shafts: true,
             conserve_closed_zones: true,
             coarse_reception: 0.01,
         }

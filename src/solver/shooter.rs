@@ -108,6 +108,9 @@ pub struct Receiver {
     pub surface: SurfaceId,
     /// Identifies the receiver in the random streams.
     pub key: u64,
+    /// Sees all of the shooter: no triangle reaches into the shaft between
+    /// them (`solver/shaft_culling.rs`), so its samples need no rays.
+    pub clear: bool,
 }
 
 /// The irradiance from a shooter and the number of shadow rays it took.
@@ -119,6 +122,8 @@ pub struct Gathered {
     pub irradiance: Rgb,
     /// Shadow rays cast.
     pub rays: u32,
+    /// Visibility samples taken without a ray, the receiver being clear.
+    pub unblocked_by_shaft: u32,
 }
 
 impl Shooter {
@@ -142,6 +147,19 @@ impl Shooter {
             strata,
             min_side,
             radiosity,
+        }
+    }
+
+    /// Samples per side a receiver at `distance` from the patch's centre
+    /// takes: `density · √A / distance`, within the shot's bounds.
+    #[must_use]
+    pub fn side_at(&self, distance: f64, density: f64) -> usize {
+        let distance = distance.max(f64::MIN_POSITIVE);
+        let wanted = (density * self.cell.area.sqrt() / distance).ceil();
+        if wanted.is_finite() {
+            (wanted as usize).clamp(self.min_side, self.strata.len() - 1)
+        } else {
+            self.strata.len() - 1
         }
     }
 
@@ -184,13 +202,7 @@ impl Shooter {
         {
             return Gathered::default();
         }
-        let distance = (centre - x).length().max(f64::MIN_POSITIVE);
-        let wanted = (density * self.cell.area.sqrt() / distance).ceil();
-        let side = if wanted.is_finite() {
-            (wanted as usize).clamp(self.min_side, self.strata.len() - 1)
-        } else {
-            self.strata.len() - 1
-        };
+        let side = self.side_at((centre - x).length(), density);
         let strata = self.strata[side].get_or_init(|| self.stratify(side));
         let mut random = SampleStream::new(receiver.key, shot);
         if kernel == FormFactorKernel::Mixed {
@@ -208,9 +220,10 @@ impl Shooter {
             let Some((factor, target)) = self.stratum_factor(x, n, stratum, y, kernel) else {
                 continue;
             };
-            gathered.rays += 1;
             total_weight += factor;
-            if self.is_visible(receiver, target, (visibility, cache)) {
+            gathered.rays += u32::from(!receiver.clear);
+            gathered.unblocked_by_shaft += u32::from(receiver.clear);
+            if receiver.clear || self.is_visible(receiver, target, (visibility, cache)) {
                 visible += radiosity * factor;
             }
         }
@@ -308,8 +321,9 @@ impl Shooter {
                 let Some(target) = near_target(x, n, stratum, y) else {
                     continue;
                 };
-                gathered.rays += 1;
-                if self.is_visible(receiver, target, (visibility, &mut *cache)) {
+                gathered.rays += u32::from(!receiver.clear);
+                gathered.unblocked_by_shaft += u32::from(receiver.clear);
+                if receiver.clear || self.is_visible(receiver, target, (visibility, &mut *cache)) {
                     kinds[NEAR_VISIBLE].insert(k);
                     near_visible += 1;
                     let w = strata.at(k, uv);
@@ -345,8 +359,9 @@ impl Shooter {
                 let factor =
                     disc_form_factor(stratum.area, n.dot(d) / r, -self.normal.dot(d) / r, r2);
                 if factor > 0.0 {
-                    gathered.rays += 1;
-                    if self.is_visible(receiver, y, (visibility, &mut *cache)) {
+                    gathered.rays += u32::from(!receiver.clear);
+                    gathered.unblocked_by_shaft += u32::from(receiver.clear);
+                    if receiver.clear || self.is_visible(receiver, y, (visibility, &mut *cache)) {
                         far_visible += strata.at(k, uv) * factor;
                     }
                 }

@@ -431,6 +431,7 @@ mod tests {
                 normal: down,
                 surface: ceiling,
                 key,
+                clear: false,
             };
             shooter
                 .gather(

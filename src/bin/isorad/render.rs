@@ -214,6 +214,13 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
             100.0 * interpolated as f64 / receptions as f64
         );
     }
+    let (shafts, clear, unblocked) = solver.shaft_culling();
+    if shafts > 0 {
+        eprintln!(
+            "shaft culling: {clear} of {shafts} shafts clear, {unblocked} visibility samples taken without a ray ({:.1} % of all)",
+            100.0 * unblocked as f64 / (unblocked + rays).max(1) as f64
+        );
+    }
     eprintln!("{}", emitted_flux(scene));
     if let Some(mib) = peak_memory_mib() {
         eprintln!("peak memory: {mib:.0} MiB (resident)");
