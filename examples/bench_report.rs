@@ -381,7 +381,10 @@ fn shot_ray_table(md: &mut String) -> Report {
         md,
         "| scene | vertices | shots | solver rays | shaft answers | solve (s) | solver rays/s | shot segments | blocked | raw obvhs rays/s | `Visibility` rays/s | with shadow cache rays/s | solver / raw | with shaft answers / raw |"
     )?;
-    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+    writeln!(
+        md,
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    )?;
     for spec in SHOT_RAY_SCENES {
         if spec.ends_with(".toml") && !Path::new(spec).exists() {
             eprintln!("  {spec}: not found, skipped (bench/generate_building.py writes it)");

@@ -6,13 +6,24 @@
 //! and the box of the patch's receiving points (Haines & Wallace 1991;
 //! `Visibility::is_shaft_clear`). Where none does, every shadow ray from
 //! those points to the shooter is unblocked, and the shot is gathered at
-//! them with the same samples and factors but no rays: the same
-//! irradiance, to the bit, as casting them. A vertex on the border of two
-//! patches is clear when either patch is, since its receiving point lies
-//! in both boxes.
+//! them with the same samples and factors but no rays. A vertex on the
+//! border of two patches is clear when either patch is, since its
+//! receiving point lies in both boxes.
 //!
-//! One shaft costs about what a few rays cost, so only patches that would
-//! cast at least [`MIN_RAYS`] rays are tested.
+//! A shaft costs about what fifteen rays cost, so only patches whose
+//! vertices would cast at least [`MIN_RAYS`] rays are tested, and the
+//! elements of a blocked patch (one by one) only when each would cast
+//! [`ELEMENT_RAYS`]: an emitter's shot, whose vertices cast 64 each.
+//!
+//! The irradiance is the rays' own but for one thing: a reflected shot's
+//! shafts leave out a rim of the shooter as wide as the receivers' inset
+//! ([`SHOOTER_RIM`]), so that a wall meeting a ceiling patch at its edge
+//! does not touch every shaft of it. A ray aimed into that rim and grazing
+//! something there is then taken as unblocked (in the Cornell box, one
+//! vertex of one shot, where the slightly bent ceiling meets a wall).
+//! Emitters' shafts keep the whole cell: their shadow boundaries are
+//! meshed, and a vertex on one sees an occluder's edge line up with the
+//! emitter's.
 //!
 //! # References
 //! E. A. Haines, J. R. Wallace, "Shaft Culling for Efficient Ray-Traced
@@ -150,7 +161,7 @@ impl ReceivingBoxes {
                     .cell
                     .polygon()
                     .iter()
-                    .all(|&q| normal.dot(q - min) <= 0.0)
+                    .all(|&q| normal.dot(q - patch.cell.centre()) <= 0.0)
             {
                 return (0, 0, Vec::new());
             }
