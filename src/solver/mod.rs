@@ -20,6 +20,7 @@ mod shaft_culling;
 mod shooter;
 mod solution;
 mod unshot;
+mod visibility_memory;
 mod zones;
 
 pub use energy_balance::EnergyBalance;

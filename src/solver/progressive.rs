@@ -18,6 +18,7 @@ use super::shaft_culling::ReceivingBoxes;
 use super::shooter::{Gathered, Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity};
 use super::solution::Solution;
 use super::unshot::UnshotCorners;
+use super::visibility_memory::{Recall, VisibilityMemory};
 use super::zones::{ZoneLabels, ZoneMembers, Zones};
 use crate::mesh::{Cell, ElementHierarchy, Mesh};
 use crate::scene::{Rgb, Scene, ShadowCache, SurfaceId, Visibility};
@@ -124,8 +125,13 @@ pub struct Solver {
     clear_receivers: Vec<bool>,
     /// Shafts tested and found clear, over all shots.
     shafts: (u64, u64),
-    /// Visibility samples the clear shafts answered without rays.
-    unblocked_by_shafts: u64,
+    /// Visibility samples taken without rays: their receivers were known to
+    /// see all of the shooter (a clear shaft, or the shooter's last shot).
+    known_visible: u64,
+    /// What each vertex saw of each shooter at its last shot.
+    visibility_memory: VisibilityMemory,
+    /// Vertex views of a shooter recalled from its last shot.
+    recalled: u64,
     /// Every patch's and every vertex's index, for the plans of a scene
     /// without closed zones.
     every_index: (Vec<u32>, Vec<u32>),
@@ -268,7 +274,9 @@ impl Solver {
             receiving_boxes: ReceivingBoxes::default(),
             clear_receivers: Vec::new(),
             shafts: (0, 0),
-            unblocked_by_shafts: 0,
+            known_visible: 0,
+            visibility_memory: VisibilityMemory::default(),
+            recalled: 0,
             every_index: (Vec::new(), Vec::new()),
             shot: vec![Rgb::ZERO; unshot_len],
             refiner: None,
@@ -454,10 +462,31 @@ impl Solver {
             self.shots as u64,
             self.settings.kernel,
         );
+        // What each vertex saw of this patch at its last shot, for a
+        // reflected shot.
+        let remembering = coarse.is_some() && self.settings.remember_visibility;
+        let zone_lists = self
+            .zones
+            .as_ref()
+            .map(|(_, members)| &members.vertices[..]);
+        self.visibility_memory
+            .refresh((mesh.vertices.len(), mesh.patches.len()), zone_lists);
+        let memory = &self.visibility_memory;
+        let recall = |v: usize| {
+            if remembering {
+                memory.recall(j, v)
+            } else {
+                Recall::Unknown
+            }
+        };
         let gather = |index: usize, cache: &mut ShadowCache| {
             let vertex = &mesh.vertices[index];
             // Nothing on the shooter's own plane receives from it.
             if vertex.surface == patch.surface {
+                return Default::default();
+            }
+            let recalled = recall(index);
+            if recalled == Recall::Hidden {
                 return Default::default();
             }
             let receiver = Receiver {
@@ -465,7 +494,7 @@ impl Solver {
                 normal: scene.surface(vertex.surface).normal(),
                 surface: vertex.surface,
                 key: index as u64,
-                clear: clear[index],
+                clear: clear[index] || recalled == Recall::Visible,
             };
             shooter.gather(&receiver, density, shot, kernel, (visibility, cache))
         };
@@ -475,24 +504,32 @@ impl Solver {
             (None, Some((zone, (_, members)))) => Some(&members.vertices[zone][..]),
             (None, None) => None,
         };
-        match vertices {
-            Some(vertices) => {
-                let gathered: Vec<Gathered> =
-                    in_shadow_cache_runs(vertices, |&v, cache| gather(v as usize, cache));
-                for (&v, g) in vertices.iter().zip(gathered) {
-                    self.rays += u64::from(g.rays);
-                    self.unblocked_by_shafts += u64::from(g.unblocked_by_shaft);
-                    incident[v as usize] = g.irradiance;
-                }
-            }
+        let every_vertex: Vec<u32>;
+        let (vertices, gathered): (&[u32], Vec<Gathered>) = match vertices {
+            Some(vertices) => (
+                vertices,
+                in_shadow_cache_runs(vertices, |&v, cache| gather(v as usize, cache)),
+            ),
             None => {
-                let gathered: Vec<Gathered> = indices_in_shadow_cache_runs(incident.len(), gather);
-                for (h, g) in incident.iter_mut().zip(gathered) {
-                    self.rays += u64::from(g.rays);
-                    self.unblocked_by_shafts += u64::from(g.unblocked_by_shaft);
-                    *h = g.irradiance;
-                }
+                every_vertex = (0..incident.len() as u32).collect();
+                (
+                    &every_vertex,
+                    indices_in_shadow_cache_runs(incident.len(), gather),
+                )
             }
+        };
+        for (&v, g) in vertices.iter().zip(&gathered) {
+            self.rays += u64::from(g.rays);
+            self.known_visible += u64::from(g.known_visible);
+            self.recalled += u64::from(recall(v as usize) != Recall::Unknown);
+            incident[v as usize] = g.irradiance;
+        }
+        if remembering {
+            let zone_size = zone_lists
+                .zip(zone)
+                .map_or(mesh.vertices.len(), |(lists, zone)| lists[zone].len());
+            self.visibility_memory
+                .remember(j, zone_size, (vertices, &gathered));
         }
         if let Some(plan) = plan {
             for &v in &plan.interpolated {
@@ -900,11 +937,21 @@ impl Solver {
     }
 
     /// Shaft culling's work so far ([`SolverSettings::cull_shafts`]): the
-    /// shafts tested, those found clear, and the visibility samples their
-    /// receivers took without shadow rays (each a ray saved).
+    /// shafts tested, those found clear, and the visibility samples taken
+    /// without shadow rays (each a ray saved) by receivers known to see all
+    /// of their shooter, from a clear shaft or from the shooter's last shot
+    /// ([`SolverSettings::remember_visibility`]).
     #[must_use]
     pub fn shaft_culling(&self) -> (u64, u64, u64) {
-        (self.shafts.0, self.shafts.1, self.unblocked_by_shafts)
+        (self.shafts.0, self.shafts.1, self.known_visible)
+    }
+
+    /// How many times a vertex took a reflected shot's visibility from what
+    /// it saw of the same patch's last shot, all or none of it, without
+    /// rays ([`SolverSettings::remember_visibility`]).
+    #[must_use]
+    pub fn recalled_views(&self) -> u64 {
+        self.recalled
     }
 
     /// The settings in use.

@@ -83,6 +83,11 @@ pub struct SolverSettings {
     /// `solver/shaft_culling.rs`). The same radiosity, with fewer rays
     /// (true).
     pub cull_shafts: bool,
+    /// A reflected shot from a patch that has shot before casts no rays
+    /// from the vertices whose rays to it last time, four or more, were
+    /// all unblocked or all blocked: they take all of it or none (see
+    /// `solver/visibility_memory.rs`; true).
+    pub remember_visibility: bool,
     /// Scale the power each element of a closed zone takes from a
     /// reflected shot so that together they receive exactly the shot's
     /// power (true; vertices keep the irradiance they gathered). From any
@@ -122,6 +127,7 @@ impl Default for SolverSettings {
             shoot_from: ShootFrom::default(),
             cull_closed_zones: true,
             cull_shafts: true,
+            remember_visibility: true,
             conserve_closed_zones: true,
             coarse_reception: 0.01,
         }

@@ -108,8 +108,10 @@ pub struct Receiver {
     pub surface: SurfaceId,
     /// Identifies the receiver in the random streams.
     pub key: u64,
-    /// Sees all of the shooter: no triangle reaches into the shaft between
-    /// them (`solver/shaft_culling.rs`), so its samples need no rays.
+    /// Known to see all of the shooter: no triangle reaches into the shaft
+    /// between them (`solver/shaft_culling.rs`), or every ray of the
+    /// shooter's last shot reached it (`solver/visibility_memory.rs`), so
+    /// its samples need no rays.
     pub clear: bool,
 }
 
@@ -123,7 +125,9 @@ pub struct Gathered {
     /// Shadow rays cast.
     pub rays: u32,
     /// Visibility samples taken without a ray, the receiver being clear.
-    pub unblocked_by_shaft: u32,
+    pub known_visible: u32,
+    /// Shadow rays that were blocked.
+    pub blocked: u32,
 }
 
 impl Shooter {
@@ -222,8 +226,10 @@ impl Shooter {
             };
             total_weight += factor;
             gathered.rays += u32::from(!receiver.clear);
-            gathered.unblocked_by_shaft += u32::from(receiver.clear);
-            if receiver.clear || self.is_visible(receiver, target, (visibility, cache)) {
+            gathered.known_visible += u32::from(receiver.clear);
+            let seen = receiver.clear || self.is_visible(receiver, target, (visibility, cache));
+            gathered.blocked += u32::from(!seen);
+            if seen {
                 visible += radiosity * factor;
             }
         }
@@ -322,8 +328,11 @@ impl Shooter {
                     continue;
                 };
                 gathered.rays += u32::from(!receiver.clear);
-                gathered.unblocked_by_shaft += u32::from(receiver.clear);
-                if receiver.clear || self.is_visible(receiver, target, (visibility, &mut *cache)) {
+                gathered.known_visible += u32::from(receiver.clear);
+                let seen =
+                    receiver.clear || self.is_visible(receiver, target, (visibility, &mut *cache));
+                gathered.blocked += u32::from(!seen);
+                if seen {
                     kinds[NEAR_VISIBLE].insert(k);
                     near_visible += 1;
                     let w = strata.at(k, uv);
@@ -360,8 +369,11 @@ impl Shooter {
                     disc_form_factor(stratum.area, n.dot(d) / r, -self.normal.dot(d) / r, r2);
                 if factor > 0.0 {
                     gathered.rays += u32::from(!receiver.clear);
-                    gathered.unblocked_by_shaft += u32::from(receiver.clear);
-                    if receiver.clear || self.is_visible(receiver, y, (visibility, &mut *cache)) {
+                    gathered.known_visible += u32::from(receiver.clear);
+                    let seen =
+                        receiver.clear || self.is_visible(receiver, y, (visibility, &mut *cache));
+                    gathered.blocked += u32::from(!seen);
+                    if seen {
                         far_visible += strata.at(k, uv) * factor;
                     }
                 }

@@ -215,9 +215,10 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
         );
     }
     let (shafts, clear, unblocked) = solver.shaft_culling();
-    if shafts > 0 {
+    let recalled = solver.recalled_views();
+    if shafts > 0 || recalled > 0 {
         eprintln!(
-            "shaft culling: {clear} of {shafts} shafts clear, {unblocked} visibility samples taken without a ray ({:.1} % of all)",
+            "known visibility: {clear} of {shafts} shafts clear, {recalled} vertices' views of a shooter recalled from its last shot; {unblocked} visibility samples taken without a ray ({:.1} % of all)",
             100.0 * unblocked as f64 / (unblocked + rays).max(1) as f64
         );
     }
