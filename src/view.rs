@@ -2,9 +2,11 @@
 //! and its image in memory. The one place where a solution meets the
 //! renderer, which itself knows only triangles.
 
+use glam::DVec3;
+
 use crate::mesh::Mesh;
 use crate::render::{Image, RenderSettings, ShadedTriangle, rasterize};
-use crate::scene::{Camera, Rgb};
+use crate::scene::{Camera, Rgb, SurfaceId};
 use crate::solver::Solution;
 
 impl Solution<'_> {
@@ -22,6 +24,66 @@ impl Solution<'_> {
         triangle_indices(self.mesh, &self.radiosity)
     }
 
+    /// The triangles an image from `camera` can show, as
+    /// [`Solution::triangle_indices`]: all of them, or, where the camera
+    /// stands inside a closed zone (a room whose light does not leave it,
+    /// see `solver/zones.rs`), that zone's alone: its walls hide the rest.
+    /// A floor of 16 closed offices then draws one office's triangles for
+    /// a view from inside it, not all sixteen rooms' in the view's frustum.
+    pub(crate) fn triangle_indices_seen_from(&self, camera: &Camera) -> Vec<[u32; 3]> {
+        let triangles = self.triangle_indices();
+        let (Some(zones), Some(zone)) = (self.zones, self.camera_zone(camera)) else {
+            return triangles;
+        };
+        let surface_of = |v: u32| self.mesh.vertices[v as usize].surface;
+        triangles
+            .into_iter()
+            .filter(|&[a, _, _]| zones.of(surface_of(a)) == zone)
+            .collect()
+    }
+
+    /// The closed zone `camera` stands in: the zone that keeps all its
+    /// light (`ZoneLabels::is_lossless`) on whose surfaces' fronts every one
+    /// of [`CAMERA_RAYS`] rays from the camera, spread over the sphere,
+    /// lands. None where any ray leaves the scene, lands on a back, or on
+    /// another zone.
+    fn camera_zone(&self, camera: &Camera) -> Option<usize> {
+        let zones = self.zones?;
+        let reach = 2.0 * self.visibility.diagonal();
+        let mut zone = None;
+        for k in 0..CAMERA_RAYS {
+            let direction = sphere_direction(k, CAMERA_RAYS);
+            let (surface, _) =
+                self.visibility
+                    .closest_hit(camera.position, direction, reach, SurfaceId::NONE)?;
+            if self.scene.surface(surface).normal().dot(direction) >= 0.0 {
+                return None;
+            }
+            let hit = zones.of(surface);
+            if !zones.is_lossless(hit) || zone.is_some_and(|z| z != hit) {
+                return None;
+            }
+            zone = Some(hit);
+        }
+        zone
+    }
+
+    /// [`Solution::triangles`] less those `camera` cannot see because it
+    /// stands inside a closed room that hides them: what
+    /// [`Solution::render`] draws, for a viewer of its own.
+    #[must_use]
+    pub fn triangles_seen_from(&self, camera: &Camera) -> Vec<ShadedTriangle> {
+        let radiance = |v: u32| self.radiosity[v as usize] / std::f64::consts::PI;
+        let position = |v: u32| self.mesh.vertices[v as usize].position;
+        self.triangle_indices_seen_from(camera)
+            .into_iter()
+            .map(|[a, b, c]| ShadedTriangle {
+                positions: [position(a), position(b), position(c)],
+                radiance: [radiance(a), radiance(b), radiance(c)],
+            })
+            .collect()
+    }
+
     /// Renders the irradiance H (W/m²) the solution holds at each mesh
     /// vertex through `camera`, interpolated as [`Solution::render`]
     /// interpolates radiance and split along the same diagonals: a picture
@@ -31,7 +93,7 @@ impl Solution<'_> {
         let position = |v: u32| self.mesh.vertices[v as usize].position;
         let irradiance = |v: u32| self.irradiance[v as usize];
         let triangles: Vec<ShadedTriangle> = self
-            .triangle_indices()
+            .triangle_indices_seen_from(camera)
             .into_iter()
             .map(|[a, b, c]| ShadedTriangle {
                 positions: [position(a), position(b), position(c)],
@@ -46,8 +108,20 @@ impl Solution<'_> {
     /// [`crate::write_png`].
     #[must_use]
     pub fn render(&self, camera: &Camera, settings: &RenderSettings) -> Image {
-        rasterize(&self.triangles(), camera, settings)
+        rasterize(&self.triangles_seen_from(camera), camera, settings)
     }
+}
+
+/// Rays a camera casts to find the closed zone it stands in.
+const CAMERA_RAYS: usize = 64;
+
+/// Direction `k` of `count` spread evenly over the unit sphere (a
+/// Fibonacci spiral).
+fn sphere_direction(k: usize, count: usize) -> DVec3 {
+    let z = 1.0 - (2.0 * k as f64 + 1.0) / count as f64;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = k as f64 * std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    DVec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
 /// The triangles of a mesh with per-vertex radiance L = B/π, from the

@@ -894,6 +894,11 @@ impl Solver {
             luminaires_shot: self.luminaire_shot.clone(),
             radiosity,
             irradiance,
+            zones: self
+                .zones
+                .as_ref()
+                .map(|(zones, _)| zones.labels())
+                .filter(|labels| labels.count() > 1),
         }
     }
 

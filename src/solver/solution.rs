@@ -165,6 +165,9 @@ pub struct Solution<'a> {
     pub radiosity: Vec<Rgb>,
     /// Irradiance per mesh vertex, W/m².
     pub irradiance: Vec<Rgb>,
+    /// The closed zone of every surface, when the solver found more than
+    /// one: an image taken from inside a closed room draws that room alone.
+    pub(crate) zones: Option<&'a super::zones::ZoneLabels>,
 }
 
 impl Solution<'_> {

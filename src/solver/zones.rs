@@ -267,6 +267,12 @@ impl ZoneLabels {
         }
     }
 
+    /// How many zones there are (open ones counted as one).
+    #[must_use]
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
     /// Whether zone `zone` is closed and its surfaces' fronts see only
     /// fronts: all the light its surfaces send lands on its surfaces (none
     /// leaves the scene or falls on the black back of a one-sided

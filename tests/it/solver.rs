@@ -409,6 +409,43 @@ fn two_closed_rooms() -> Scene {
     b.scene
 }
 
+/// An image from inside one of two closed rooms draws that room's
+/// triangles alone, and is the same image as all of them give.
+#[test]
+fn a_view_from_inside_a_closed_room_draws_that_room_alone() {
+    let mut settings = isorad::Settings::default();
+    settings.solver.tolerance = 0.2;
+    let mut solver = isorad::Solver::new(two_closed_rooms(), settings).unwrap();
+    solver.run();
+    let solution = solver.solution();
+    let mut camera = isorad::Camera {
+        position: DVec3::new(2.0, 1.5, 0.5),
+        look_at: DVec3::new(2.5, 1.0, 3.5),
+        up: DVec3::Y,
+        vfov_deg: 60.0,
+        width: 96,
+        height: 64,
+    };
+    let all = solution.triangles();
+    let seen = solution.triangles_seen_from(&camera);
+    println!("{} of {} triangles seen", seen.len(), all.len());
+    assert!(
+        seen.len() < all.len() * 6 / 10,
+        "{} of {}",
+        seen.len(),
+        all.len()
+    );
+    let render_settings = isorad::RenderSettings::default();
+    let full = isorad::render::rasterize(&all, &camera, &render_settings);
+    assert_eq!(
+        solution.render(&camera, &render_settings).pixels(),
+        full.pixels()
+    );
+    // From outside both rooms, nothing is left out.
+    camera.position = DVec3::new(4.5, 1.5, -3.0);
+    assert_eq!(solution.triangles_seen_from(&camera).len(), all.len());
+}
+
 /// Shots skip the receivers of the other closed rooms: the radiosity is
 /// the same bit for bit as when every vertex gathers (those rays were all
 /// blocked), with fewer shadow rays (those of the other room's vertices
