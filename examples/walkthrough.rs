@@ -17,10 +17,7 @@ use std::f64::consts::TAU;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use isorad::{
-    Camera, RenderSettings, Settings, Solver, load_scene, render::rasterize, view::mesh_triangles,
-    write_exr,
-};
+use isorad::{Camera, RenderSettings, Settings, Solver, load_scene, write_exr};
 use serde_json::json;
 
 type Report = Result<(), Box<dyn std::error::Error>>;
@@ -132,7 +129,7 @@ fn main() -> Report {
     solver.run();
     let solve_seconds = solve_start.elapsed().as_secs_f64();
     let (scene, mesh) = (solver.scene(), solver.mesh());
-    let radiosity = solver.radiosity_with_ambient();
+    let solution = solver.solution_with_ambient();
 
     // The scene's own view: the image compared with the reference.
     let mut camera = scene.camera_or_default();
@@ -144,18 +141,19 @@ fn main() -> Report {
     camera.validate()?;
     let render_settings = RenderSettings::default();
     let render_start = Instant::now();
-    let triangles = mesh_triangles(mesh, &radiosity);
-    let image = rasterize(&triangles, &camera, &render_settings);
+    let image = solution.render(&camera, &render_settings);
     let render_seconds = render_start.elapsed().as_secs_f64();
     let converged_seconds = start.elapsed().as_secs_f64();
     write_exr(&image, &options.out_dir.join("view_main.exr"))?;
 
-    // The walkthrough: every view a rasterization of the same triangles.
+    // The walkthrough: every view a rasterization of the same solution's
+    // triangles, those of the room the camera stands in where it stands in
+    // a closed one (`Solution::triangles_seen_from`).
     let cameras = walkthrough_cameras(&camera, options.views);
     let mut view_seconds = Vec::with_capacity(cameras.len());
     for (k, view) in cameras.iter().enumerate() {
         let view_start = Instant::now();
-        let image = rasterize(&triangles, view, &render_settings);
+        let image = solution.render(view, &render_settings);
         view_seconds.push(view_start.elapsed().as_secs_f64());
         if options.write_views {
             write_exr(&image, &options.out_dir.join(format!("view_{k:03}.exr")))?;
