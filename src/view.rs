@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 
-use crate::mesh::Mesh;
+use crate::mesh::{Element, Mesh};
 use crate::render::{Image, RenderSettings, ShadedTriangle, rasterize};
 use crate::scene::{Camera, Rgb, SurfaceId};
 use crate::solver::Solution;
@@ -27,19 +27,17 @@ impl Solution<'_> {
     /// The triangles an image from `camera` can show, as
     /// [`Solution::triangle_indices`]: all of them, or, where the camera
     /// stands inside a closed zone (a room whose light does not leave it,
-    /// see `solver/zones.rs`), that zone's alone: its walls hide the rest.
-    /// A floor of 16 closed offices then draws one office's triangles for
-    /// a view from inside it, not all sixteen rooms' in the view's frustum.
+    /// see `solver/zones.rs`), that zone's elements' alone: its walls hide
+    /// the rest. A floor of 16 closed offices then triangulates and draws
+    /// one office for a view from inside it, not all sixteen rooms in the
+    /// view's frustum.
     pub(crate) fn triangle_indices_seen_from(&self, camera: &Camera) -> Vec<[u32; 3]> {
-        let triangles = self.triangle_indices();
-        let (Some(zones), Some(zone)) = (self.zones, self.camera_zone(camera)) else {
-            return triangles;
-        };
-        let surface_of = |v: u32| self.mesh.vertices[v as usize].surface;
-        triangles
-            .into_iter()
-            .filter(|&[a, _, _]| zones.of(surface_of(a)) == zone)
-            .collect()
+        match self.zones.zip(self.camera_zone(camera)) {
+            Some((zones, zone)) => triangle_indices_of(self.mesh, &self.radiosity, |element| {
+                zones.of(element.surface) == zone
+            }),
+            None => self.triangle_indices(),
+        }
     }
 
     /// The closed zone `camera` stands in: the zone that keeps all its
@@ -73,15 +71,11 @@ impl Solution<'_> {
     /// [`Solution::render`] draws, for a viewer of its own.
     #[must_use]
     pub fn triangles_seen_from(&self, camera: &Camera) -> Vec<ShadedTriangle> {
-        let radiance = |v: u32| self.radiosity[v as usize] / std::f64::consts::PI;
-        let position = |v: u32| self.mesh.vertices[v as usize].position;
-        self.triangle_indices_seen_from(camera)
-            .into_iter()
-            .map(|[a, b, c]| ShadedTriangle {
-                positions: [position(a), position(b), position(c)],
-                radiance: [radiance(a), radiance(b), radiance(c)],
-            })
-            .collect()
+        shaded(
+            self.mesh,
+            &self.radiosity,
+            self.triangle_indices_seen_from(camera),
+        )
     }
 
     /// Renders the irradiance H (W/m²) the solution holds at each mesh
@@ -134,9 +128,15 @@ fn sphere_direction(k: usize, count: usize) -> DVec3 {
 /// triangulated through them, so the image has no T-junction cracks.
 #[must_use]
 pub fn mesh_triangles(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<ShadedTriangle> {
+    shaded(mesh, radiosity, triangle_indices(mesh, radiosity))
+}
+
+/// Triangles given as vertex-index triples, with their vertices' positions
+/// and radiance L = B/π.
+fn shaded(mesh: &Mesh, radiosity: &[Rgb], triangles: Vec<[u32; 3]>) -> Vec<ShadedTriangle> {
     let radiance = |v: u32| radiosity[v as usize] / std::f64::consts::PI;
     let position = |v: u32| mesh.vertices[v as usize].position;
-    triangle_indices(mesh, radiosity)
+    triangles
         .into_iter()
         .map(|[a, b, c]| ShadedTriangle {
             positions: [position(a), position(b), position(c)],
@@ -151,6 +151,15 @@ pub fn mesh_triangles(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<ShadedTriangle> {
 /// radiosities). The one triangulation the renderer draws and the exporters
 /// write.
 fn triangle_indices(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<[u32; 3]> {
+    triangle_indices_of(mesh, radiosity, |_| true)
+}
+
+/// [`triangle_indices`] of the elements `keep` selects.
+fn triangle_indices_of(
+    mesh: &Mesh,
+    radiosity: &[Rgb],
+    keep: impl Fn(&Element) -> bool,
+) -> Vec<[u32; 3]> {
     let gap = |p: u32, q: u32| {
         (radiosity[p as usize] - radiosity[q as usize])
             .abs()
@@ -158,7 +167,7 @@ fn triangle_indices(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<[u32; 3]> {
     };
     let mut triangles = Vec::with_capacity(2 * mesh.elements.len());
     let mut split = Vec::new();
-    for element in &mesh.elements {
+    for element in mesh.elements.iter().filter(|element| keep(element)) {
         mesh.element_triangles(element, gap, &mut split);
         triangles.extend_from_slice(&split);
     }
