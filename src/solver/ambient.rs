@@ -109,8 +109,14 @@ const _: () = assert!(SAMPLED_PER_SIDE * SAMPLED_PER_SIDE < NO_CELL as usize);
 
 impl AmbientRays {
     /// Casts the rays not cast yet: every patch's once, and those of
-    /// vertices added since the last call.
-    pub(crate) fn cast_missing(&mut self, scene: &Scene, mesh: &Mesh, visibility: &Visibility) {
+    /// vertices added since the last call. A ray from surface `s` traverses `visibility_of(s)`: the BVH of its
+    /// closed zone's bounds, or the scene's.
+    pub(crate) fn cast_missing<'v>(
+        &mut self,
+        scene: &Scene,
+        mesh: &Mesh,
+        visibility_of: &(dyn Fn(SurfaceId) -> &'v Visibility + Sync),
+    ) {
         let done = self.vertex_hits.len() / VERTEX_RAYS;
         let patches_cast = self.patch_hits.len() == mesh.patches.len() * PATCH_RAYS;
         if patches_cast && done >= mesh.vertices.len() {
@@ -130,6 +136,7 @@ impl AmbientRays {
                         // Not stratified: the points are, by k.
                         let direction = cosine_direction(normal, &mut stream);
                         let start = (origin, normal, patch.surface);
+                        let visibility = visibility_of(patch.surface);
                         locator.hit(scene, visibility, start, direction).0
                     })
                 })
@@ -153,6 +160,7 @@ impl AmbientRays {
                     let v = done + n;
                     let vertex = &mesh.vertices[v];
                     let normal = scene.surface(vertex.surface).normal();
+                    let visibility = visibility_of(vertex.surface);
                     for (k, (hit, cell)) in hits.iter_mut().zip(cells.iter_mut()).enumerate() {
                         let mut stream = SampleStream::new(v as u64, k as u64 | 2 << 40);
                         let origin = vertex.receiver_position;

@@ -828,7 +828,16 @@ impl Solver {
             .ambient_rays
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
-        rays.cast_missing(&self.scene, &self.mesh, &self.visibility);
+        // A zone's rays traverse the BVH of what lies within its bounds,
+        // as its shots' do: a ray that leaves them (through a seam) lands
+        // on no front of its zone either way.
+        let zones = self.zones.as_ref().map(|(zones, _)| zones);
+        let visibility_of = |surface: SurfaceId| {
+            zones
+                .and_then(|zones| zones.visibility(zones.of(surface)))
+                .unwrap_or(&self.visibility)
+        };
+        rays.cast_missing(&self.scene, &self.mesh, &visibility_of);
         // Each quad patch's unshot field on the lattice its shots read
         // (`solver/shooter.rs`), for the vertices' rays to read where they
         // land.

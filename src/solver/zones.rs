@@ -18,13 +18,15 @@
 //! open, two small plates that see each other may miss each other with
 //! every ray, but neither then counts as closed.
 //!
-//! Each closed zone also gets a BVH of its own surfaces alone
+//! Each zone also gets a BVH of the surfaces within its bounds
 //! ([`Visibility::of_surfaces`]), which its shots' shadow rays traverse: a
-//! segment between two surfaces of a closed zone can only be blocked by
-//! surfaces of that zone (to reach another's, it would have to cross the
-//! zone's own boundary), so the answer is the same, from a tree the size
-//! of one room instead of the building. In a floor of 16 rooms the same
-//! rays cost about half as much.
+//! segment between two points of a zone's surfaces lies inside the box
+//! around them, so only a surface that reaches into that box can block
+//! it, and the answer is the same from a tree the size of one room as from
+//! the building's. In a floor of 16 rooms the same rays cost about half as
+//! much. The zone's own surfaces alone would not do: a closed box whose
+//! faces turn inward, standing in the open, is a zone of its own (its
+//! outside is black backs), yet it casts a shadow on the open ground.
 //!
 //! The cull is conservative where the rays are: surfaces that see each
 //! other are joined unless every one of the many rays cast from both their
@@ -41,7 +43,7 @@ use rayon::prelude::*;
 
 use crate::lighting::{SampleStream, stratified_points};
 use crate::mesh::Mesh;
-use crate::scene::{Scene, SurfaceId, Visibility};
+use crate::scene::{Scene, SurfaceBoxes, SurfaceId, Visibility};
 
 /// Rays each surface casts to find what it sees: 16 stratified points, 4
 /// cosine-weighted directions from each.
@@ -80,9 +82,10 @@ enum Hit {
 pub struct Zones {
     /// The zone of every surface.
     labels: ZoneLabels,
-    /// Per zone, a BVH over its surfaces only (empty while there is one
-    /// zone: the scene's own BVH serves).
-    visibility: Vec<Visibility>,
+    /// Per zone, a BVH over the surfaces within its bounds, or None where
+    /// that is every surface (empty while there is one zone): the scene's
+    /// own BVH serves.
+    visibility: Vec<Option<Visibility>>,
 }
 
 impl Zones {
@@ -93,10 +96,21 @@ impl Zones {
         let labels = ZoneLabels::new(scene, visibility);
         let visibility = if labels.count > 1 {
             let bounds = scene.bounds();
+            let boxes = SurfaceBoxes::new(scene);
+            // Shadow rays end lifted off their surfaces by the offset.
+            let margin = 2.0 * visibility.surface_offset();
             labels
                 .members()
                 .par_iter()
-                .map(|members| Visibility::of_listed_surfaces(scene, members, bounds))
+                .map(|members| {
+                    let (min, max) = members.iter().map(|&id| boxes.bounds(id)).fold(
+                        (DVec3::INFINITY, DVec3::NEG_INFINITY),
+                        |(min, max), (a, b)| (min.min(a), max.max(b)),
+                    );
+                    let within = boxes.near(min, max, margin);
+                    (within.len() < scene.surfaces.len())
+                        .then(|| Visibility::of_listed_surfaces(scene, &within, bounds))
+                })
                 .collect()
         } else {
             Vec::new()
@@ -110,11 +124,11 @@ impl Zones {
         &self.labels
     }
 
-    /// The shadow-ray BVH of zone `zone`'s surfaces alone, if there is more
-    /// than one zone.
+    /// The shadow-ray BVH of the surfaces within zone `zone`'s bounds, if
+    /// there is more than one zone and they are not all of the scene's.
     #[must_use]
     pub fn visibility(&self, zone: usize) -> Option<&Visibility> {
-        self.visibility.get(zone)
+        self.visibility.get(zone)?.as_ref()
     }
 
     /// How many zones the surfaces fall into.

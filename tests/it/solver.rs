@@ -656,6 +656,31 @@ fn rooms_that_leak_through_seams_stay_closed() {
     assert_eq!(solver.closed_zones(), 2);
 }
 
+/// A closed box (faces turned inward, so its outside is black backs)
+/// floating between a lamp and the open ground: the box is a closed zone
+/// of its own, and the ground's shadow under it is the same with the cull
+/// as without. The open zone's rays are blocked by the box, which is not
+/// one of its surfaces, so a zone's rays traverse every surface within
+/// its bounds, not its own alone.
+#[test]
+fn a_closed_box_in_the_open_still_casts_its_shadow() {
+    let mut b = SceneBuilder::default();
+    let grey = b.material("grey", 0.5, 0.0);
+    let lamp = b.material("lamp", 0.0, 10.0);
+    b.polygon("ground", grey, square_z(-2.0, 2.0, 0.0, true));
+    b.polygon("lamp", lamp, square_z(-0.3, 0.3, 2.0, false));
+    for quad in box_faces(DVec3::splat(0.6)) {
+        let quad = quad.into_iter().map(|p| p + DVec3::new(-0.3, -0.3, 0.6));
+        b.polygon("box", grey, quad.collect());
+    }
+    let mut settings = isorad::Settings::default();
+    settings.solver.tolerance = 0.05;
+    let culled = solve_with_cull(b.scene.clone(), settings.clone(), true);
+    let all = solve_with_cull(b.scene, settings, false);
+    assert_eq!((culled.zones, all.zones), (2, 1));
+    assert_eq!(culled.radiosity, all.radiosity, "the same radiosity");
+}
+
 /// A BVH over some of a scene's surfaces answers as the whole scene's does
 /// for segments only those can block, and one over none blocks nothing.
 #[test]
