@@ -66,12 +66,15 @@ fn unoccluded_factor(x: DVec3, n: DVec3, emitter: &[DVec3], emitter_normal: DVec
 /// shot's closed zone, or the whole mesh): the unoccluded field is read
 /// once at each (at its receiver position) and once per element, at its
 /// centre, so a shot in one room of a building costs that room alone.
+/// `at_vertices` is a buffer kept from shot to shot, indexed by vertex: the
+/// factors are written at `vertices` only, and read there.
 pub(crate) fn emitter_shot_powers(
     scene: &Scene,
     mesh: &Mesh,
     (emitter, emitter_normal): (&[DVec3], DVec3),
     incident: &[Rgb],
     (vertices, elements): (&[u32], &[u32]),
+    at_vertices: &mut Vec<f64>,
 ) -> Vec<Rgb> {
     let normal = |surface| scene.surface(surface).normal();
     // The unoccluded factor at every vertex, shadowed or not.
@@ -83,7 +86,7 @@ pub(crate) fn emitter_shot_powers(
             unoccluded_factor(vertex.receiver_position, n, emitter, emitter_normal)
         })
         .collect();
-    let mut at_vertices = vec![0.0; mesh.vertices.len()];
+    at_vertices.resize(mesh.vertices.len(), 0.0);
     for (&v, factor) in vertices.iter().zip(factors) {
         at_vertices[v as usize] = factor;
     }

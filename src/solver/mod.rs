@@ -20,6 +20,7 @@ mod shaft_culling;
 mod shooter;
 mod solution;
 mod unshot;
+mod unshot_by_zone;
 mod visibility_memory;
 mod zones;
 

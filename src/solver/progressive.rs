@@ -14,10 +14,11 @@ use super::patch_reception::{PatchReception, ReceptionPlan};
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
-use super::shaft_culling::ReceivingBoxes;
+use super::shaft_culling::{ClearVertices, ReceivingBoxes};
 use super::shooter::{Gathered, Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity};
 use super::solution::Solution;
 use super::unshot::UnshotCorners;
+use super::unshot_by_zone::UnshotByZone;
 use super::visibility_memory::{Recall, VisibilityMemory};
 use super::zones::{ZoneLabels, ZoneMembers, Zones};
 use crate::mesh::{Cell, ElementHierarchy, Mesh};
@@ -74,9 +75,11 @@ pub struct Solver {
     /// Unshot radiosity at every element's corners: where on each patch the
     /// unshot light lies.
     unshot_corners: UnshotCorners,
-    /// Each patch's area, side by side: the next shooter and the unshot
-    /// power are found by scanning ΔB_p A_p over every patch at every shot.
+    /// Each patch's area, side by side: ΔB_p A_p is the unshot power.
     patch_areas: Vec<f64>,
+    /// The unshot power ΔB_p A_p zone by zone: the strongest patch of
+    /// each and their totals, counted again where a shot changed them.
+    unshot_by_zone: UnshotByZone,
     /// Each surface's reflectance, side by side: every shot reads it at
     /// every vertex and element it reaches.
     surface_reflectance: Vec<Rgb>,
@@ -85,6 +88,9 @@ pub struct Solver {
     incident: Vec<Rgb>,
     /// A shot's power per receiving element, kept between shots.
     element_powers: Vec<Rgb>,
+    /// An emitter's unoccluded factor at each vertex of its shot's zone,
+    /// kept from shot to shot (`element_power.rs`).
+    emitter_factors: Vec<f64>,
     emitted_power: Rgb,
     shot_power: Rgb,
     received_power: Rgb,
@@ -122,7 +128,7 @@ pub struct Solver {
     receiving_boxes: ReceivingBoxes,
     /// Per vertex: whether it sees all of the current shooter (kept between
     /// shots so as not to allocate).
-    clear_receivers: Vec<bool>,
+    clear_receivers: ClearVertices,
     /// Shafts tested and found clear, over all shots.
     shafts: (u64, u64),
     /// Visibility samples taken without rays: their receivers were known to
@@ -210,7 +216,7 @@ impl Solver {
             .fold(0.0, f64::max);
         let unshot_len = unshot.len();
         let unshot_corners = UnshotCorners::new(&mesh, &unshot);
-        let patch_areas = mesh.patches.iter().map(|p| p.area).collect();
+        let patch_areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
         let surface_reflectance = scene
             .surfaces
             .iter()
@@ -240,6 +246,13 @@ impl Solver {
         let zones = zones
             .filter(|zones| settings.cull_closed_zones && zones.count() > 1)
             .map(|zones| (zones, ZoneMembers::default()));
+        let unshot_by_zone = match &zones {
+            Some((zones, _)) => {
+                let zone_of = mesh.patches.iter().map(|p| zones.of(p.surface));
+                UnshotByZone::new(zone_of, zones.count(), (&unshot, &patch_areas))
+            }
+            None => UnshotByZone::new(mesh.patches.iter().map(|_| 0), 1, (&unshot, &patch_areas)),
+        };
         Solver {
             scene,
             mesh,
@@ -253,9 +266,11 @@ impl Solver {
             unshot,
             unshot_corners,
             patch_areas,
+            unshot_by_zone,
             surface_reflectance,
             incident: Vec::new(),
             element_powers: Vec::new(),
+            emitter_factors: Vec::new(),
             emitted_power,
             shot_power: Rgb::ZERO,
             received_power: Rgb::ZERO,
@@ -272,7 +287,7 @@ impl Solver {
             receptions: (0, 0),
             reception_plan_buffer: ReceptionPlan::default(),
             receiving_boxes: ReceivingBoxes::default(),
-            clear_receivers: Vec::new(),
+            clear_receivers: ClearVertices::default(),
             shafts: (0, 0),
             known_visible: 0,
             visibility_memory: VisibilityMemory::default(),
@@ -293,7 +308,10 @@ impl Solver {
 
     /// Shoots the next photometric luminaire not yet shot, else the
     /// emitting patch with the most emission not yet shot, else the patch
-    /// with the most unshot power. Returns false when nothing has any.
+    /// with the most unshot power (in a building of closed rooms, the last
+    /// shot's room's strongest while it holds the share
+    /// [`SolverSettings::zone_affinity`] of that: see `unshot_by_zone.rs`).
+    /// Returns false when nothing has any.
     ///
     /// Emission goes first because it is direct light: shot, it draws sharp
     /// shadows at every vertex; left unshot when the solve stops, only the
@@ -316,9 +334,9 @@ impl Solver {
                 self.emission_pending.swap_remove(k);
                 Some((j as usize, power(j as usize)))
             }
-            None => (0..self.unshot.len())
-                .map(|p| (p, power(p)))
-                .max_by(|a, b| a.1.total_cmp(&b.1)),
+            None => self
+                .unshot_by_zone
+                .next_shooter(self.settings.zone_affinity),
         };
         let Some((j, power)) = chosen else {
             return false;
@@ -353,6 +371,7 @@ impl Solver {
             (patch.cell, self.scene.surface(patch.surface).normal())
         });
         self.receive(&incident, zone, emitter, lands_whole);
+        self.recount_unshot(zone);
         // Cleared where it was written, for the next shot.
         match zone.zip(self.zones.as_ref()) {
             Some((zone, (_, members))) => {
@@ -382,6 +401,7 @@ impl Solver {
         let samples = self.scene.luminaires[k].opening_samples().len();
         self.rays += (incident.len() * samples) as u64;
         self.receive(&incident, None, None, None);
+        self.recount_unshot(None);
         self.shot_power += self.scene.luminaires[k].power();
         self.luminaire_shot[k] = true;
         self.shots += 1;
@@ -454,8 +474,7 @@ impl Solver {
             self.shafts.0 += tested as u64;
             self.shafts.1 += cleared as u64;
         } else {
-            clear.clear();
-            clear.resize(mesh.vertices.len(), false);
+            clear.reset(mesh.vertices.len());
         }
         let (density, shot, kernel) = (
             self.settings.sample_density,
@@ -494,7 +513,7 @@ impl Solver {
                 normal: scene.surface(vertex.surface).normal(),
                 surface: vertex.surface,
                 key: index as u64,
-                clear: clear[index] || recalled == Recall::Visible,
+                clear: clear.is_clear(index) || recalled == Recall::Visible,
             };
             shooter.gather(&receiver, density, shot, kernel, (visibility, cache))
         };
@@ -710,8 +729,15 @@ impl Solver {
             Some((cell, normal)) => {
                 let emitter = (cell.polygon(), normal);
                 let zone = (vertices, elements);
-                powers =
-                    element_power::emitter_shot_powers(&self.scene, mesh, emitter, incident, zone);
+                let factors = &mut self.emitter_factors;
+                powers = element_power::emitter_shot_powers(
+                    &self.scene,
+                    mesh,
+                    emitter,
+                    incident,
+                    zone,
+                    factors,
+                );
             }
             None => {
                 let power = |&e: &u32| {
@@ -750,6 +776,16 @@ impl Solver {
         }
     }
 
+    /// Counts the unshot power of closed zone `zone`'s patches again after
+    /// a shot changed them, or of every patch.
+    fn recount_unshot(&mut self, zone: Option<usize>) {
+        let counts = (&self.unshot[..], &self.patch_areas[..]);
+        match zone {
+            Some(zone) => self.unshot_by_zone.shot_in(zone, counts),
+            None => self.unshot_by_zone.recount_all(counts),
+        }
+    }
+
     fn reflectance(&self, vertex: usize) -> Rgb {
         self.surface_reflectance[self.mesh.vertices[vertex].surface.index()]
     }
@@ -782,12 +818,7 @@ impl Solver {
             .filter(|(_, shot)| !**shot)
             .map(|(l, _)| l.power())
             .sum();
-        self.patch_areas
-            .iter()
-            .zip(&self.unshot)
-            .map(|(area, b)| *b * *area)
-            .sum::<Rgb>()
-            + luminaires
+        self.unshot_by_zone.total() + luminaires
     }
 
     /// Radiosity per vertex (W/m²) from the light shot so far.
@@ -1054,6 +1085,7 @@ impl Solver {
                     self.absorbed_power += (Rgb::ONE - reflectance) * change;
                 }
             }
+            self.recount_unshot(None);
         }
         self.refiner = Some(refiner);
         // The mesh changed: its members are listed by zone again, and its

@@ -51,6 +51,45 @@ const MIN_RAYS: usize = 64;
 /// samples per vertex.
 const ELEMENT_RAYS: usize = 64;
 
+/// Which vertices of the mesh see all of one shot's shooter: a flag per
+/// vertex, of which only those set are unset before the next shot, so that
+/// a shot in one room of a building touches that room's vertices alone.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ClearVertices {
+    flags: Vec<bool>,
+    /// The vertices whose flags are set.
+    set: Vec<u32>,
+}
+
+impl ClearVertices {
+    /// Unsets every flag, for a mesh of `vertices` vertices.
+    pub(crate) fn reset(&mut self, vertices: usize) {
+        for &v in &self.set {
+            if let Some(flag) = self.flags.get_mut(v as usize) {
+                *flag = false;
+            }
+        }
+        self.set.clear();
+        self.flags.resize(vertices, false);
+    }
+
+    /// Marks vertex `v` clear (a vertex beyond the mesh is ignored).
+    fn mark(&mut self, v: u32) {
+        if let Some(flag) = self.flags.get_mut(v as usize)
+            && !*flag
+        {
+            *flag = true;
+            self.set.push(v);
+        }
+    }
+
+    /// Whether vertex `v` sees all of the shooter.
+    #[must_use]
+    pub(crate) fn is_clear(&self, v: usize) -> bool {
+        self.flags.get(v).copied().unwrap_or(false)
+    }
+}
+
 /// The box of each patch's receiving points, kept while the mesh keeps its
 /// vertices and elements.
 #[derive(Clone, Debug, Default)]
@@ -106,10 +145,9 @@ impl ReceivingBoxes {
         (scene, mesh, visibility): (&Scene, &Mesh, &Visibility),
         (shooter, density, leave_rim): (&Shooter, f64, bool),
         patches: Option<&[u32]>,
-        clear: &mut Vec<bool>,
+        clear: &mut ClearVertices,
     ) -> (usize, usize) {
-        clear.clear();
-        clear.resize(mesh.vertices.len(), false);
+        clear.reset(mesh.vertices.len());
         let offset = visibility.surface_offset();
         let lift = |(min, max): (DVec3, DVec3), normal: DVec3| {
             (min + normal * offset, max + normal * offset)
@@ -203,7 +241,7 @@ impl ReceivingBoxes {
             tested += t;
             cleared += c;
             for v in vertices {
-                clear[v as usize] = true;
+                clear.mark(v);
             }
         }
         (tested, cleared)

@@ -278,6 +278,12 @@ fn toml_bad_settings_are_named_with_line_and_field() {
         &["2 is not in (0, 1)"],
     );
     expect_setting_error(
+        &format!("{obj}[solver]\nzone_affinity = 0\n"),
+        3,
+        "solver.zone_affinity",
+        &["0 is not in (0, 1]"],
+    );
+    expect_setting_error(
         &format!("{obj}[mesh]\nkind = \"adaptive\"\nrefinement.threshold = 0\n"),
         4,
         "mesh.refinement.threshold",

@@ -656,6 +656,41 @@ fn rooms_that_leak_through_seams_stay_closed() {
     assert_eq!(solver.closed_zones(), 2);
 }
 
+/// Shots that stay in the last shot's room while its strongest patch
+/// holds half the strongest power of all (the default `zone_affinity`)
+/// change only where the solve stops: every vertex's light is that of the
+/// solve that always shoots the strongest of all, within the unshot share
+/// left, and the shots are about as many.
+#[test]
+fn shots_that_stay_in_a_room_give_the_same_light() {
+    let solve = |affinity: f64| {
+        let mut settings = isorad::Settings::default();
+        settings.solver.tolerance = 0.05;
+        settings.solver.zone_affinity = affinity;
+        let mut solver = isorad::Solver::new(two_closed_rooms(), settings).unwrap();
+        solver.run();
+        (solver.radiosity().to_vec(), solver.shots())
+    };
+    let (staying, staying_shots) = solve(0.5);
+    let (strongest, strongest_shots) = solve(1.0);
+    assert_ne!(staying, strongest, "the order of the shots changed");
+    let (mut worst, mut sum) = (0.0f64, 0.0);
+    let mean = strongest.iter().map(|b| b.g).sum::<f64>() / strongest.len() as f64;
+    for (a, b) in staying.iter().zip(&strongest) {
+        let difference = (a.g - b.g).abs() / mean;
+        worst = worst.max(difference);
+        sum += difference;
+    }
+    let average = sum / staying.len() as f64;
+    println!(
+        "shots {staying_shots} against {strongest_shots}; light off by {average:.2e} on \
+         average, {worst:.2e} at worst (of the mean)"
+    );
+    assert!(average < 0.01, "{average}");
+    assert!(worst < 0.05, "{worst}");
+    assert!(staying_shots.abs_diff(strongest_shots) * 10 < strongest_shots);
+}
+
 /// A closed box (faces turned inward, so its outside is black backs)
 /// floating between a lamp and the open ground: the box is a closed zone
 /// of its own, and the ground's shadow under it is the same with the cull
