@@ -4,8 +4,10 @@ and scene TOML), for the scale benchmarks in BENCHMARKS.md.
 
 Each office is 6 m × 5 m × 2.8 m, closed (its own six walls, 0.2 m apart
 from its neighbours', so that every office is a closed zone), lit by six
-0.6 m ceiling panels (emitted radiance 10 W/(m²·sr) each). What stands in it
-depends on --furniture:
+0.6 m ceiling panels (emitted radiance 10 W/(m²·sr) each), or with
+``--lights downlights`` by six photometric downlights in their places
+(``scenes/downlights/downlight.ies``, copied beside the scene, 5 cm under
+the ceiling, aimed down). What stands in it depends on --furniture:
 
 - ``empty``: nothing (6 room faces, 6 lamps);
 - ``furnished``: four desks on legs with a monitor each, four chairs;
@@ -33,6 +35,7 @@ many offices is meshed as finely as one.
 import argparse
 import os
 import random
+import shutil
 
 ROOM_X, ROOM_Z, ROOM_Y = 6.0, 5.0, 2.8
 WALL = 0.2  # gap between neighbouring offices' walls
@@ -84,8 +87,12 @@ class Obj:
                 self.quad(material, *corners)
 
 
-def office(obj, ox, oz, furniture, rng):
-    """One closed office with its corner at (ox, 0, oz)."""
+LIGHTS = [(1.0, 1.5), (1.0, 3.5), (3.0, 1.5), (3.0, 3.5), (5.0, 1.5), (5.0, 3.5)]
+
+
+def office(obj, ox, oz, furniture, rng, panels=True):
+    """One closed office with its corner at (ox, 0, oz), with ceiling panels
+    unless ``panels`` is false."""
     X, Y, Z = ox + ROOM_X, ROOM_Y, oz + ROOM_Z
     # The room's faces, facing in.
     obj.quad("floor", (ox, 0, oz), (ox, 0, Z), (X, 0, Z), (X, 0, oz))
@@ -96,11 +103,10 @@ def office(obj, ox, oz, furniture, rng):
     obj.quad("wall", (X, 0, oz), (X, 0, Z), (X, Y, Z), (X, Y, oz))
     # Six ceiling panels, facing down, 1 cm below the ceiling.
     half, y = 0.3, Y - 0.01
-    for lx in (1.0, 3.0, 5.0):
-        for lz in (1.5, 3.5):
-            x, z = ox + lx, oz + lz
-            obj.quad("lamp", (x - half, y, z - half), (x + half, y, z - half),
-                     (x + half, y, z + half), (x - half, y, z + half))
+    for lx, lz in LIGHTS if panels else []:
+        x, z = ox + lx, oz + lz
+        obj.quad("lamp", (x - half, y, z - half), (x + half, y, z - half),
+                 (x + half, y, z + half), (x - half, y, z + half))
     if furniture == "empty":
         return
     # Four desks on legs, a monitor on each, a chair before each.
@@ -168,6 +174,8 @@ def main():
                         default="cluttered")
     parser.add_argument("-o", "--output", required=True, help="directory to write into")
     parser.add_argument("--name", default="building", help="file name stem")
+    parser.add_argument("--lights", choices=["panels", "downlights"], default="panels",
+                        help="emitting ceiling panels, or photometric downlights in their places")
     args = parser.parse_args()
     try:
         nx, nz = (int(n) for n in args.rooms.lower().split("x"))
@@ -179,7 +187,8 @@ def main():
     obj = Obj()
     for i in range(nx):
         for k in range(nz):
-            office(obj, i * (ROOM_X + WALL), k * (ROOM_Z + WALL), args.furniture, rng)
+            office(obj, i * (ROOM_X + WALL), k * (ROOM_Z + WALL), args.furniture, rng,
+                   panels=args.lights == "panels")
     os.makedirs(args.output, exist_ok=True)
     stem = os.path.join(args.output, args.name)
     with open(stem + ".obj", "w") as f:
@@ -211,6 +220,20 @@ def main():
                 "[mesh]\n"
                 "max_edge = 0.2\n"
                 "patch_max_edge = 1.0\n")
+        if args.lights == "downlights":
+            for i in range(nx):
+                for k in range(nz):
+                    ox, oz = i * (ROOM_X + WALL), k * (ROOM_Z + WALL)
+                    for lx, lz in LIGHTS:
+                        f.write("\n[[luminaire]]\n"
+                                'ies = "downlight.ies"\n'
+                                f"position = [{ox + lx:.4f}, {ROOM_Y - 0.05:.4f}, {oz + lz:.4f}]\n"
+                                "aim = [0.0, -1.0, 0.0]\n"
+                                "c0 = [1.0, 0.0, 0.0]\n")
+    if args.lights == "downlights":
+        here = os.path.dirname(os.path.abspath(__file__))
+        ies = os.path.join(here, "..", "scenes", "downlights", "downlight.ies")
+        shutil.copyfile(ies, os.path.join(args.output, "downlight.ies"))
     print(f"{stem}.obj: {nx * nz} offices, {len(obj.faces)} quads")
 
 

@@ -2,11 +2,9 @@
 //! and its image in memory. The one place where a solution meets the
 //! renderer, which itself knows only triangles.
 
-use glam::DVec3;
-
 use crate::mesh::{Element, Mesh};
 use crate::render::{Image, RenderSettings, ShadedTriangle, rasterize};
-use crate::scene::{Camera, Rgb, SurfaceId};
+use crate::scene::{Camera, Rgb};
 use crate::solver::Solution;
 
 impl Solution<'_> {
@@ -40,30 +38,10 @@ impl Solution<'_> {
         }
     }
 
-    /// The closed zone `camera` stands in: the zone that keeps all its
-    /// light (`ZoneLabels::is_lossless`) on whose surfaces' fronts every one
-    /// of [`CAMERA_RAYS`] rays from the camera, spread over the sphere,
-    /// lands. None where any ray leaves the scene, lands on a back, or on
-    /// another zone.
+    /// The closed zone `camera` stands in ([`ZoneLabels::enclosing`]).
     fn camera_zone(&self, camera: &Camera) -> Option<usize> {
-        let zones = self.zones?;
-        let reach = 2.0 * self.visibility.diagonal();
-        let mut zone = None;
-        for k in 0..CAMERA_RAYS {
-            let direction = sphere_direction(k, CAMERA_RAYS);
-            let (surface, _) =
-                self.visibility
-                    .closest_hit(camera.position, direction, reach, SurfaceId::NONE)?;
-            if self.scene.surface(surface).normal().dot(direction) >= 0.0 {
-                return None;
-            }
-            let hit = zones.of(surface);
-            if !zones.is_lossless(hit) || zone.is_some_and(|z| z != hit) {
-                return None;
-            }
-            zone = Some(hit);
-        }
-        zone
+        self.zones?
+            .enclosing(self.scene, self.visibility, camera.position)
     }
 
     /// [`Solution::triangles`] less those `camera` cannot see because it
@@ -104,18 +82,6 @@ impl Solution<'_> {
     pub fn render(&self, camera: &Camera, settings: &RenderSettings) -> Image {
         rasterize(&self.triangles_seen_from(camera), camera, settings)
     }
-}
-
-/// Rays a camera casts to find the closed zone it stands in.
-const CAMERA_RAYS: usize = 64;
-
-/// Direction `k` of `count` spread evenly over the unit sphere (a
-/// Fibonacci spiral).
-fn sphere_direction(k: usize, count: usize) -> DVec3 {
-    let z = 1.0 - (2.0 * k as f64 + 1.0) / count as f64;
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = k as f64 * std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    DVec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
 /// The triangles of a mesh with per-vertex radiance L = B/π, from the

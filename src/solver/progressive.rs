@@ -102,6 +102,9 @@ pub struct Solver {
     ambient_rays: Mutex<AmbientRays>,
     /// Whether each of the scene's photometric luminaires has shot.
     luminaire_shot: Vec<bool>,
+    /// The closed zone each photometric luminaire stands in, whose
+    /// vertices alone its light can reach (None: it is not culled).
+    luminaire_zones: Vec<Option<usize>>,
     /// The emitting patches whose emission has not been shot yet: they
     /// shoot before any patch that only reflects, and a solve has not
     /// converged while one is left.
@@ -246,6 +249,19 @@ impl Solver {
         let zones = zones
             .filter(|zones| settings.cull_closed_zones && zones.count() > 1)
             .map(|zones| (zones, ZoneMembers::default()));
+        // A luminaire inside a closed room lights that room alone. Its
+        // photometric centre may lie on the ceiling (a recessed fitting):
+        // the zone is found a little way along its aim.
+        let luminaire_zones = scene
+            .luminaires
+            .iter()
+            .map(|luminaire| {
+                let (zones, _) = zones.as_ref()?;
+                let inside =
+                    luminaire.position + luminaire.aim * (16.0 * visibility.surface_offset());
+                zones.labels().enclosing(&scene, &visibility, inside)
+            })
+            .collect();
         let unshot_by_zone = match &zones {
             Some((zones, _)) => {
                 let zone_of = mesh.patches.iter().map(|p| zones.of(p.surface));
@@ -277,6 +293,7 @@ impl Solver {
             absorbed_power: Rgb::ZERO,
             ambient_rays: Mutex::new(AmbientRays::default()),
             luminaire_shot,
+            luminaire_zones,
             emission_pending,
             reference_power,
             shots: 0,
@@ -395,13 +412,25 @@ impl Solver {
 
     /// Shoots photometric luminaire `k`: every vertex receives
     /// E = I(ω) cos θ / r² from its photometric centre, with one shadow ray.
+    /// Inside a closed zone, only the zone's vertices receive it.
     fn shoot_luminaire(&mut self, k: usize) {
-        let incident =
-            self.luminaire_light(k, &(0..self.mesh.vertices.len() as u32).collect::<Vec<_>>());
+        let zone = self.luminaire_zones[k];
+        let vertices: Vec<u32> = match zone.zip(self.zones.as_mut()) {
+            Some((zone, (zones, members))) => {
+                members.refresh(zones, &self.mesh);
+                members.vertices[zone].clone()
+            }
+            None => (0..self.mesh.vertices.len() as u32).collect(),
+        };
+        let light = self.luminaire_light(k, &vertices);
+        let mut incident = vec![Rgb::ZERO; self.mesh.vertices.len()];
+        for (&v, light) in vertices.iter().zip(light) {
+            incident[v as usize] = light;
+        }
         let samples = self.scene.luminaires[k].opening_samples().len();
-        self.rays += (incident.len() * samples) as u64;
-        self.receive(&incident, None, None, None);
-        self.recount_unshot(None);
+        self.rays += (vertices.len() * samples) as u64;
+        self.receive(&incident, zone, None, None);
+        self.recount_unshot(zone);
         self.shot_power += self.scene.luminaires[k].power();
         self.luminaire_shot[k] = true;
         self.shots += 1;
@@ -409,14 +438,22 @@ impl Solver {
     }
 
     /// The irradiance photometric luminaire `k` gives each of `vertices`,
-    /// in parallel.
+    /// in parallel: none, without rays, outside its closed zone, whose BVH
+    /// the rays traverse.
     fn luminaire_light(&self, k: usize, vertices: &[u32]) -> Vec<Rgb> {
-        let (scene, mesh, visibility) = (&self.scene, &self.mesh, &self.visibility);
+        let (scene, mesh) = (&self.scene, &self.mesh);
+        let zone = self.luminaire_zones[k].zip(self.zones.as_ref().map(|(zones, _)| zones));
+        let visibility = zone
+            .and_then(|(zone, zones)| zones.visibility(zone))
+            .unwrap_or(&self.visibility);
         let luminaire = &scene.luminaires[k];
         vertices
             .par_iter()
             .map(|&v| {
                 let vertex = &mesh.vertices[v as usize];
+                if zone.is_some_and(|(zone, zones)| zones.of(vertex.surface) != zone) {
+                    return Rgb::ZERO;
+                }
                 let normal = scene.surface(vertex.surface).normal();
                 luminaire.irradiance_at(
                     vertex.receiver_position,

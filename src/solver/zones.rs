@@ -318,6 +318,43 @@ impl ZoneLabels {
     pub fn of(&self, surface: SurfaceId) -> usize {
         self.zone.get(surface.index()).map_or(0, |&z| z as usize)
     }
+
+    /// The closed zone a point of space stands in (a camera, a
+    /// luminaire): the zone that keeps all its light
+    /// ([`ZoneLabels::is_lossless`]) on whose surfaces' fronts every one of
+    /// [`ENCLOSURE_RAYS`] rays from `point`, spread over the sphere,
+    /// lands. None where any ray leaves the scene, lands on a back, or on
+    /// another zone.
+    #[must_use]
+    pub fn enclosing(&self, scene: &Scene, visibility: &Visibility, point: DVec3) -> Option<usize> {
+        let reach = 2.0 * visibility.diagonal();
+        let mut zone = None;
+        for k in 0..ENCLOSURE_RAYS {
+            let direction = sphere_direction(k, ENCLOSURE_RAYS);
+            let (surface, _) = visibility.closest_hit(point, direction, reach, SurfaceId::NONE)?;
+            if scene.surface(surface).normal().dot(direction) >= 0.0 {
+                return None;
+            }
+            let hit = self.of(surface);
+            if !self.is_lossless(hit) || zone.is_some_and(|z| z != hit) {
+                return None;
+            }
+            zone = Some(hit);
+        }
+        zone
+    }
+}
+
+/// Rays a point casts to find the closed zone it stands in.
+const ENCLOSURE_RAYS: usize = 64;
+
+/// Direction `k` of `count` spread evenly over the unit sphere (a
+/// Fibonacci spiral).
+fn sphere_direction(k: usize, count: usize) -> DVec3 {
+    let z = 1.0 - (2.0 * k as f64 + 1.0) / count as f64;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = k as f64 * std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    DVec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
 /// The vertices, elements and patches of a mesh, zone by zone, so that a
