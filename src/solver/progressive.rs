@@ -1181,6 +1181,7 @@ impl Solver {
             })
             .collect();
         let (scene, mesh, visibility) = (&self.scene, &self.mesh, &self.visibility);
+        let zones = self.zones.as_ref().map(|(zones, _)| zones);
         let (density, kernel, shot) = (
             self.settings.sample_density,
             self.settings.kernel,
@@ -1188,6 +1189,10 @@ impl Solver {
         );
         let gathered: Vec<(Rgb, u64)> = in_shadow_cache_runs(vertices, |&v, cache| {
             let vertex = &mesh.vertices[v as usize];
+            // Only the vertex's own closed zone's shooters reach it.
+            let elsewhere = |shooter: &Shooter| {
+                zones.is_some_and(|zones| zones.of(shooter.surface) != zones.of(vertex.surface))
+            };
             let receiver = Receiver {
                 position: vertex.receiver_position,
                 normal: scene.surface(vertex.surface).normal(),
@@ -1198,7 +1203,7 @@ impl Solver {
             let mut irradiance = Rgb::ZERO;
             let mut rays = 0;
             for shooter in &shooters {
-                if shooter.surface == vertex.surface {
+                if shooter.surface == vertex.surface || elsewhere(shooter) {
                     continue;
                 }
                 let g = shooter.gather(&receiver, density, shot, kernel, (visibility, &mut *cache));

@@ -656,6 +656,23 @@ fn rooms_that_leak_through_seams_stay_closed() {
     assert_eq!(solver.closed_zones(), 2);
 }
 
+/// With adaptive meshing, the vertices that refinement adds gather the
+/// light of the patches shot so far in their own closed room only: the
+/// same radiosity as without the cull, bit for bit, with fewer rays.
+#[test]
+fn refined_vertices_gather_their_own_rooms_shots() {
+    let mut settings = isorad::Settings::default();
+    settings.solver.tolerance = 0.2;
+    settings.mesh.kind = isorad::MeshKind::Adaptive;
+    let culled = solve_with_cull(two_closed_rooms(), settings.clone(), true);
+    let all = solve_with_cull(two_closed_rooms(), settings, false);
+    println!("adaptive: {} rays against {}", culled.rays, all.rays);
+    assert_eq!(culled.radiosity, all.radiosity, "the same radiosity");
+    // 0.61 of the rays; 0.68 when refined vertices gathered every room's
+    // shots.
+    assert!(culled.rays * 100 < all.rays * 65);
+}
+
 /// Shots that stay in the last shot's room while its strongest patch
 /// holds half the strongest power of all (the default `zone_affinity`)
 /// change only where the solve stops: every vertex's light is that of the
