@@ -109,8 +109,9 @@ const _: () = assert!(SAMPLED_PER_SIDE * SAMPLED_PER_SIDE < NO_CELL as usize);
 
 impl AmbientRays {
     /// Casts the rays not cast yet: every patch's once, and those of
-    /// vertices added since the last call. A ray from surface `s` traverses `visibility_of(s)`: the BVH of its
-    /// closed zone's bounds, or the scene's.
+    /// vertices added since the last call. A ray from surface `s` traverses
+    /// `visibility_of(s)`: the BVH of its closed zone's bounds, or the
+    /// scene's.
     pub(crate) fn cast_missing<'v>(
         &mut self,
         scene: &Scene,
