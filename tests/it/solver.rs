@@ -454,14 +454,9 @@ fn a_view_from_inside_a_closed_room_draws_that_room_alone() {
 /// floors' backs and which receive nothing either way.
 #[test]
 fn closed_rooms_exchange_no_rays() {
-    let mut settings = isorad::Settings::default();
-    settings.solver.tolerance = 0.05;
-    let culled = solve_with_cull(two_closed_rooms(), settings.clone(), true);
-    let all = solve_with_cull(two_closed_rooms(), settings, false);
-    let (zones, culled_rays, all_rays) = (culled.zones, culled.rays, all.rays);
-    println!("two rooms: {zones} zones, {culled_rays} rays culled against {all_rays}");
-    assert_eq!((zones, all.zones), (3, 1));
-    assert_eq!(culled.radiosity, all.radiosity, "the same radiosity");
+    let (culled, all) = assert_cull_keeps_the_light(two_closed_rooms(), 3);
+    let (culled_rays, all_rays) = (culled.rays, all.rays);
+    println!("two rooms: {culled_rays} rays culled against {all_rays}");
     assert!(
         (culled_rays as f64) < 0.8 * all_rays as f64,
         "{culled_rays} rays against {all_rays}"
@@ -604,12 +599,7 @@ fn a_wall_seen_from_behind_joins_no_rooms() {
             DVec3::new(x, 0.0, 2.0),
         );
     }
-    let mut settings = isorad::Settings::default();
-    settings.solver.tolerance = 0.05;
-    let culled = solve_with_cull(b.scene.clone(), settings.clone(), true);
-    let all = solve_with_cull(b.scene, settings, false);
-    assert_eq!((culled.zones, all.zones), (2, 1));
-    assert_eq!(culled.radiosity, all.radiosity, "the same radiosity");
+    assert_cull_keeps_the_light(b.scene, 2);
 }
 
 /// Rooms whose walls are tiles with hairline gaps (0.5 mm) between them
@@ -725,12 +715,7 @@ fn a_closed_box_in_the_open_still_casts_its_shadow() {
         let quad = quad.into_iter().map(|p| p + DVec3::new(-0.3, -0.3, 0.6));
         b.polygon("box", grey, quad.collect());
     }
-    let mut settings = isorad::Settings::default();
-    settings.solver.tolerance = 0.05;
-    let culled = solve_with_cull(b.scene.clone(), settings.clone(), true);
-    let all = solve_with_cull(b.scene, settings, false);
-    assert_eq!((culled.zones, all.zones), (2, 1));
-    assert_eq!(culled.radiosity, all.radiosity, "the same radiosity");
+    assert_cull_keeps_the_light(b.scene, 2);
 }
 
 /// A BVH over some of a scene's surfaces answers as the whole scene's does

@@ -220,6 +220,19 @@ pub fn solve_with_cull(scene: Scene, mut settings: isorad::Settings, cull: bool)
     }
 }
 
+/// Solves `scene` to 5 % with and without the closed-zone cull, and checks
+/// that the cull found `zones` zones and left the radiosity the same, bit
+/// for bit. Returns the culled solve and the other.
+pub fn assert_cull_keeps_the_light(scene: Scene, zones: usize) -> (ZonedSolve, ZonedSolve) {
+    let mut settings = isorad::Settings::default();
+    settings.solver.tolerance = 0.05;
+    let culled = solve_with_cull(scene.clone(), settings.clone(), true);
+    let all = solve_with_cull(scene, settings, false);
+    assert_eq!((culled.zones, all.zones), (zones, 1));
+    assert_eq!(culled.radiosity, all.radiosity, "the same radiosity");
+    (culled, all)
+}
+
 /// What a gather probe reads at `position` on a surface (facing `normal`
 /// when given).
 pub fn gather_at(
