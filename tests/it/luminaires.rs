@@ -396,7 +396,8 @@ fn a_floor_under_one_photometric_luminaire_gets_the_contour_mesher() {
 /// Two closed rooms, each under its own downlight: each luminaire's shot
 /// reaches its own room's vertices alone, and so do the patches' shots
 /// after them: the same radiosity as without the cull, with fewer rays
-/// (the first shot, a luminaire's, casts about half as many), and both
+/// (the first shot, a luminaire's, casts about half as many, also when
+/// the fittings are recessed, their centres on the ceilings), and both
 /// zones still known at the end.
 #[test]
 fn closed_rooms_lit_by_luminaires_keep_their_zones() {
@@ -436,13 +437,23 @@ fn closed_rooms_lit_by_luminaires_keep_their_zones() {
         room(5.0),
         faces(8)
     );
-    let lamp = |x: f64| LUMINAIRE.replace("[0.0, 2.5, 0.0]", &format!("[{x:.1}, 2.9, 0.0]"));
-    let luminaires = format!("{}\n\n[[luminaire]]\n{}", lamp(0.0), lamp(5.0));
-    let dir = scene_folder(&obj, &luminaires);
-    let solve = |cull: bool| {
+    // Lamps 10 cm under the ceilings, and recessed: centres on them.
+    let folder = |y: f64| {
+        let lamp = |x: f64| LUMINAIRE.replace("[0.0, 2.5, 0.0]", &format!("[{x:.1}, {y:.1}, 0.0]"));
+        scene_folder(
+            &obj,
+            &format!("{}\n\n[[luminaire]]\n{}", lamp(0.0), lamp(5.0)),
+        )
+    };
+    let (hanging, recessed) = (folder(2.9), folder(3.0));
+    let load = |dir: &tempfile::TempDir| {
         let loaded = load_scene(dir.path().join("scene.toml").to_str().unwrap()).unwrap();
         let settings = Settings::from_scene_options(&loaded.options).unwrap();
-        solve_with_cull(loaded.scene, settings, cull)
+        (loaded.scene, settings)
+    };
+    let solve = |cull: bool| {
+        let (scene, settings) = load(&hanging);
+        solve_with_cull(scene, settings, cull)
     };
     let (culled, all) = (solve(true), solve(false));
     let (zones, culled_rays, all_rays) = (culled.zones, culled.rays, all.rays);
@@ -450,15 +461,17 @@ fn closed_rooms_lit_by_luminaires_keep_their_zones() {
     assert_eq!(zones, 2);
     assert_eq!(culled.radiosity, all.radiosity, "the same radiosity");
     assert!(culled_rays < all_rays);
-    let first_shot = |cull: bool| {
-        let loaded = load_scene(dir.path().join("scene.toml").to_str().unwrap()).unwrap();
-        let mut settings = Settings::from_scene_options(&loaded.options).unwrap();
-        settings.solver.cull_closed_zones = cull;
-        let mut solver = isorad::Solver::new(loaded.scene, settings).unwrap();
-        assert!(solver.step(), "the first luminaire shoots");
-        solver.rays()
-    };
-    let (culled, all) = (first_shot(true), first_shot(false));
-    println!("a luminaire's shot: {culled} rays against {all}");
-    assert!(culled * 10 < all * 6, "{culled} rays against {all}");
+    for dir in [&hanging, &recessed] {
+        let first_shot = |cull: bool| {
+            let (scene, mut settings) = load(dir);
+            settings.solver.cull_closed_zones = cull;
+            let mut solver = isorad::Solver::new(scene, settings).unwrap();
+            assert!(solver.step(), "the first luminaire shoots");
+            (solver.rays(), solver.radiosity().to_vec())
+        };
+        let ((culled, culled_light), (all, all_light)) = (first_shot(true), first_shot(false));
+        println!("a luminaire's shot: {culled} rays against {all}");
+        assert!(culled * 10 < all * 6, "{culled} rays against {all}");
+        assert_eq!(culled_light, all_light);
+    }
 }
