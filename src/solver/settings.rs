@@ -58,7 +58,8 @@ pub struct SolverSettings {
     /// Samples per shooting patch for the most powerful shooters (the
     /// emitters' first shots): they draw the shadows, whose penumbrae need
     /// many visibility samples. A shooter carrying a fraction f of that power
-    /// gets about `direct_samples · f` samples, and never fewer than one.
+    /// gets about `direct_samples · f^0.75` samples, and never fewer than
+    /// one (see `solver/progressive.rs`, `SHARE_EXPONENT`).
     pub direct_samples: usize,
     /// Upper bound on samples per shooting patch and receiver vertex.
     pub max_samples: usize,
