@@ -48,10 +48,14 @@ pub enum ShootFrom {
 #[non_exhaustive]
 pub struct SolverSettings {
     /// Stop when the unshot power falls below this fraction of the emitted
-    /// power (5 %), and every emitter has shot its own light: what is left
+    /// power (10 %), and every emitter has shot its own light: what is left
     /// is reflected light, which the ambient term gathers for images and
-    /// probes. 1 % takes about twice the time for a tenth of a point of
-    /// per-pixel error against a path tracer (BENCHMARKS.md, (e)).
+    /// probes. Against Mitsuba's references (2026-12-05, the golden tests'
+    /// metric), 5 % took 25–40 % more time for 0–0.12 points less
+    /// per-pixel error: the cluttered office 2.91 % against 3.03 %, the
+    /// furnished 1.46 % against 1.45 %, the Cornell box 1.94 % against
+    /// 2.04 %; a path tracer's time to the error goes as its inverse
+    /// square, so 10 % is the faster at equal error in every scene.
     pub tolerance: f64,
     /// Stop after this many shots whatever the unshot power.
     pub max_shots: usize,
@@ -129,7 +133,7 @@ pub struct SolverSettings {
 impl Default for SolverSettings {
     fn default() -> Self {
         SolverSettings {
-            tolerance: 0.05,
+            tolerance: 0.1,
             max_shots: 1_000_000,
             direct_samples: 64,
             max_samples: 256,
@@ -147,11 +151,11 @@ impl Default for SolverSettings {
 }
 
 impl SolverSettings {
-    /// Quick, noisier images: 10 % tolerance, fewer shadow samples.
+    /// Quick, noisier images: 30 % tolerance, fewer shadow samples.
     #[must_use]
     pub fn preview() -> Self {
         SolverSettings {
-            tolerance: 0.1,
+            tolerance: 0.3,
             direct_samples: 16,
             max_samples: 64,
             ..Self::default()
@@ -234,7 +238,7 @@ pub struct Settings {
 }
 
 impl Settings {
-    /// Quick, noisier images: coarser elements, 10 % tolerance, fewer
+    /// Quick, noisier images: coarser elements, 30 % tolerance, fewer
     /// shadow samples.
     #[must_use]
     pub fn preview() -> Self {
