@@ -31,7 +31,7 @@ pub struct SolveArgs {
 /// [`Settings`].
 #[derive(Args)]
 pub struct Overrides {
-    /// Stop when unshot power < TOLERANCE × emitted power [default: 0.1].
+    /// Stop when unshot power < TOLERANCE × emitted power [default: 0.05].
     #[arg(long)]
     tolerance: Option<f64>,
     /// Form-factor kernel: mixed (default), wallace or exact.
