@@ -19,7 +19,7 @@
 //! `zone_affinity`, 0.5) of the strongest power of all: shots stay in one
 //! room for a while, and its vertices, elements and BVH stay in the
 //! processor's caches. Chosen from all zones at every shot, the floor of 16
-//! offices cast its rays at 0.88 of one office's rate (5.0 M/s against
+//! offices cast its rays at 0.88–0.89 of one office's rate (5.0 M/s against
 //! 5.7 M/s); staying, at 0.96 of it. Within a zone the choice is the one a
 //! scan of its patches makes: the greatest power, and of equals the
 //! highest index.
