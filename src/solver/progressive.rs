@@ -407,15 +407,7 @@ impl Solver {
         });
         self.receive(&incident, zone, emitter, lands_whole);
         self.recount_unshot(zone);
-        // Cleared where it was written, for the next shot.
-        match zone.zip(self.zones.as_ref()) {
-            Some((zone, (_, members))) => {
-                for &v in &members.vertices[zone] {
-                    incident[v as usize] = Rgb::ZERO;
-                }
-            }
-            None => incident.fill(Rgb::ZERO),
-        }
+        self.clear_incident(&mut incident, zone);
         self.incident = incident;
         self.shot_power += shot_power;
         self.shot[j] += delta;
@@ -441,7 +433,8 @@ impl Solver {
             None => (0..self.mesh.vertices.len() as u32).collect(),
         };
         let light = self.luminaire_light(k, &vertices);
-        let mut incident = vec![Rgb::ZERO; self.mesh.vertices.len()];
+        let mut incident = std::mem::take(&mut self.incident);
+        incident.resize(self.mesh.vertices.len(), Rgb::ZERO);
         for (&v, light) in vertices.iter().zip(light) {
             incident[v as usize] = light;
         }
@@ -449,6 +442,8 @@ impl Solver {
         self.rays += (vertices.len() * samples) as u64;
         self.receive(&incident, zone, None, None);
         self.recount_unshot(zone);
+        self.clear_incident(&mut incident, zone);
+        self.incident = incident;
         self.shot_power += self.scene.luminaires[k].power();
         self.luminaire_shot[k] = true;
         self.shots += 1;
@@ -828,6 +823,20 @@ impl Solver {
         self.element_powers = powers;
         if let Some((_, zones)) = members {
             self.zones = Some(zones);
+        }
+    }
+
+    /// Zeroes `incident` where a shot into closed zone `zone` (or into
+    /// every vertex) wrote it, for the next shot: a shot in one room of a
+    /// building touches that room's vertices alone.
+    fn clear_incident(&self, incident: &mut [Rgb], zone: Option<usize>) {
+        match zone.zip(self.zones.as_ref()) {
+            Some((zone, (_, members))) => {
+                for &v in &members.vertices[zone] {
+                    incident[v as usize] = Rgb::ZERO;
+                }
+            }
+            None => incident.fill(Rgb::ZERO),
         }
     }
 
