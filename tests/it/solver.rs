@@ -505,15 +505,21 @@ fn shaft_culling_saves_rays_not_light() {
         (culled + unblocked).abs_diff(all) * 100_000 < all,
         "{culled} rays and {unblocked} clear samples against {all} rays"
     );
-    let differences: Vec<f64> = light
-        .iter()
-        .zip(&all_light)
-        .map(|(a, b)| (a.g - b.g).abs() / b.g.max(1e-9))
-        .collect();
+    let differences = relative_differences(&light, &all_light);
     let worst = differences.iter().copied().fold(0.0, f64::max);
     let mean = differences.iter().sum::<f64>() / differences.len() as f64;
     println!("relative differences: worst {worst:.2e}, mean {mean:.2e}");
     assert!(worst < 1e-3 && mean < 1e-6, "worst {worst}, mean {mean}");
+}
+
+/// Per vertex, |B − B_ref| / B_ref of the green channel (0 where both are
+/// dark).
+fn relative_differences(light: &[isorad::Rgb], reference: &[isorad::Rgb]) -> Vec<f64> {
+    light
+        .iter()
+        .zip(reference)
+        .map(|(a, b)| (a.g - b.g).abs() / b.g.max(1e-9))
+        .collect()
 }
 
 /// A patch that shoots again casts no rays from the vertices whose rays
@@ -543,11 +549,7 @@ fn remembered_visibility_saves_rays_not_light() {
         (rays as f64) < 0.95 * all_rays as f64,
         "{rays} rays against {all_rays}"
     );
-    let differences: Vec<f64> = light
-        .iter()
-        .zip(&all_light)
-        .map(|(a, b)| (a.g - b.g).abs() / b.g.max(1e-9))
-        .collect();
+    let differences = relative_differences(&light, &all_light);
     let mean = differences.iter().sum::<f64>() / differences.len() as f64;
     let total = |light: &[isorad::Rgb]| light.iter().map(|b| b.g).sum::<f64>();
     let ratio = total(&light) / total(&all_light);
