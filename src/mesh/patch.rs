@@ -36,6 +36,18 @@ impl Cell {
         }
     }
 
+    /// The unit normal of its plane, counter-clockwise corners facing it
+    /// (zero for a degenerate cell).
+    #[must_use]
+    pub fn normal(&self) -> DVec3 {
+        let [a, b, c, d] = self.corners;
+        if self.is_triangle {
+            (b - a).cross(c - a).normalize_or_zero()
+        } else {
+            (c - a).cross(d - b).normalize_or_zero()
+        }
+    }
+
     /// The corners as a polygon (3 or 4 points).
     #[must_use]
     pub fn polygon(&self) -> &[DVec3] {

@@ -21,17 +21,16 @@ pub(crate) struct ElementIndex {
 }
 
 impl ElementIndex {
-    /// The index of elements with bounding boxes `boxes` (min, max).
-    pub(crate) fn new(boxes: &[(DVec3, DVec3)]) -> ElementIndex {
+    /// The index of elements with bounding boxes `boxes` (min, max), on a
+    /// plane facing `normal`.
+    pub(crate) fn new(boxes: &[(DVec3, DVec3)], normal: DVec3) -> ElementIndex {
         let (min, max) = boxes.iter().fold(
             (DVec3::INFINITY, DVec3::NEG_INFINITY),
             |(lo, hi), (a, b)| (lo.min(*a), hi.max(*b)),
         );
-        let extent = (max - min).max(DVec3::ZERO).to_array();
-        // Drop the axis the patch spreads least along (its plane's normal's).
-        let thin = (0..3)
-            .min_by(|&a, &b| extent[a].total_cmp(&extent[b]))
-            .unwrap_or(2);
+        // Drop the axis the plane's normal leans most along.
+        let n = normal.abs().to_array();
+        let thin = (0..3).max_by(|&a, &b| n[a].total_cmp(&n[b])).unwrap_or(2);
         let axes = match thin {
             0 => [1, 2],
             1 => [0, 2],
@@ -128,7 +127,7 @@ mod tests {
             }
         }
         boxes.push((DVec3::new(0.0, 2.0, 2.5), DVec3::new(5.0, 2.0, 3.0)));
-        let index = ElementIndex::new(&boxes);
+        let index = ElementIndex::new(&boxes, DVec3::Y);
         for k in 0..=50 {
             for m in 0..=30 {
                 let p = DVec3::new(f64::from(k) * 0.1, 2.0, f64::from(m) * 0.1);

@@ -5,7 +5,7 @@ use std::sync::OnceLock;
 use glam::DVec3;
 
 use super::settings::FormFactorKernel;
-use super::unshot::{FieldScale, PatchField, nearest_point_of};
+use super::unshot::{FieldScale, PatchField, SampledField, nearest_point_of};
 use crate::lighting::SampleStream;
 use crate::mesh::Cell;
 use crate::radiometry::{disc_form_factor, polygon_form_factor};
@@ -41,6 +41,9 @@ pub struct Shooter {
     min_side: usize,
     /// What the patch shoots.
     radiosity: ShotRadiosity,
+    /// How a field shot's ΔB read at a point becomes W
+    /// ([`PatchField::exact_scale`]); `None` for a uniform shot.
+    exact_scale: Option<FieldScale>,
 }
 
 /// The radiosity a shooter sends from each point of itself.
@@ -64,9 +67,9 @@ struct Strata {
     /// `sub` × `sub` values over each stratum's parameter square (see
     /// `PatchField::sampled_radiosity`); empty for a uniform shot.
     sampled: Vec<Rgb>,
+    /// Whether each sampled cell's centre found an element of the patch.
+    found: Vec<bool>,
     sub: usize,
-    /// How ΔB becomes W for a field shot (`None` for a uniform one).
-    scale: Option<FieldScale>,
 }
 
 /// How finely a shooting patch's unshot radiosity is read where a sample
@@ -83,11 +86,23 @@ pub(crate) const SAMPLED_PER_SIDE: usize = 8;
 impl Strata {
     /// The radiosity stratum k shoots along a ray to its sample at
     /// parameters (u, v).
-    fn at(&self, k: usize, (u, v): (f64, f64)) -> Rgb {
+    fn at(&self, k: usize, uv: (f64, f64)) -> Rgb {
         if self.sampled.is_empty() {
             return self.radiosity[k];
         }
-        self.sampled[k * self.sub * self.sub + sampled_cell((u, v), self.sub)]
+        self.sampled[self.cell_of(k, uv)]
+    }
+
+    /// Whether the sampled cell that parameters (u, v) of stratum k fall in
+    /// read an element at its centre (always, for a uniform shot).
+    fn found_at(&self, k: usize, uv: (f64, f64)) -> bool {
+        self.found.is_empty() || self.found[self.cell_of(k, uv)]
+    }
+
+    /// The index of the sampled cell that parameters (u, v) of stratum k
+    /// fall in.
+    fn cell_of(&self, k: usize, uv: (f64, f64)) -> usize {
+        k * self.sub * self.sub + sampled_cell(uv, self.sub)
     }
 }
 
@@ -146,6 +161,10 @@ impl Shooter {
         let max_side = max_side.max(1);
         let min_side = min_side.clamp(1, max_side);
         let strata = (0..=max_side).map(|_| OnceLock::new()).collect();
+        let exact_scale = match &radiosity {
+            ShotRadiosity::Field(field) => Some(field.exact_scale()),
+            ShotRadiosity::Uniform(_) => None,
+        };
         Shooter {
             cell,
             normal,
@@ -153,6 +172,7 @@ impl Shooter {
             strata,
             min_side,
             radiosity,
+            exact_scale,
         }
     }
 
@@ -254,24 +274,24 @@ impl Shooter {
         let mut cells = Vec::with_capacity(side * side);
         self.cell.subdivide(side, &mut cells);
         let sub = SAMPLED_PER_SIDE.div_ceil(side.max(1));
-        let (radiosity, sampled, scale) = match &self.radiosity {
-            ShotRadiosity::Uniform(b) => (vec![*b; cells.len()], Vec::new(), None),
+        let (radiosity, sampled, found) = match &self.radiosity {
+            ShotRadiosity::Uniform(b) => (vec![*b; cells.len()], Vec::new(), Vec::new()),
             ShotRadiosity::Field(field) => {
-                let (sampled, scale) = field.sampled_and_scale(&cells, sub);
+                let SampledField { sampled, found } = field.sampled(&cells, sub);
                 let share = 1.0 / (sub * sub) as f64;
                 let means = sampled
                     .chunks(sub * sub)
                     .map(|values| values.iter().copied().sum::<Rgb>() * share)
                     .collect();
-                (means, sampled, Some(scale))
+                (means, sampled, found)
             }
         };
         Strata {
             cells,
             radiosity,
             sampled,
+            found,
             sub,
-            scale,
         }
     }
 
@@ -358,7 +378,8 @@ impl Shooter {
                 if seen {
                     kinds[NEAR_VISIBLE].insert(k);
                     near_visible += 1;
-                    let w = self.near_radiosity(strata, k, (target, target_uv), &mut field_hint);
+                    let w =
+                        self.radiosity_at_target(strata, k, (target, target_uv), &mut field_hint);
                     // The point kernel at the jittered sample, times the
                     // stratum's area (zero behind either plane).
                     let point_factor = {
@@ -474,33 +495,33 @@ impl Shooter {
     }
 
     /// The radiosity a near stratum k shoots at its aimed point: the value
-    /// of the sampled cell it falls in, unless that is nothing on a field
-    /// shot, when ΔB is interpolated from the element under the point and
-    /// scaled as the strata are. A cell's value is ΔB at the cell's centre,
-    /// and where an object stands on the patch a cell whose centre is under
-    /// it reads nothing, though part of it is lit: a receiver on the
-    /// object's side, just above the patch, sees mostly the patch within a
-    /// few of its heights, and lost a twelfth of its light there (the
-    /// Cornell box's tall block, 8 % dark at its foot).
-    fn near_radiosity(
+    /// of the sampled cell it falls in, unless that cell's centre found no
+    /// element on a field shot, when ΔB is interpolated from the element
+    /// under the point itself (nothing if none is). A cell's value is ΔB at
+    /// its centre, and where an object stands on the patch a cell whose
+    /// centre is under it reads nothing, though part of it is lit: a
+    /// receiver on the object's side, just above the patch, sees mostly the
+    /// patch within a few of its heights, and lost a twelfth of its light
+    /// there (the Cornell box's tall block, 8 % dark at its foot).
+    fn radiosity_at_target(
         &self,
         strata: &Strata,
         k: usize,
         (target, uv): (DVec3, (f64, f64)),
         hint: &mut usize,
     ) -> Rgb {
-        let sampled = strata.at(k, uv);
-        match (&self.radiosity, strata.scale) {
-            (ShotRadiosity::Field(field), Some(scale)) if sampled == Rgb::ZERO => {
-                scale.apply(field.unshot_at(target, hint))
-            }
-            _ => sampled,
+        match (&self.radiosity, self.exact_scale) {
+            (ShotRadiosity::Field(field), Some(scale)) if !strata.found_at(k, uv) => field
+                .unshot_at(target, hint)
+                .map_or(Rgb::ZERO, |unshot| scale.apply(unshot)),
+            _ => strata.at(k, uv),
         }
     }
 
-    /// A field shot's radiosity at the point of a stratum nearest the
+    /// A field shot's radiosity at the point of stratum k nearest the
     /// receiver at x, when x is closer to the stratum than the stratum's
-    /// size; `None` otherwise, or for a uniform shot.
+    /// size and an element lies under that point; `None` otherwise, or for
+    /// a uniform shot.
     fn spike_radiosity(
         &self,
         strata: &Strata,
@@ -508,13 +529,17 @@ impl Shooter {
         x: DVec3,
         hint: &mut usize,
     ) -> Option<Rgb> {
-        let (ShotRadiosity::Field(field), Some(scale)) = (&self.radiosity, strata.scale) else {
+        let (ShotRadiosity::Field(field), Some(scale)) = (&self.radiosity, self.exact_scale) else {
             return None;
         };
         let stratum = &strata.cells[k];
         let nearest = nearest_point_of(stratum, x);
-        ((nearest - x).length_squared() < stratum.area)
-            .then(|| scale.apply(field.unshot_at(nearest, hint)))
+        if (nearest - x).length_squared() >= stratum.area {
+            return None;
+        }
+        field
+            .unshot_at(nearest, hint)
+            .map(|unshot| scale.apply(unshot))
     }
 
     /// Whether a shadow ray from the receiver reaches `target` on this patch,
