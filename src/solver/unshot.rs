@@ -451,6 +451,63 @@ impl FieldScale {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::{Material, Scene, ShadowCache, SurfaceId, Visibility};
+    use crate::solver::settings::FormFactorKernel;
+    use crate::solver::shooter::{Receiver, Shooter};
+
+    /// A scene of grey polygons, in order (surface k is polygon k), and
+    /// its shadow-ray structure.
+    fn grey_scene(polygons: &[&[DVec3]]) -> (Scene, Visibility) {
+        let mut scene = Scene::new();
+        let grey = scene
+            .add_material(Material::diffuse("grey", Rgb::splat(0.5)))
+            .unwrap();
+        for (k, polygon) in polygons.iter().enumerate() {
+            scene.add_polygon(&format!("p{k}"), grey, polygon).unwrap();
+        }
+        let visibility = Visibility::new(&scene);
+        (scene, visibility)
+    }
+
+    /// The red irradiance one gather of a shooter gives a receiver at x
+    /// (unit `normal`, on `surface`), with jitter `key`.
+    fn gather_once(
+        shooter: &Shooter,
+        visibility: &Visibility,
+        (x, normal, surface): (DVec3, DVec3, SurfaceId),
+        key: u64,
+    ) -> f64 {
+        let receiver = Receiver {
+            position: x,
+            normal,
+            surface,
+            key,
+            clear: false,
+        };
+        shooter
+            .gather(
+                &receiver,
+                3.0,
+                7,
+                FormFactorKernel::Mixed,
+                (visibility, &mut ShadowCache::default()),
+            )
+            .irradiance
+            .r
+    }
+
+    /// [`gather_once`] averaged over `trials` jitters.
+    fn mean_gather(
+        shooter: &Shooter,
+        visibility: &Visibility,
+        at: (DVec3, DVec3, SurfaceId),
+        trials: u64,
+    ) -> f64 {
+        let total: f64 = (0..trials)
+            .map(|key| gather_once(shooter, visibility, at, key))
+            .sum();
+        total / trials as f64
+    }
 
     #[test]
     fn coordinates_invert_the_cell_map() {
@@ -499,25 +556,17 @@ mod tests {
     /// weighted ΔB evenly: 17 % too much beside the patch's dark edge.
     #[test]
     fn a_near_stratum_shoots_its_field_weighted_by_the_kernel() {
-        use crate::scene::{Material, Scene, ShadowCache, SurfaceId, Visibility};
-        use crate::solver::settings::FormFactorKernel;
-        use crate::solver::shooter::{Receiver, Shooter, ShotRadiosity};
+        use crate::solver::shooter::ShotRadiosity;
 
         let at = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
-        let mut scene = Scene::new();
-        let grey = scene
-            .add_material(Material::diffuse("grey", Rgb::splat(0.5)))
-            .unwrap();
         let floor = [
             at(-3.0, 0.0, -3.0),
             at(-3.0, 0.0, 3.0),
             at(3.0, 0.0, 3.0),
             at(3.0, 0.0, -3.0),
         ];
-        scene.add_polygon("floor", grey, &floor).unwrap();
         let ceiling: Vec<DVec3> = floor.iter().rev().map(|p| *p + at(0.0, 1.2, 0.0)).collect();
-        scene.add_polygon("ceiling", grey, &ceiling).unwrap();
-        let visibility = Visibility::new(&scene);
+        let (scene, visibility) = grey_scene(&[&floor, &ceiling]);
         let (floor, ceiling) = (SurfaceId::new(0), SurfaceId::new(1));
         let up = scene.surface(floor).normal();
         let down = scene.surface(ceiling).normal();
@@ -541,26 +590,6 @@ mod tests {
         }
         let field = PatchField::new(elements, Rgb::splat(2.5), up);
         let shooter = Shooter::new(cell, up, floor, (1, 1), ShotRadiosity::Field(field));
-        // The irradiance one gather gives a ceiling receiver at x.
-        let gather = |x: DVec3, key: u64| {
-            let receiver = Receiver {
-                position: x,
-                normal: down,
-                surface: ceiling,
-                key,
-                clear: false,
-            };
-            shooter
-                .gather(
-                    &receiver,
-                    3.0,
-                    7,
-                    FormFactorKernel::Mixed,
-                    (&visibility, &mut ShadowCache::default()),
-                )
-                .irradiance
-                .r
-        };
         for x in [at(0.5, 1.2, 0.5), at(-0.5, 1.2, 0.5), at(2.0, 1.2, 0.2)] {
             let m = 400;
             let mut exact = 0.0;
@@ -573,8 +602,7 @@ mod tests {
                 }
             }
             exact /= (m * m) as f64;
-            let trials = 20_000;
-            let mean = (0..trials).map(|key| gather(x, key)).sum::<f64>() / trials as f64;
+            let mean = mean_gather(&shooter, &visibility, (x, down, ceiling), 20_000);
             let error = mean / exact - 1.0;
             assert!(
                 error.abs() < 0.01,
@@ -587,7 +615,9 @@ mod tests {
         // patch's factor (under 1). With the point factor uncapped, one
         // gave 66.
         let x = at(0.5, 0.001, 0.5);
-        let brightest = (0..20_000).map(|key| gather(x, key)).fold(0.0, f64::max);
+        let brightest = (0..20_000)
+            .map(|key| gather_once(&shooter, &visibility, (x, down, ceiling), key))
+            .fold(0.0, f64::max);
         assert!(brightest <= 4.0, "a gather gave {brightest}");
     }
 
@@ -603,22 +633,15 @@ mod tests {
     #[test]
     fn a_receiver_at_the_foot_of_an_object_standing_on_the_patch_sees_its_light() {
         use crate::radiometry::polygon_form_factor;
-        use crate::scene::{Material, Scene, ShadowCache, SurfaceId, Visibility};
-        use crate::solver::settings::FormFactorKernel;
-        use crate::solver::shooter::{Receiver, Shooter, ShotRadiosity};
+        use crate::solver::shooter::ShotRadiosity;
 
         let at = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
-        let mut scene = Scene::new();
-        let grey = scene
-            .add_material(Material::diffuse("grey", Rgb::splat(0.5)))
-            .unwrap();
         let floor = [
             at(0.0, 0.0, 0.0),
             at(0.0, 0.0, 1.0),
             at(1.0, 0.0, 1.0),
             at(1.0, 0.0, 0.0),
         ];
-        scene.add_polygon("floor", grey, &floor).unwrap();
         // The block's side facing −x, over x = 0.55, z in [0.25, 0.75].
         let side = [
             at(0.55, 0.0, 0.25),
@@ -626,8 +649,7 @@ mod tests {
             at(0.55, 0.5, 0.75),
             at(0.55, 0.5, 0.25),
         ];
-        scene.add_polygon("side", grey, &side).unwrap();
-        let visibility = Visibility::new(&scene);
+        let (scene, visibility) = grey_scene(&[&floor, &side]);
         let (floor, side) = (SurfaceId::new(0), SurfaceId::new(1));
         let up = scene.surface(floor).normal();
         let out = scene.surface(side).normal();
@@ -657,29 +679,7 @@ mod tests {
         let field = PatchField::new(elements, Rgb::splat(power), up);
         let shooter = Shooter::new(cell, up, floor, (1, 1), ShotRadiosity::Field(field));
         let x = at(0.55, 0.01, 0.5);
-        let trials = 2000;
-        let mean = (0..trials)
-            .map(|key| {
-                let receiver = Receiver {
-                    position: x,
-                    normal: out,
-                    surface: side,
-                    key,
-                    clear: false,
-                };
-                shooter
-                    .gather(
-                        &receiver,
-                        3.0,
-                        7,
-                        FormFactorKernel::Mixed,
-                        (&visibility, &mut ShadowCache::default()),
-                    )
-                    .irradiance
-                    .r
-            })
-            .sum::<f64>()
-            / f64::from(trials as u32);
+        let mean = mean_gather(&shooter, &visibility, (x, out, side), 2000);
         let in_front = [p(0.0, 0.0), p(0.0, 1.0), p(0.55, 1.0), p(0.55, 0.0)];
         let exact = polygon_form_factor(x, out, &in_front);
         let error = mean / exact - 1.0;
