@@ -333,7 +333,11 @@ impl Shooter {
     /// pixel, mean radiance ×0.997 → ×0.994; cluttered 2.91 % → 3.81 %),
     /// since the bias offsets what the corners' interpolation loses where
     /// light falls off concavely into a junction; and it took 2–3 times as
-    /// long.
+    /// long. Taking out of the share only the strata the receiver stands
+    /// beside (each its exact factor, with ΔB at its point nearest the
+    /// receiver as the control variate's baseline) did the same on a
+    /// smaller scale: Cornell box 1.88 → 1.90 %, furnished office
+    /// 1.447 → 1.466 %, mean radiance ×0.9975 → ×0.9962.
     fn gather_mixed(
         &self,
         receiver: &Receiver,
