@@ -291,21 +291,31 @@ pub struct PatchField {
     elements: Vec<FieldElement>,
     /// Σ_e A_e mean_corners(ΔB): the patch's unshot power (W).
     power: Rgb,
-    /// Which elements lie where, to find the one under a point.
-    index: ElementIndex,
+    /// The normal of the patch's plane.
+    normal: DVec3,
+    /// Which elements lie where, to find the one under a point; made when
+    /// a point first misses the element found last.
+    index: std::sync::OnceLock<ElementIndex>,
 }
 
 impl PatchField {
     /// A field of elements shooting `power` in all, on a patch facing the
     /// unit `normal`.
     fn new(elements: Vec<FieldElement>, power: Rgb, normal: DVec3) -> PatchField {
-        let boxes: Vec<(DVec3, DVec3)> = elements.iter().map(|e| (e.min, e.max)).collect();
-        let index = ElementIndex::new(&boxes, normal);
         PatchField {
             elements,
             power,
-            index,
+            normal,
+            index: std::sync::OnceLock::new(),
         }
+    }
+
+    /// The index of the elements, made on first use.
+    fn index(&self) -> &ElementIndex {
+        self.index.get_or_init(|| {
+            let boxes: Vec<(DVec3, DVec3)> = self.elements.iter().map(|e| (e.min, e.max)).collect();
+            ElementIndex::new(&boxes, self.normal)
+        })
     }
 
     /// The scale that turns ΔB read at a point ([`PatchField::unshot_at`])
@@ -392,7 +402,7 @@ impl PatchField {
     /// the same element, so it is tried first.
     pub(crate) fn unshot_at(&self, y: DVec3, hint: &mut usize) -> Option<Rgb> {
         self.elements.get(*hint).and_then(|e| e.at(y)).or_else(|| {
-            self.index.near(y).iter().find_map(|&k| {
+            self.index().near(y).iter().find_map(|&k| {
                 let k = k as usize;
                 self.elements[k].at(y).inspect(|_| *hint = k)
             })
