@@ -28,12 +28,13 @@
 //! Lambertian surround), found by Jacobi iteration, which converges as
 //! (ρ f)^k for landing share f. A vertex's ambient irradiance is then
 //! G_v = ⟨ΔB_h(y) + A_h⟩_v, and its radiosity gains ρ_v G_v. A vertex ray
-//! reads ΔB_h(y) where it lands, y, on the 8 × 8 lattice over the patch
-//! that the patch's shots read (`solver/shooter.rs`), not the patch's
-//! mean: after a lamp's shot alone, a table's underside, which sees the
-//! dark floor under the table, got 73 % too much from the floor patch's
-//! mean and gets 12 % too little from where its rays land
-//! (`tests/it/strata.rs`, one floor patch). In a closed scene
+//! reads ΔB_h(y) where it lands, y, interpolated on the element under y
+//! (the ray keeps y to 1/255 of its patch's side), not the patch's mean:
+//! after a lamp's shot alone, a table's underside, which sees the dark
+//! floor under the table, got 73 % too much from the floor patch's mean,
+//! 12 % too little from a lattice of cells an eighth of the patch wide
+//! read at their centres, and gets 1.1 % too little from where its rays
+//! land (`tests/it/strata.rs`, one floor patch). In a closed scene
 //! of uniform ΔB and ρ this is Cohen's ΔB / (1 − ρ); over an open floor it
 //! is nothing; under the table it is what the underside will still send.
 //! The rays are cast once and kept; only the lookups are repeated for each
@@ -51,7 +52,6 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::shooter::{SAMPLED_PER_SIDE, sampled_cell};
 use super::unshot::cell_coordinates;
 use super::zones::{cosine_direction, cosine_direction_at};
 use crate::lighting::SampleStream;
@@ -83,6 +83,11 @@ const MISS: u32 = u32::MAX;
 const CONVERGENCE: f64 = 1e-6;
 const MAX_ITERATIONS: usize = 1000;
 
+/// The unshot radiosity of patch `p` at parameters (s, t) of its cell,
+/// `None` where no element lies; the `usize` is a hint kept between reads
+/// (see [`AmbientRays::irradiance`]).
+pub(crate) type UnshotAt<'a> = dyn Fn(usize, (f64, f64), &mut usize) -> Option<Rgb> + Sync + 'a;
+
 /// The patch each cached ray hits, for patches and for vertices.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct AmbientRays {
@@ -92,20 +97,47 @@ pub(crate) struct AmbientRays {
     /// `vertex_hits.len() / VERTEX_RAYS` vertices; more are cast as an
     /// adaptive mesh grows).
     vertex_hits: Vec<u32>,
-    /// Where each vertex ray lands: the cell of the patch's
-    /// [`SAMPLED_PER_SIDE`]² lattice that holds it ([`sampled_cell`] of the
-    /// patch's parameters there, [`crate::mesh::Cell::point`]), or
-    /// [`NO_CELL`] for a miss or a point off the patch. The unshot light is
-    /// read there, not as the patch's mean. One byte a ray: these are most
-    /// of what a solve holds per vertex (64 rays of 5 bytes; the
-    /// parameters as two `f32` took 12).
-    vertex_cells: Vec<u8>,
+    /// Where each vertex ray lands on its patch: the patch cell's
+    /// parameters there ([`crate::mesh::Cell::point`]) to a
+    /// [`LANDING_STEPS`]th of its side ([`Landing`]). The unshot light is
+    /// read at that point, from the element under it, not as the patch's
+    /// mean. Two bytes a ray: these are most of what a solve holds per
+    /// vertex (64 rays of 6 bytes; the parameters as two `f32` took 12).
+    vertex_landings: Vec<Landing>,
 }
 
-/// No lattice cell: the ray missed, or landed off its patch's cell.
-const NO_CELL: u8 = u8::MAX;
+/// Steps per side of a patch's cell to which a vertex ray's landing point
+/// is kept: 4 mm on a metre-wide patch. Rays used to keep the cell of a
+/// lattice an eighth of the patch wide, read at the cell's centre: a ray
+/// that landed on a cell's lit part while its centre lay under an object
+/// standing on the patch (a book on a shelf, a screen's foot on a desk)
+/// read nothing there.
+const LANDING_STEPS: u8 = u8::MAX;
 
-const _: () = assert!(SAMPLED_PER_SIDE * SAMPLED_PER_SIDE < NO_CELL as usize);
+/// A vertex ray's landing point on its patch's cell: its parameters (s, t)
+/// each as the step k of [`LANDING_STEPS`] that holds it (read back at the
+/// step's middle, (k + ½) / steps), or [`Landing::NOWHERE`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Landing([u8; 2]);
+
+impl Landing {
+    /// No point: the ray missed, or landed off its patch's cell.
+    const NOWHERE: Landing = Landing([LANDING_STEPS; 2]);
+
+    /// The landing at parameters (s, t) of a cell, each in [0, 1].
+    fn at((s, t): (f64, f64)) -> Landing {
+        let last = f64::from(LANDING_STEPS - 1);
+        let step = |w: f64| (w * f64::from(LANDING_STEPS)).clamp(0.0, last) as u8;
+        Landing([step(s), step(t)])
+    }
+
+    /// The parameters (s, t) it stands for, or `None` for
+    /// [`Landing::NOWHERE`].
+    fn parameters(self) -> Option<(f64, f64)> {
+        let middle = |k: u8| (f64::from(k) + 0.5) / f64::from(LANDING_STEPS);
+        (self != Landing::NOWHERE).then(|| (middle(self.0[0]), middle(self.0[1])))
+    }
+}
 
 impl AmbientRays {
     /// Casts the rays not cast yet: every patch's once, and those of
@@ -148,21 +180,22 @@ impl AmbientRays {
             // beside the kept ones, nor a vector doubling as it grows.
             let (from, to) = (done * VERTEX_RAYS, mesh.vertices.len() * VERTEX_RAYS);
             self.vertex_hits.truncate(from);
-            self.vertex_cells.truncate(from);
+            self.vertex_landings.truncate(from);
             self.vertex_hits.reserve_exact(to - from);
-            self.vertex_cells.reserve_exact(to - from);
+            self.vertex_landings.reserve_exact(to - from);
             self.vertex_hits.resize(to, MISS);
-            self.vertex_cells.resize(to, NO_CELL);
+            self.vertex_landings.resize(to, Landing::NOWHERE);
             self.vertex_hits[from..]
                 .par_chunks_mut(VERTEX_RAYS)
-                .zip(self.vertex_cells[from..].par_chunks_mut(VERTEX_RAYS))
+                .zip(self.vertex_landings[from..].par_chunks_mut(VERTEX_RAYS))
                 .enumerate()
-                .for_each(|(n, (hits, cells))| {
+                .for_each(|(n, (hits, landings))| {
                     let v = done + n;
                     let vertex = &mesh.vertices[v];
                     let normal = scene.surface(vertex.surface).normal();
                     let visibility = visibility_of(vertex.surface);
-                    for (k, (hit, cell)) in hits.iter_mut().zip(cells.iter_mut()).enumerate() {
+                    for (k, (hit, landing)) in hits.iter_mut().zip(landings.iter_mut()).enumerate()
+                    {
                         let mut stream = SampleStream::new(v as u64, k as u64 | 2 << 40);
                         let origin = vertex.receiver_position;
                         let sectors = VERTEX_RAYS / VERTEX_RINGS;
@@ -171,16 +204,12 @@ impl AmbientRays {
                         let start = (origin, normal, vertex.surface);
                         let (patch, point) = locator.hit(scene, visibility, start, direction);
                         *hit = patch;
-                        *cell = mesh
+                        *landing = mesh
                             .patches
                             .get(patch as usize)
                             .and_then(|patch| cell_coordinates(&patch.cell, point))
                             .filter(|(s, t)| s.is_finite() && t.is_finite())
-                            .map_or(NO_CELL, |(s, t)| {
-                                // Rounded to f32 first, which decides the cell of a point on a cell edge.
-                                let (s, t) = (f64::from(s as f32), f64::from(t as f32));
-                                sampled_cell((s, t), SAMPLED_PER_SIDE) as u8
-                            });
+                            .map_or(Landing::NOWHERE, Landing::at);
                     }
                 });
         }
@@ -189,10 +218,12 @@ impl AmbientRays {
     /// The ambient irradiance G_v of every vertex (see the module docs), for
     /// unshot radiosity `unshot` and reflectance `reflectance` per patch.
     /// A vertex ray reads the unshot radiosity where it lands,
-    /// `unshot_at(patch, cell)` in the patch's lattice cell there, or the
-    /// patch's mean where that gives none: a floor
-    /// patch half under a desk then sends the desk's underside the light of
-    /// its dark half and the ceiling that of its lit half, as its shots do.
+    /// `unshot_at(patch, (s, t), hint)` at those parameters of the patch's
+    /// cell, or the patch's mean where that gives none: a floor patch half
+    /// under a desk then sends the desk's underside the light of its dark
+    /// half and the ceiling that of its lit half, as its shots do. `hint`
+    /// is the element a vertex's last ray on that patch found (see
+    /// [`super::unshot::PatchField::unshot_at`]).
     /// The residual A_h stays the patch's. Vertices whose rays have not been
     /// cast get none.
     ///
@@ -209,28 +240,32 @@ impl AmbientRays {
         &self,
         mesh: &Mesh,
         (unshot, reflectance): (&[Rgb], &[Rgb]),
-        unshot_at: &(dyn Fn(usize, usize) -> Option<Rgb> + Sync),
+        unshot_at: &UnshotAt<'_>,
         lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
     ) -> Vec<Rgb> {
         let patch_lossless: Vec<bool> = mesh.patches.iter().map(|p| lossless(p.surface)).collect();
         let residual = self.patch_residual(unshot, reflectance, &patch_lossless);
         let seen = |v: usize| {
             let rays = v * VERTEX_RAYS..(v + 1) * VERTEX_RAYS;
-            let (Some(hits), Some(cells)) = (
+            let (Some(hits), Some(landings)) = (
                 self.vertex_hits.get(rays.clone()),
-                self.vertex_cells.get(rays),
+                self.vertex_landings.get(rays),
             ) else {
                 return Rgb::ZERO;
             };
+            let mut last = (usize::MAX, 0);
             let seen = hits
                 .iter()
-                .zip(cells)
+                .zip(landings)
                 .filter(|(h, _)| **h != MISS)
-                .map(|(&h, &cell)| {
+                .map(|(&h, landing)| {
                     let h = h as usize;
-                    let at = (cell != NO_CELL)
-                        .then(|| unshot_at(h, usize::from(cell)))
-                        .flatten();
+                    if last.0 != h {
+                        last = (h, 0);
+                    }
+                    let at = landing
+                        .parameters()
+                        .and_then(|st| unshot_at(h, st, &mut last.1));
                     at.unwrap_or(unshot[h]) + residual[h]
                 })
                 .sum::<Rgb>();
@@ -401,7 +436,7 @@ mod tests {
         AmbientRays {
             patch_hits,
             vertex_hits: Vec::new(),
-            vertex_cells: Vec::new(),
+            vertex_landings: Vec::new(),
         }
     }
 
@@ -420,15 +455,16 @@ mod tests {
         }
     }
 
-    /// A vertex ray reads the unshot light in the lattice cell it landed in,
-    /// and the patch's mean where it landed in none; a miss reads nothing.
+    /// A vertex ray reads the unshot light where it landed, and the
+    /// patch's mean where that gives none or it landed off the patch; a
+    /// miss reads nothing.
     #[test]
-    fn a_vertex_ray_reads_its_landing_cell() {
-        let cells: Vec<u8> = (0..VERTEX_RAYS)
+    fn a_vertex_ray_reads_where_it_landed() {
+        let landings: Vec<Landing> = (0..VERTEX_RAYS)
             .map(|k| match k % 4 {
-                0 | 1 => 5,
-                2 => 63,
-                _ => NO_CELL,
+                0 | 1 => Landing::at((0.1, 0.9)),
+                2 => Landing::at((0.7, 0.2)),
+                _ => Landing::NOWHERE,
             })
             .collect();
         let hits: Vec<u32> = (0..VERTEX_RAYS)
@@ -437,7 +473,7 @@ mod tests {
         let rays = AmbientRays {
             patch_hits: Vec::new(),
             vertex_hits: hits,
-            vertex_cells: cells,
+            vertex_landings: landings,
         };
         let mut mesh = Mesh::default();
         mesh.vertices.push(crate::mesh::MeshVertex {
@@ -446,20 +482,21 @@ mod tests {
             surface: crate::scene::SurfaceId::new(0),
         });
         let unshot = [Rgb::splat(1.0)];
-        let lattice = |patch: usize, cell: usize| {
+        // 2 left of s = 0.5 and 4 right of it; each point read within a
+        // step of where its ray landed.
+        let field = |patch: usize, (s, t): (f64, f64), _: &mut usize| {
             assert_eq!(patch, 0);
-            Some(Rgb::splat(match cell {
-                5 => 2.0,
-                63 => 4.0,
-                _ => panic!("cell {cell}"),
-            }))
+            let step = 1.0 / f64::from(LANDING_STEPS);
+            let near = |a: f64, b: f64| (a - b).abs() <= step;
+            assert!((near(s, 0.1) && near(t, 0.9)) || (near(s, 0.7) && near(t, 0.2)));
+            Some(Rgb::splat(if s < 0.5 { 2.0 } else { 4.0 }))
         };
-        let g = rays.irradiance(&mesh, (&unshot, &[Rgb::splat(0.5)]), &lattice, &|_| false);
-        // Of every 8 rays: four in cell 5, two in cell 63, one on no cell
-        // (the mean, 1) and one miss: (4·2 + 2·4 + 1) / 8.
+        let g = rays.irradiance(&mesh, (&unshot, &[Rgb::splat(0.5)]), &field, &|_| false);
+        // Of every 8 rays: four at 2, two at 4, one nowhere (the mean, 1)
+        // and one miss: (4·2 + 2·4 + 1) / 8.
         assert!((g[0].g - 17.0 / 8.0).abs() < 1e-12, "{g:?}");
         // In a zone that keeps its light the miss is left out: / 7.
-        let g = rays.irradiance(&mesh, (&unshot, &[Rgb::splat(0.5)]), &lattice, &|_| true);
+        let g = rays.irradiance(&mesh, (&unshot, &[Rgb::splat(0.5)]), &field, &|_| true);
         assert!((g[0].g - 17.0 / 7.0).abs() < 1e-12, "{g:?}");
     }
 

@@ -15,9 +15,9 @@ use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
 use super::shaft_culling::{ClearVertices, ReceivingBoxes};
-use super::shooter::{Gathered, Receiver, SAMPLED_PER_SIDE, Shooter, ShotRadiosity};
+use super::shooter::{Gathered, Receiver, Shooter, ShotRadiosity};
 use super::solution::Solution;
-use super::unshot::UnshotCorners;
+use super::unshot::{FieldScale, PatchField, UnshotCorners};
 use super::unshot_by_zone::UnshotByZone;
 use super::visibility_memory::{Recall, VisibilityMemory};
 use super::zones::{ZoneLabels, ZoneMembers, Zones};
@@ -933,25 +933,26 @@ impl Solver {
                 .unwrap_or(&self.visibility)
         };
         rays.cast_missing(&self.scene, &self.mesh, &visibility_of);
-        // Each quad patch's unshot field on the lattice its shots read
-        // (`solver/shooter.rs`), for the vertices' rays to read where they
-        // land.
-        let lattices: Vec<Vec<Rgb>> = self
+        // Each patch's unshot field over its elements, at the scale that
+        // carries its power, for the vertices' rays to read where they land.
+        let fields: Vec<(PatchField, FieldScale)> = self
             .mesh
             .patches
             .par_iter()
             .zip(&self.unshot)
             .map(|(patch, &unshot)| {
-                if patch.cell.is_triangle {
-                    return Vec::new();
-                }
                 let field = self
                     .unshot_corners
                     .field(&self.mesh, patch, unshot * patch.area);
-                field.sampled_radiosity(&[patch.cell], SAMPLED_PER_SIDE)
+                let scale = field.exact_scale();
+                (field, scale)
             })
             .collect();
-        let unshot_at = |p: usize, cell: usize| lattices[p].get(cell).copied();
+        let unshot_at = |p: usize, (s, t): (f64, f64), hint: &mut usize| {
+            let (field, scale) = &fields[p];
+            let y = self.mesh.patches[p].cell.point(s, t);
+            field.unshot_at(y, hint).map(|w| scale.apply(w))
+        };
         let lossless = &self.surface_lossless;
         rays.irradiance(
             &self.mesh,

@@ -55,7 +55,7 @@ pub enum ShotRadiosity {
     Uniform(Rgb),
     /// The unshot radiosity of the elements under each stratum, scaled so
     /// the strata carry the patch's unshot power (see
-    /// `PatchField::sampled_radiosity`).
+    /// `PatchField::sampled`).
     Field(PatchField),
 }
 
@@ -65,7 +65,7 @@ struct Strata {
     cells: Vec<Cell>,
     radiosity: Vec<Rgb>,
     /// `sub` × `sub` values over each stratum's parameter square (see
-    /// `PatchField::sampled_radiosity`); empty for a uniform shot.
+    /// `PatchField::sampled`); empty for a uniform shot.
     sampled: Vec<Rgb>,
     /// Whether each sampled cell's centre found an element of the patch.
     found: Vec<bool>,
@@ -112,7 +112,7 @@ impl Strata {
 
 /// The cell, row by row, of a `sub` × `sub` grid over a parameter square
 /// that parameters (u, v) fall in: where a sample reads the values of
-/// [`PatchField::sampled_radiosity`].
+/// [`PatchField::sampled`].
 pub(crate) fn sampled_cell((u, v): (f64, f64), sub: usize) -> usize {
     let cell = |w: f64| ((w * sub as f64) as usize).min(sub - 1);
     cell(v) * sub + cell(u)

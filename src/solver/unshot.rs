@@ -23,7 +23,7 @@ use crate::scene::Rgb;
 /// is Σ_e A_e · mean_corners(ΔB), and every change to the corners here is
 /// matched by that change to the total, up to rounding. The corners give the
 /// shape of the light over the patch; a shot scales its strata to the total
-/// (see [`PatchField::sampled_radiosity`]).
+/// (see [`PatchField::sampled`]).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct UnshotCorners {
     corners: Vec<[Rgb; 4]>,
@@ -358,12 +358,8 @@ impl PatchField {
     /// Refinement Approach to Fast Radiosity Image Generation", SIGGRAPH 1988;
     /// J. R. Wallace, K. A. Elmquist, E. A. Haines, "A Ray Tracing Algorithm
     /// for Progressive Radiosity", SIGGRAPH 1989.
-    pub(crate) fn sampled_radiosity(&self, strata: &[Cell], sub: usize) -> Vec<Rgb> {
-        self.sampled(strata, sub).sampled
-    }
-
-    /// [`PatchField::sampled_radiosity`], and which cells' centres found an
-    /// element.
+    ///
+    /// Returned with which cells' centres found an element.
     pub(crate) fn sampled(&self, strata: &[Cell], sub: usize) -> SampledField {
         let sub = sub.max(1);
         let share = 1.0 / (sub * sub) as f64;
@@ -411,7 +407,7 @@ impl PatchField {
 }
 
 /// The radiosity a patch's sampled cells shoot
-/// ([`PatchField::sampled_radiosity`]), and whether each cell's centre
+/// ([`PatchField::sampled`]), and whether each cell's centre
 /// found an element: one that found none (under an object standing on the
 /// patch) reads nothing, though part of it may be lit.
 #[derive(Clone, Debug)]
@@ -551,7 +547,7 @@ mod tests {
         );
         let mut strata = Vec::new();
         cell.subdivide(4, &mut strata);
-        let w = field.sampled_radiosity(&strata, 1);
+        let w = field.sampled(&strata, 1).sampled;
         let power: Rgb = w.iter().zip(&strata).map(|(w, s)| *w * s.area).sum();
         assert!((power.r - 1.0).abs() < 1e-12);
         // Column 0 (x = 1/8) shoots 7 times what column 3 (x = 7/8) does.

@@ -98,10 +98,8 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     render_settings.supersampling = args.supersampling.clamp(1, 16);
     render_settings.edge_supersampling = args.edge_supersampling;
     // Intermediate and final images add the ambient term for the light not yet shot.
-    let write_images = |solver: &Solver| -> anyhow::Result<f64> {
-        let image = solver
-            .solution_with_ambient()
-            .render(&camera, &render_settings);
+    let write_images = |solution: &Solution| -> anyhow::Result<f64> {
+        let image = solution.render(&camera, &render_settings);
         write_exr(&image, &args.output)?;
         let exposure = args.exposure.unwrap_or_else(|| auto_exposure(&image));
         write_png(&image, &ToneMap { exposure }, &args.png)?;
@@ -113,11 +111,13 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         &until,
         args.solve.quiet,
         args.preview_every,
-        |solver| write_images(solver).map(|_| ()),
+        |solver| write_images(&solver.solution_with_ambient()).map(|_| ()),
     )?;
-    let exposure = write_images(&solver)?;
-    // Exports (final only, not at previews) take the PNG's exposure.
+    // The images, exports and false colour read one solution: the ambient
+    // term is gathered once.
     let solution = solver.solution_with_ambient();
+    let exposure = write_images(&solution)?;
+    // Exports (final only, not at previews) take the PNG's exposure.
     for path in &args.export {
         export_solution(&solution, &ToneMap { exposure }, path)?;
     }
