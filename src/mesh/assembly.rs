@@ -6,7 +6,7 @@
 //! Every mesher's output passes through here ([`mesh_surfaces`]); the square
 //! mesher is the assembly with no contour layouts ([`mesh_square`]).
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 
 use super::contacts::{
     Contact, contact_segments, gather_beside_covering_outlines, remesh_surface,
@@ -82,8 +82,10 @@ pub fn mesh_surfaces(
     let mut covering = Vec::new();
     let boxes = SurfaceBoxes::new(scene);
     for (id, surface) in scene.surfaces_with_ids() {
-        let grid = square_grid(surface, id, settings);
         let contacts = contact_segments(scene, &boxes, id, (tolerance, inset), settings.max_edge);
+        let frame = surface.frame();
+        let marks: Vec<DVec3> = contacts.marks.iter().map(|&m| frame.to_world(m)).collect();
+        let grid = square_grid(surface, id, settings, &marks);
         let covering_here: Vec<Contact> = contacts
             .lines
             .iter()

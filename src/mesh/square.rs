@@ -46,16 +46,58 @@ impl SquareMeshSettings {
     }
 }
 
-/// One surface's square grid of elements in patch blocks.
-pub(super) fn square_grid(surface: &Surface, id: SurfaceId, settings: &SquareMeshSettings) -> Mesh {
+/// One surface's square grid of elements in patch blocks. A quad one
+/// element across gets a row of element edges across it through each of
+/// `marks` on its long sides (see [`rows_through_marks`]).
+pub(super) fn square_grid(
+    surface: &Surface,
+    id: SurfaceId,
+    settings: &SquareMeshSettings,
+    marks: &[DVec3],
+) -> Mesh {
     let mut grid = Mesh::default();
     let mut builder = SurfaceBuilder::new(&mut grid, id);
     match convex_quad(surface) {
-        Some(corners) => builder.quad_grid(corners, settings),
+        Some(corners) => builder.quad_grid(corners, settings, marks),
         None => builder.triangle_lattices(surface, settings),
     }
     grid
 }
+
+/// The grid lines `lines` (parameters in [0, 1], ascending) across a quad
+/// one element wide, with a line added at each of `marks` lying on one of
+/// its two long `sides` (each from parameter 0 to 1), at the mark's
+/// parameter along it: the light across a thin face (a book's spine)
+/// changes where a neighbour standing beside it ends, within millimetres,
+/// which an element as tall as the face draws as a straight line. A mark
+/// within [`MARK_MERGE`] of a line's spacing of an existing line moves
+/// nothing.
+fn rows_through_marks(
+    mut lines: Vec<f64>,
+    sides: [(DVec3, DVec3); 2],
+    marks: &[DVec3],
+) -> Vec<f64> {
+    let spacing = 1.0 / (lines.len() - 1) as f64;
+    for &mark in marks {
+        for (from, to) in sides {
+            let side = to - from;
+            let t = (mark - from).dot(side) / side.length_squared().max(f64::MIN_POSITIVE);
+            let off = (mark - from - side * t).length();
+            if off > 1e-6 * side.length() || !(0.0..=1.0).contains(&t) {
+                continue;
+            }
+            if lines.iter().all(|&l| (l - t).abs() > MARK_MERGE * spacing) {
+                lines.push(t);
+            }
+        }
+    }
+    lines.sort_by(f64::total_cmp);
+    lines
+}
+
+/// How close to an existing grid line, as a fraction of the lines'
+/// spacing, a mark adds no line of its own ([`rows_through_marks`]).
+const MARK_MERGE: f64 = 0.1;
 
 /// The corners of a surface that is a strictly convex quadrilateral.
 pub(super) fn convex_quad(surface: &Surface) -> Option<[DVec3; 4]> {
@@ -191,13 +233,23 @@ impl<'a> SurfaceBuilder<'a> {
         self.mesh.add_element(corners, patch);
     }
 
-    /// A G × H bilinear grid of quads over a convex quad, in patch blocks.
-    fn quad_grid(&mut self, corners: [DVec3; 4], settings: &SquareMeshSettings) {
+    /// A G × H bilinear grid of quads over a convex quad, in patch blocks,
+    /// with rows through `marks` where it is one element across.
+    fn quad_grid(&mut self, corners: [DVec3; 4], settings: &SquareMeshSettings, marks: &[DVec3]) {
         let [a, b, c, d] = corners;
         let (length_u, length_v) = quad_lengths(corners);
         let (cols, rows) = quad_grid_size(corners, settings);
+        let uniform = |n: usize| (0..=n).map(|k| k as f64 / n as f64).collect::<Vec<f64>>();
+        let (mut us, mut vs) = (uniform(cols), uniform(rows));
+        if cols == 1 {
+            vs = rows_through_marks(vs, [(a, d), (b, c)], marks);
+        }
+        if rows == 1 {
+            us = rows_through_marks(us, [(a, b), (d, c)], marks);
+        }
+        let (cols, rows) = (us.len() - 1, vs.len() - 1);
         let quad = Cell::quad(a, b, c, d);
-        let at = |i: usize, j: usize| quad.point(i as f64 / cols as f64, j as f64 / rows as f64);
+        let at = |i: usize, j: usize| quad.point(us[i], vs[j]);
         // Grid vertices, row by row.
         let first = self.mesh.vertices.len() as u32;
         for j in 0..=rows {
@@ -328,6 +380,36 @@ fn lattice_point(
             let (a, b, c) = (points[c0], points[c1], points[c2]);
             let position = a + (b - a) * (i as f64 / n as f64) + (c - a) * (j as f64 / n as f64);
             (LatticeKey::Interior(t, i, j), position)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A mark on either long side adds its row; one on neither, or next to
+    /// a row already there, adds none.
+    #[test]
+    fn marks_on_a_long_side_add_rows() {
+        let (a, b, c, d) = (
+            DVec3::ZERO,
+            DVec3::new(0.06, 0.0, 0.0),
+            DVec3::new(0.06, 0.28, 0.0),
+            DVec3::new(0.0, 0.28, 0.0),
+        );
+        let rows = vec![0.0, 0.5, 1.0];
+        let marks = [
+            DVec3::new(0.06, 0.07, 0.0), // right side, a quarter up
+            DVec3::new(0.0, 0.21, 0.0),  // left side, three quarters up
+            DVec3::new(0.0, 0.141, 0.0), // beside the middle row
+            DVec3::new(0.03, 0.1, 0.0),  // inside, on neither side
+        ];
+        let lines = rows_through_marks(rows, [(a, d), (b, c)], &marks);
+        let expected = [0.0, 0.25, 0.5, 0.75, 1.0];
+        assert_eq!(lines.len(), expected.len(), "{lines:?}");
+        for (l, e) in lines.iter().zip(expected) {
+            assert!((l - e).abs() < 1e-12, "{lines:?}");
         }
     }
 }
