@@ -23,7 +23,10 @@
 //! bound over ε, channel by channel, may take the shot interpolated from p's sample
 //! vertices (those nearest its corners and its centre, linearly over the
 //! fan of triangles they span), at an error of at most a fraction ε of the
-//! light already there. Two more conditions keep the error from adding up
+//! light already there. The solver scales that interpolation by the
+//! shooter's point kernel at the vertex over the kernel interpolated the
+//! same way (`curvature_factor` in `solver/progressive.rs`), so that it
+//! bends as the shot does. Two more conditions keep the error from adding up
 //! over hundreds of shots in one direction:
 //!
 //! - every patch the vertex lies on must allow it, and it must be no

@@ -601,12 +601,38 @@ impl Solver {
                 .remember(j, zone_size, (vertices, &gathered));
         }
         if let Some(plan) = plan {
-            for &v in &plan.interpolated {
-                if let Some(weights) = self.reception.weights_of(v) {
-                    let light = weights
-                        .iter()
-                        .map(|&(s, w)| incident[s as usize] * f64::from(w));
-                    incident[v as usize] = light.sum();
+            let shooter = &self.mesh.patches[j];
+            let kernel = PointKernel {
+                centre: shooter.cell.point(0.5, 0.5),
+                normal: self.scene.surface(shooter.surface).normal(),
+            };
+            let (scene, mesh, reception) = (&self.scene, &self.mesh, &self.reception);
+            let at = |v: u32| {
+                let vertex = &mesh.vertices[v as usize];
+                kernel.at(
+                    vertex.receiver_position,
+                    scene.surface(vertex.surface).normal(),
+                )
+            };
+            let interpolate = |&v: &u32| {
+                reception.weights_of(v).map(|weights| {
+                    let (mut light, mut kernel_there) = (Rgb::ZERO, 0.0);
+                    for &(s, w) in &weights {
+                        light += incident[s as usize] * f64::from(w);
+                        kernel_there += at(s) * f64::from(w);
+                    }
+                    light * curvature_factor(at(v), kernel_there)
+                })
+            };
+            let values: Vec<Option<Rgb>> = plan
+                .interpolated
+                .par_iter()
+                .with_min_len(INTERPOLATION_CHUNK)
+                .map(interpolate)
+                .collect();
+            for (&v, value) in plan.interpolated.iter().zip(values) {
+                if let Some(value) = value {
+                    incident[v as usize] = value;
                 }
             }
             let count = (plan.interpolated.len() + plan.gathered.len()) as u64;
@@ -1261,6 +1287,44 @@ impl Solver {
 /// blocked ray pays a traversal to fill its cache.
 const SHADOW_CACHE_RUN: usize = 256;
 
+/// Interpolated vertices per parallel task.
+const INTERPOLATION_CHUNK: usize = 2048;
+
+/// A shooting patch seen as a point at its centre: the kernel
+/// cos θ_x cos θ_s / r² of a receiving point x with normal n_x, which
+/// carries how a shot's irradiance bends across a receiving patch (falling
+/// off as the inverse square of the distance and with both cosines).
+struct PointKernel {
+    centre: DVec3,
+    normal: DVec3,
+}
+
+impl PointKernel {
+    /// cos θ_x cos θ_s / r² at x facing `normal` (0 behind either plane).
+    fn at(&self, x: DVec3, normal: DVec3) -> f64 {
+        let d = self.centre - x;
+        let r2 = d.length_squared();
+        if r2 <= 0.0 {
+            return 0.0;
+        }
+        normal.dot(d).max(0.0) * self.normal.dot(-d).max(0.0) / (r2 * r2)
+    }
+}
+
+/// How much a shot's irradiance interpolated from a patch's samples is
+/// scaled at a vertex: the shooter's point kernel there over the same
+/// interpolation of the kernel at the samples, within [1/2, 2]; 1 where
+/// either is 0. Linear interpolation of a field that bends (a shot falls
+/// off as 1/r² and with the cosines) misses its curvature: a receiving
+/// patch under a shooter, where the field peaks, took too little.
+fn curvature_factor(here: f64, interpolated: f64) -> f64 {
+    if here > 0.0 && interpolated > 0.0 {
+        (here / interpolated).clamp(0.5, 2.0)
+    } else {
+        1.0
+    }
+}
+
 /// `f` of each item, in parallel over runs of [`SHADOW_CACHE_RUN`] items,
 /// each run with a fresh [`ShadowCache`]; in the items' order.
 fn in_shadow_cache_runs<T: Sync, R: Send + Default>(
@@ -1313,5 +1377,34 @@ mod tests {
             });
             assert_eq!(fresh, expected, "{threads} threads");
         }
+    }
+
+    /// Under a small shooter the shot's irradiance is its point kernel
+    /// times a constant: interpolated linearly between two samples either
+    /// side of the peak it falls short, and the curvature factor restores
+    /// it; a vertex behind either plane keeps the interpolation.
+    #[test]
+    fn the_curvature_factor_restores_a_point_shooters_peak() {
+        let kernel = PointKernel {
+            centre: DVec3::new(0.0, 2.0, 0.0),
+            normal: DVec3::NEG_Y,
+        };
+        let up = DVec3::Y;
+        let field = |x: f64| 7.0 * kernel.at(DVec3::new(x, 0.0, 0.0), up);
+        let (left, right) = (field(-0.5), field(0.5));
+        let linear = 0.5 * (left + right);
+        assert!(linear < 0.9 * field(0.0), "{linear} against {}", field(0.0));
+        let interpolated_kernel = 0.5
+            * (kernel.at(DVec3::new(-0.5, 0.0, 0.0), up)
+                + kernel.at(DVec3::new(0.5, 0.0, 0.0), up));
+        let here = kernel.at(DVec3::ZERO, up);
+        let restored = linear * curvature_factor(here, interpolated_kernel);
+        assert!((restored / field(0.0) - 1.0).abs() < 1e-12, "{restored}");
+        // Facing away from the shooter: no kernel, no change.
+        let behind = kernel.at(DVec3::ZERO, DVec3::NEG_Y);
+        assert_eq!(behind, 0.0);
+        assert_eq!(curvature_factor(behind, interpolated_kernel), 1.0);
+        // Far off the peak the factor is held within [1/2, 2].
+        assert_eq!(curvature_factor(1.0, 0.01), 2.0);
     }
 }

@@ -86,8 +86,9 @@ fn the_cornell_box_matches_the_path_tracer() {
 
 /// The room with a table under a tilted lamp (contour mesher, refined to
 /// 1 % relative error), against Mitsuba's 4096-spp render (its noise about
-/// √2 times the Cornell reference's): 1.83 % per pixel and ×0.990 on
-/// average (1.97 % while shadow boundaries merged at a quarter of an
+/// √2 times the Cornell reference's): 1.49 % per pixel and ×0.9998 on
+/// average (1.52 % and ×0.9990 before dim shots' interpolation took their
+/// curvature; 1.83 % and ×0.990 earlier; 1.97 % while shadow boundaries merged at a quarter of an
 /// element, which left dark wedges beside the table legs' shadows; 3.79 %
 /// and ×0.979 with the least-squares levels alone).
 #[test]

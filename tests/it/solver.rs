@@ -341,9 +341,10 @@ fn a_solve_repeats_to_the_bit() {
 
 /// Dim reflected shots received at patches' samples and interpolated to
 /// their other vertices, at the default fraction, cost fewer rays and give
-/// the same light: within a percent on average, drifting a quarter of a
-/// percent at most either way, and a closed ledger. (At 0.03 the Cornell box's vertices drift 0.36 %
-/// dark on average: the default is what is held.)
+/// the same light: within a percent on average, drifting 0.06 % at most
+/// either way (−0.035 %; −0.088 % before the interpolation took the shot's
+/// curvature from the shooter's point kernel, and at 0.03, −0.36 % then
+/// and +0.011 % now), and a closed ledger.
 #[test]
 fn coarse_reception_casts_fewer_rays_for_the_same_light() {
     let solve = |fraction: f64| {
@@ -381,7 +382,7 @@ fn coarse_reception_casts_fewer_rays_for_the_same_light() {
     assert!(share > 0.2, "{share}");
     assert!(saved > 0.12, "{saved}");
     assert!(absolute < 0.015, "{absolute}");
-    assert!(signed.abs() < 0.0025, "{signed}");
+    assert!(signed.abs() < 0.0006, "{signed}");
     let e = coarse.energy_balance();
     let sum = e.absorbed + e.unshot + e.escaped;
     assert!(
@@ -859,7 +860,10 @@ fn a_closed_room_receives_its_emission_over_one_minus_reflectance() {
     // Φ the emitted power: each bounce lands whole. The elements' corner
     // means of sampled irradiance miss some of each reflected shot (light
     // falling off into the block's foot and the room's corners), booked as
-    // escaped power, unless their powers are scaled to land whole.
+    // escaped power, unless their powers are scaled to land whole. Landing
+    // whole, the room receives within 0.2 % of it (−0.115 %; −0.20 % not
+    // landing whole; before dim shots' interpolation took their curvature,
+    // −0.28 % and −0.77 %).
     let scene = closed_room_with_a_block();
     let emitted = PI * 10.0 * 0.36;
     let expected = emitted / (1.0 - 0.7);
@@ -881,7 +885,7 @@ fn a_closed_room_receives_its_emission_over_one_minus_reflectance() {
          {plain_escaped:+.5} without"
     );
     assert!(
-        conserved.abs() < 0.5 * plain.abs(),
+        conserved.abs() < 0.002 && conserved.abs() < plain.abs(),
         "received in all against Φ / (1 − ρ): {conserved:+.4} with shots landing whole, \
          {plain:+.4} without"
     );
