@@ -32,12 +32,48 @@ fn spine_in_a_slot() -> Scene {
     let slot = DVec3::new(WIDTH / 2.0, HEIGHT / 2.0, -0.04);
     b.polygon_facing("fin", paper, quad([0.0, 0.0], [0.0, -0.08]), slot);
     b.polygon_facing("fin", paper, quad([WIDTH, WIDTH], [0.0, -0.08]), slot);
+    light_panel(&mut b, light, front);
+    b.scene
+}
+
+/// A 2 m square light panel centred at `front`, facing the spine.
+fn light_panel(b: &mut SceneBuilder, light: usize, front: DVec3) {
     let panel = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
         .iter()
         .map(|&(x, y)| front + DVec3::new(x, y, 0.0))
         .collect();
     b.polygon_facing("light", light, panel, DVec3::ZERO);
-    b.scene
+}
+
+/// The scene's square mesh at 20 cm elements and 1 m patches: the spine
+/// (surface 0) one element across and two tall.
+fn spine_mesh(scene: &Scene) -> isorad::mesh::Mesh {
+    let mut mesh_settings = SquareMeshSettings::for_scene(scene);
+    mesh_settings.max_edge = 0.2;
+    mesh_settings.patch_max_edge = 1.0;
+    mesh_square(scene, &mesh_settings)
+}
+
+/// `scene` on `mesh`, solved to 0.1 % unshot power.
+fn solved_to_a_thousandth(scene: Scene, mesh: isorad::mesh::Mesh) -> Solver {
+    let mut settings = SolverSettings::default();
+    settings.tolerance = 1e-3;
+    let mut solver = Solver::with_mesh(scene, mesh, settings).unwrap();
+    solver.run();
+    solver
+}
+
+/// The distinct values of `coordinate` over the spine's (surface 0's)
+/// vertices, in micrometres.
+fn spine_coordinates(
+    mesh: &isorad::mesh::Mesh,
+    coordinate: impl Fn(DVec3) -> f64,
+) -> std::collections::BTreeSet<i64> {
+    mesh.vertices
+        .iter()
+        .filter(|v| v.surface == SurfaceId::new(0))
+        .map(|v| (coordinate(v.position) * 1e6).round() as i64)
+        .collect()
 }
 
 /// The mean of gather probes over an n × n grid of cell centres of the
@@ -59,17 +95,9 @@ fn probed_mean(solution: &isorad::Solution<'_>, (x0, x1): (f64, f64), n: usize) 
 #[test]
 fn a_spine_one_element_across_shows_its_mean_light() {
     let scene = spine_in_a_slot();
-    let mut mesh_settings = SquareMeshSettings::for_scene(&scene);
-    mesh_settings.max_edge = 0.2;
-    mesh_settings.patch_max_edge = 1.0;
-    let mesh = mesh_square(&scene, &mesh_settings);
+    let mesh = spine_mesh(&scene);
     let spine = SurfaceId::new(0);
-    let across = mesh
-        .vertices
-        .iter()
-        .filter(|v| v.surface == spine)
-        .map(|v| (v.position.x * 1e6).round() as i64)
-        .collect::<std::collections::BTreeSet<_>>();
+    let across = spine_coordinates(&mesh, |p| p.x);
     assert_eq!(across.len(), 2, "the spine is one element across");
     // Its vertices gather at the two-point Gauss abscissae of its width.
     let gauss = (1.0 - 1.0 / 3f64.sqrt()) / 2.0;
@@ -80,10 +108,7 @@ fn a_spine_one_element_across_shows_its_mean_light() {
             "a spine vertex gathers at x = {x} of the width"
         );
     }
-    let mut settings = SolverSettings::default();
-    settings.tolerance = 1e-3;
-    let mut solver = Solver::with_mesh(scene, mesh, settings).unwrap();
-    solver.run();
+    let solver = solved_to_a_thousandth(scene, mesh);
     let solution = solver.solution();
     let shown = solution.surface_totals()[spine.index()].mean_irradiance.r;
     let exact = probed_mean(&solution, (0.0, 1.0), 12);
@@ -185,11 +210,7 @@ fn spine_beside_a_shorter_neighbour() -> Scene {
         rect([x0, x1], [0.0, NEIGHBOUR_TOP], [z0, z0]),
         front,
     );
-    let panel = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
-        .iter()
-        .map(|&(x, y)| front + DVec3::new(x, y, 0.0))
-        .collect();
-    b.polygon_facing("light", light, panel, DVec3::ZERO);
+    light_panel(&mut b, light, front);
     b.scene
 }
 
@@ -201,26 +222,14 @@ fn spine_beside_a_shorter_neighbour() -> Scene {
 #[test]
 fn a_spine_gets_a_row_where_a_neighbour_standing_further_forward_ends() {
     let scene = spine_beside_a_shorter_neighbour();
-    let mut mesh_settings = SquareMeshSettings::for_scene(&scene);
-    mesh_settings.max_edge = 0.2;
-    mesh_settings.patch_max_edge = 1.0;
-    let mesh = mesh_square(&scene, &mesh_settings);
-    let spine = SurfaceId::new(0);
-    let heights = mesh
-        .vertices
-        .iter()
-        .filter(|v| v.surface == spine)
-        .map(|v| (v.position.y * 1e6).round() as i64)
-        .collect::<std::collections::BTreeSet<_>>();
+    let mesh = spine_mesh(&scene);
+    let heights = spine_coordinates(&mesh, |p| p.y);
     let row = (NEIGHBOUR_TOP * 1e6).round() as i64;
     assert!(
         heights.iter().any(|&h| (h - row).abs() <= 1),
         "rows at {heights:?} µm, none at the neighbour's top, {row} µm"
     );
-    let mut settings = SolverSettings::default();
-    settings.tolerance = 1e-3;
-    let mut solver = Solver::with_mesh(scene, mesh, settings).unwrap();
-    solver.run();
+    let solver = solved_to_a_thousandth(scene, mesh);
     let solution = solver.solution();
     // Mesh and gather over the spine's width, in bands above and below the
     // neighbour's top.
