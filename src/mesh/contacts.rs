@@ -16,7 +16,7 @@ use super::patch::Cell;
 use super::topology::Mesh;
 use crate::scene::{
     PlaneFrame, Scene, Surface, SurfaceBoxes, SurfaceId, Visibility, clip_segment_to_polygon,
-    distance_to_boundary, distance_to_segment, polygon_contains,
+    distance_to_boundary, distance_to_segment, polygon_contains, segment_parameter,
 };
 
 /// A contact segment in a receiver's plane coordinates, with the side the
@@ -249,7 +249,7 @@ fn outline_mark(ends: [DVec2; 2], outline: &[DVec2], tolerance: f64) -> Option<D
         return None;
     }
     // At a corner of the outline a mark makes no row.
-    let t = (near - a).dot(b - a) / (b - a).length_squared().max(f64::MIN_POSITIVE);
+    let t = segment_parameter(near, a, b);
     (t > 0.0 && t < 1.0).then(|| a.lerp(b, t))
 }
 

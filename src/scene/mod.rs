@@ -25,6 +25,7 @@ pub use luminaire::{OPENING_SAMPLES, PhotometricLuminaire};
 pub use material::Material;
 pub(crate) use plane_polygon::{
     clip_segment_to_polygon, distance_to_boundary, distance_to_segment, polygon_contains,
+    segment_parameter,
 };
 
 pub use rgb::Rgb;

@@ -26,8 +26,14 @@ pub fn distance_to_boundary(polygon: &[DVec2], p: DVec2) -> f64 {
 /// Distance from `p` to the segment ab (to a when a = b).
 #[must_use]
 pub fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let t = ((p - a).dot(b - a) / (b - a).length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-    p.distance(a + (b - a) * t)
+    p.distance(a + (b - a) * segment_parameter(p, a, b))
+}
+
+/// The parameter t in [0, 1] of the point a + t (b − a) of the segment ab
+/// nearest `p` (0 when a = b).
+#[must_use]
+pub fn segment_parameter(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    ((p - a).dot(b - a) / (b - a).length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0)
 }
 
 /// The part of a segment inside a polygon (counter-clockwise, simple),
