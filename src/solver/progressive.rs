@@ -280,12 +280,22 @@ impl Solver {
                 zones.labels().enclosing(&scene, &visibility, inside)
             })
             .collect();
+        // A closed zone's residual counts toward the tolerance at its weight.
+        let weights = mesh
+            .patches
+            .iter()
+            .map(|p| match surface_lossless[p.surface.index()] {
+                true => settings.closed_zone_weight,
+                false => 1.0,
+            })
+            .collect();
+        let counts = (&unshot[..], &patch_areas[..]);
         let unshot_by_zone = match &zones {
             Some((zones, _)) => {
                 let zone_of = mesh.patches.iter().map(|p| zones.of(p.surface));
-                UnshotByZone::new(zone_of, zones.count(), (&unshot, &patch_areas))
+                UnshotByZone::new(zone_of, zones.count(), counts, weights)
             }
-            None => UnshotByZone::new(mesh.patches.iter().map(|_| 0), 1, (&unshot, &patch_areas)),
+            None => UnshotByZone::new(mesh.patches.iter().map(|_| 0), 1, counts, weights),
         };
         Solver {
             scene,
@@ -899,16 +909,34 @@ impl Solver {
         }
     }
 
+    /// The unshot fraction [`SolverSettings::tolerance`] is held to: the
+    /// unshot power with each closed zone's counted at
+    /// [`SolverSettings::closed_zone_weight`], over the emitted power (sums
+    /// of channels); 0 for a dark scene.
+    #[must_use]
+    pub fn convergence_fraction(&self) -> f64 {
+        let emitted = self.emitted_power.element_sum();
+        if emitted > 0.0 {
+            (self.unshot_by_zone.weighted_total() + self.unshot_luminaires().element_sum())
+                / emitted
+        } else {
+            0.0
+        }
+    }
+
     fn unshot_power(&self) -> Rgb {
-        let luminaires: Rgb = self
-            .scene
+        self.unshot_by_zone.total() + self.unshot_luminaires()
+    }
+
+    /// The power of the photometric luminaires that have not shot yet.
+    fn unshot_luminaires(&self) -> Rgb {
+        self.scene
             .luminaires
             .iter()
             .zip(&self.luminaire_shot)
             .filter(|(_, shot)| !**shot)
             .map(|(l, _)| l.power())
-            .sum();
-        self.unshot_by_zone.total() + luminaires
+            .sum()
     }
 
     /// Radiosity per vertex (W/m²) from the light shot so far.

@@ -24,7 +24,9 @@ use super::progressive::Solver;
 #[non_exhaustive]
 pub struct Until<'c> {
     /// Stop when the unshot power is at most this fraction of the emitted
-    /// power; `None`: the solver settings' tolerance.
+    /// power, closed zones' counted at their weight
+    /// ([`Solver::convergence_fraction`]); `None`: the solver settings'
+    /// tolerance.
     pub tolerance: Option<f64>,
     /// Stop when the solver has made this many shots in all (earlier runs
     /// included); `None`: the solver settings' `max_shots`.
@@ -89,6 +91,10 @@ pub enum StopReason {
 pub struct Progress {
     /// Unshot power over emitted power.
     pub unshot_fraction: f64,
+    /// The unshot fraction the tolerance is held to (closed zones' counted
+    /// at [`crate::SolverSettings::closed_zone_weight`]; see
+    /// [`Solver::convergence_fraction`]).
+    pub convergence_fraction: f64,
     /// Shots made so far, in all.
     pub shots: usize,
     /// Shadow rays cast so far, in all.
@@ -110,7 +116,7 @@ impl Solver {
             if until.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                 return StopReason::Cancelled;
             }
-            if self.unshot_fraction() <= tolerance && !self.emission_pending() {
+            if self.convergence_fraction() <= tolerance && !self.emission_pending() {
                 return StopReason::Converged;
             }
             if self.shots() >= total_shots {
@@ -124,6 +130,7 @@ impl Solver {
             }
             progress(&Progress {
                 unshot_fraction: self.unshot_fraction(),
+                convergence_fraction: self.convergence_fraction(),
                 shots: self.shots(),
                 rays: self.rays(),
                 elapsed: start.elapsed(),

@@ -50,13 +50,10 @@ pub struct SolverSettings {
     /// Stop when the unshot power falls below this fraction of the emitted
     /// power (5 %), and every emitter has shot its own light: what is left
     /// is reflected light, which the ambient term gathers for images and
-    /// probes. 1 % takes about twice the time for a tenth of a point of
-    /// per-pixel error against a path tracer (BENCHMARKS.md, (e)). 10 %
-    /// renders the furnished offices faster at equal error (the cluttered
-    /// office 7.7× a path tracer's time instead of 5.6×), but was not made
-    /// the default: in the open, where no closed room keeps the residual's
-    /// light, the table's shadow rendered 2.59 % off per pixel instead of
-    /// 2.16 %, for no time saved.
+    /// probes. A closed zone's unshot power counts at
+    /// [`SolverSettings::closed_zone_weight`]. 1 % takes about twice the
+    /// time for a tenth of a point of per-pixel error against a path tracer
+    /// (BENCHMARKS.md, (e)).
     pub tolerance: f64,
     /// Stop after this many shots whatever the unshot power.
     pub max_shots: usize,
@@ -129,6 +126,18 @@ pub struct SolverSettings {
     /// radiosity as no cull, bit for bit. In (0, 1]; see
     /// `solver/unshot_by_zone.rs`.
     pub zone_affinity: f64,
+    /// How much the unshot power of a closed zone that keeps all its light
+    /// counts toward [`SolverSettings::tolerance`] (0.5: a closed room
+    /// stops at twice the tolerance, 10 % at the default). There the
+    /// ambient term places the residual where its rays land and the zone
+    /// receives it whole ([`SolverSettings::conserve_closed_zones`]); in
+    /// the open, light leaves, the ambient term's guess of where the rest
+    /// goes is poorer, and the unshot power counts in full. Closed rooms
+    /// render at equal error in about a third less time (BENCHMARKS.md,
+    /// (e)); the open table's shadow rendered 2.50 % off per pixel at 10 %
+    /// against 2.18 % at 5 %. In (0, 1]; 1 holds every zone to the
+    /// tolerance. Without `conserve_closed_zones` every zone counts in full.
+    pub closed_zone_weight: f64,
 }
 
 impl Default for SolverSettings {
@@ -147,6 +156,7 @@ impl Default for SolverSettings {
             conserve_closed_zones: true,
             coarse_reception: 0.01,
             zone_affinity: 0.5,
+            closed_zone_weight: 0.5,
         }
     }
 }
@@ -211,6 +221,12 @@ impl SolverSettings {
             return Err(invalid(
                 "zone_affinity",
                 format!("{} is not in (0, 1]", self.zone_affinity),
+            ));
+        }
+        if !(self.closed_zone_weight > 0.0 && self.closed_zone_weight <= 1.0) {
+            return Err(invalid(
+                "closed_zone_weight",
+                format!("{} is not in (0, 1]", self.closed_zone_weight),
             ));
         }
         Ok(())

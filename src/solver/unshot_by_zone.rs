@@ -40,6 +40,11 @@ pub(crate) struct UnshotByZone {
     strongest: Vec<Option<(u32, f64)>>,
     /// Per zone, the unshot power of its patches, ΣΔB_p A_p.
     total: Vec<Rgb>,
+    /// Each patch's weight toward the tolerance (`closed_zone_weight` in a
+    /// zone that keeps its light, else 1).
+    weights: Vec<f64>,
+    /// Per zone, Σ w_p ΔB_p A_p summed over the channels.
+    weighted: Vec<f64>,
     /// The zone of the last shot.
     current: Option<usize>,
 }
@@ -47,12 +52,15 @@ pub(crate) struct UnshotByZone {
 impl UnshotByZone {
     /// Counts the unshot power of patches whose zones `zone_of_patch` gives
     /// (indices below `zones`), from their unshot radiosity `unshot` and
-    /// `areas`.
+    /// `areas`, each weighted toward the tolerance by `weights` (one per
+    /// patch; missing weights are 1).
     pub(crate) fn new(
         zone_of_patch: impl Iterator<Item = usize>,
         zones: usize,
         (unshot, areas): (&[Rgb], &[f64]),
+        mut weights: Vec<f64>,
     ) -> UnshotByZone {
+        weights.resize(unshot.len(), 1.0);
         let mut patches = vec![Vec::new(); zones.max(1)];
         for (p, zone) in zone_of_patch.enumerate() {
             patches[zone].push(p as u32);
@@ -60,6 +68,8 @@ impl UnshotByZone {
         let mut counted = UnshotByZone {
             strongest: vec![None; patches.len()],
             total: vec![Rgb::ZERO; patches.len()],
+            weighted: vec![0.0; patches.len()],
+            weights,
             patches,
             current: None,
         };
@@ -80,10 +90,12 @@ impl UnshotByZone {
     fn recount(&mut self, zone: usize, (unshot, areas): (&[Rgb], &[f64])) {
         let mut strongest: Option<(u32, f64)> = None;
         let mut total = Rgb::ZERO;
+        let mut weighted = 0.0;
         for &p in &self.patches[zone] {
             let (b, area) = (unshot[p as usize], areas[p as usize]);
             total += b * area;
             let sum = b.element_sum() * area;
+            weighted += sum * self.weights[p as usize];
             // Of equals the later, as `Iterator::max_by` keeps.
             if strongest.is_none_or(|(_, best)| sum.total_cmp(&best).is_ge()) {
                 strongest = Some((p, sum));
@@ -91,6 +103,7 @@ impl UnshotByZone {
         }
         self.strongest[zone] = strongest;
         self.total[zone] = total;
+        self.weighted[zone] = weighted;
     }
 
     /// Counts every zone again.
@@ -140,6 +153,13 @@ impl UnshotByZone {
     pub(crate) fn total(&self) -> Rgb {
         self.total.iter().copied().sum()
     }
+
+    /// The unshot power of all patches as the tolerance counts it,
+    /// Σ w_p ΔB_p A_p, summed over the channels.
+    #[must_use]
+    pub(crate) fn weighted_total(&self) -> f64 {
+        self.weighted.iter().sum()
+    }
 }
 
 #[cfg(test)]
@@ -147,13 +167,22 @@ mod tests {
     use super::*;
 
     /// Against a scan of every patch (and of the last shot's zone's),
-    /// through random changes to random zones' patches, ties included.
+    /// through random changes to random zones' patches, ties included; the
+    /// weighted total against a weighted sum.
     #[test]
-    fn the_choice_and_total_are_full_scans() {
+    fn the_choice_and_totals_are_full_scans() {
         let zone_of: Vec<usize> = (0..40).map(|p| (p * 7 + p / 5) % 6).collect();
         let areas: Vec<f64> = (0..40).map(|p| 0.5 + (p % 3) as f64).collect();
         let mut unshot = vec![Rgb::ZERO; 40];
-        let mut counted = UnshotByZone::new(zone_of.iter().copied(), 6, (&unshot, &areas));
+        let weights: Vec<f64> = (0..40)
+            .map(|p| if p % 4 == 0 { 0.5 } else { 1.0 })
+            .collect();
+        let mut counted = UnshotByZone::new(
+            zone_of.iter().copied(),
+            6,
+            (&unshot, &areas),
+            weights.clone(),
+        );
         assert_eq!(counted.strongest().map(|(_, power)| power), Some(0.0));
         let mut state = 12345u64;
         let mut next = || {
@@ -188,6 +217,8 @@ mod tests {
             assert_eq!(counted.next_shooter(1.0), scan);
             let total: Rgb = (0..40).map(|p| unshot[p] * areas[p]).sum();
             assert!((counted.total() - total).abs().max_element() < 1e-12);
+            let weighted: f64 = (0..40).map(|p| power(p) * weights[p]).sum();
+            assert!((counted.weighted_total() - weighted).abs() < 1e-12);
         }
     }
 }

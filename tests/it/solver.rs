@@ -3,7 +3,7 @@
 use crate::support::*;
 use glam::DVec3;
 use isorad::{
-    Scene, SolverSettings, SurfaceId,
+    Scene, SolverSettings, StopReason, SurfaceId,
     mesh::{SquareMeshSettings, mesh_square},
     solver::FormFactorKernel,
 };
@@ -909,4 +909,61 @@ fn a_room_with_a_one_sided_plate_keeps_losing_light_on_its_back() {
     assert_eq!(plain.radiosity(), conserved.radiosity());
     let escaped = conserved.energy_balance().escaped.r / (PI * 10.0 * 0.36);
     assert!(escaped > 0.02, "escaped {escaped:+.4} of the emitted power");
+}
+
+#[test]
+fn a_closed_room_counts_its_unshot_power_at_its_weight() {
+    // The closed room keeps all its light: at the default weight (0.5) its
+    // unshot power counts half toward the tolerance, so a 5 % solve stops
+    // between 5 % and 10 % of the emitted power unshot, and the ambient
+    // term still gives the room Φ / (1 − ρ) in all. Held to the tolerance
+    // in full (weight 1) it shoots on to 5 %. The room with a one-sided
+    // plate loses light on the plate's back: it counts in full.
+    let scene = closed_room_with_a_block();
+    let solve = |scene: &Scene, weight: f64| {
+        let mut settings = settings(0.05);
+        settings.closed_zone_weight = weight;
+        let mut solver = isorad::Solver::with_mesh(scene.clone(), mesh(scene, 0.2, 1.0), settings)
+            .expect("solver");
+        assert_eq!(solver.run(), StopReason::Converged);
+        solver
+    };
+    let (weighted, full) = (solve(&scene, 0.5), solve(&scene, 1.0));
+    let unshot = weighted.unshot_fraction();
+    assert!(
+        unshot > 0.05 && unshot <= 0.1 && weighted.convergence_fraction() <= 0.05,
+        "closed room at weight 0.5: {unshot:.4} unshot, {:.4} counted",
+        weighted.convergence_fraction()
+    );
+    assert!((weighted.convergence_fraction() - 0.5 * unshot).abs() < 1e-12);
+    assert!(full.unshot_fraction() <= 0.05 && full.shots() > weighted.shots());
+    let expected = PI * 10.0 * 0.36 / (1.0 - 0.7);
+    let received = |solver: &isorad::Solver| -> f64 {
+        let solution = solver.solution_with_ambient();
+        let total: f64 = solution
+            .surface_totals()
+            .iter()
+            .map(|t| t.received_power.r)
+            .sum();
+        total / expected - 1.0
+    };
+    let (early, late) = (received(&weighted), received(&full));
+    assert!(
+        early.abs() < 0.002,
+        "received in all against Φ / (1 − ρ): {early:+.4} stopped at {unshot:.3} unshot, \
+         {late:+.4} at {:.3}",
+        full.unshot_fraction()
+    );
+
+    let mut open = scene.clone();
+    let white = open.surfaces[0].material;
+    let plate = square_z(1.0, 3.0, 1.5, true)
+        .into_iter()
+        .map(|p| p + DVec3::new(0.5, 0.0, -0.5))
+        .collect();
+    open.surfaces
+        .push(isorad::scene::Surface::new("plate", white, plate).unwrap());
+    let leaky = solve(&open, 0.5);
+    assert!(leaky.unshot_fraction() <= 0.05);
+    assert!((leaky.convergence_fraction() - leaky.unshot_fraction()).abs() < 1e-12);
 }

@@ -31,9 +31,15 @@ pub struct SolveArgs {
 /// [`Settings`].
 #[derive(Args)]
 pub struct Overrides {
-    /// Stop when unshot power < TOLERANCE × emitted power [default: 0.05].
+    /// Stop when unshot power < TOLERANCE × emitted power [default: 0.05];
+    /// a closed room's unshot power counts at --closed-zone-weight.
     #[arg(long)]
     tolerance: Option<f64>,
+    /// How much a closed room's unshot power counts toward --tolerance
+    /// [default: 0.5; a closed room stops at twice the tolerance]; 1 holds
+    /// every room to the tolerance.
+    #[arg(long, value_name = "WEIGHT")]
+    closed_zone_weight: Option<f64>,
     /// Form-factor kernel: mixed (default), wallace or exact.
     #[arg(long, value_enum, value_name = "KERNEL")]
     form_factor: Option<KernelArg>,
@@ -97,6 +103,9 @@ impl Overrides {
         if let Some(tolerance) = self.tolerance {
             solver.tolerance = tolerance;
         }
+        if let Some(weight) = self.closed_zone_weight {
+            solver.closed_zone_weight = weight;
+        }
         if let Some(kernel) = self.form_factor {
             solver.kernel = kernel.into();
         }
@@ -145,6 +154,11 @@ impl Overrides {
     fn given(&self) -> Vec<(&'static str, &'static str)> {
         [
             ("--tolerance", "solver.tolerance", self.tolerance.is_some()),
+            (
+                "--closed-zone-weight",
+                "solver.closed_zone_weight",
+                self.closed_zone_weight.is_some(),
+            ),
             (
                 "--coarse-reception",
                 "solver.coarse_reception",

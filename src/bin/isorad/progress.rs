@@ -58,7 +58,8 @@ pub fn solve_with_progress(
     bar.enable_steady_tick(Duration::from_millis(100));
     let show = |progress: &Progress| {
         let unshot = progress.unshot_fraction.max(1e-12);
-        let done = (unshot.ln() / tolerance.ln()).clamp(0.0, 1.0);
+        let counted = progress.convergence_fraction.max(1e-12);
+        let done = (counted.ln() / tolerance.ln()).clamp(0.0, 1.0);
         bar.set_position((1000.0 * done) as u64);
         bar.set_message(format!(
             "unshot {:.2} %, {} shots",
