@@ -429,6 +429,44 @@ impl Mesh {
         Ok(())
     }
 
+    /// Each vertex's neighbours: the other corners of the elements around
+    /// it, once each, in increasing order, as offsets into one list (CSR):
+    /// vertex v's are `list[offsets[v]..offsets[v + 1]]`.
+    #[must_use]
+    pub fn vertex_neighbours(&self) -> (Vec<usize>, Vec<u32>) {
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        for element in &self.elements {
+            let c = element.corners();
+            for &a in c {
+                pairs.extend(c.iter().filter(|&&b| b != a).map(|&b| (a, b)));
+            }
+        }
+        pairs.sort_unstable();
+        pairs.dedup();
+        let mut offsets = vec![0; self.vertices.len() + 1];
+        for &(a, _) in &pairs {
+            offsets[a as usize + 1] += 1;
+        }
+        for v in 0..self.vertices.len() {
+            offsets[v + 1] += offsets[v];
+        }
+        (offsets, pairs.into_iter().map(|(_, b)| b).collect())
+    }
+
+    /// Whether each vertex lies on its surface mesh's outline: on an edge
+    /// that one element alone uses (a T-junction's vertex counts too).
+    #[must_use]
+    pub fn outline_vertices(&self) -> Vec<bool> {
+        let mut outline = vec![false; self.vertices.len()];
+        for (&(a, b), &uses) in &self.edge_uses() {
+            if uses == 1 {
+                outline[a as usize] = true;
+                outline[b as usize] = true;
+            }
+        }
+        outline
+    }
+
     /// How many elements use each undirected edge (a, b), a < b, between
     /// corners: 1 on the mesh's boundary, 2 inside.
     fn edge_uses(&self) -> HashMap<(u32, u32), u32> {

@@ -139,6 +139,14 @@ impl Landing {
     }
 }
 
+/// A vertex's ambient irradiance G_v, W/m², and the standard error of its
+/// channels' sum.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct AmbientEstimate {
+    pub(crate) irradiance: Rgb,
+    pub(crate) standard_error: f64,
+}
+
 impl AmbientRays {
     /// Casts the rays not cast yet: every patch's once, and those of
     /// vertices added since the last call. A ray from surface `s` traverses
@@ -225,7 +233,11 @@ impl AmbientRays {
     /// is the element a vertex's last ray on that patch found (see
     /// [`super::unshot::PatchField::unshot_at`]).
     /// The residual A_h stays the patch's. Vertices whose rays have not been
-    /// cast get none.
+    /// cast get none. Each estimate comes with a bound on its standard
+    /// error, that of the mean of its rays' values summed over the
+    /// channels, from its strata collapsed in pairs of neighbouring sectors
+    /// (a miss counted as 0): a surface that fills a ring of strata evenly
+    /// adds nothing to it, however bright.
     ///
     /// In a zone that keeps all its light (`lossless` of a surface, see
     /// [`crate::SolverSettings::conserve_closed_zones`]) a ray that ends on
@@ -242,7 +254,7 @@ impl AmbientRays {
         (unshot, reflectance): (&[Rgb], &[Rgb]),
         unshot_at: &UnshotAt<'_>,
         lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
-    ) -> Vec<Rgb> {
+    ) -> Vec<AmbientEstimate> {
         let patch_lossless: Vec<bool> = mesh.patches.iter().map(|p| lossless(p.surface)).collect();
         let residual = self.patch_residual(unshot, reflectance, &patch_lossless);
         let seen = |v: usize| {
@@ -251,27 +263,80 @@ impl AmbientRays {
                 self.vertex_hits.get(rays.clone()),
                 self.vertex_landings.get(rays),
             ) else {
-                return Rgb::ZERO;
+                return AmbientEstimate::default();
             };
             let mut last = (usize::MAX, 0);
-            let seen = hits
-                .iter()
-                .zip(landings)
-                .filter(|(h, _)| **h != MISS)
-                .map(|(&h, landing)| {
-                    let h = h as usize;
-                    if last.0 != h {
-                        last = (h, 0);
-                    }
-                    let at = landing
-                        .parameters()
-                        .and_then(|st| unshot_at(h, st, &mut last.1));
-                    at.unwrap_or(unshot[h]) + residual[h]
-                })
-                .sum::<Rgb>();
-            seen / rays_counted(hits, lossless(mesh.vertices[v].surface))
+            let mut sum = Rgb::ZERO;
+            // Each ray's value summed over the channels, 0 for a miss.
+            let mut sums = [0.0; VERTEX_RAYS];
+            for (k, (&h, landing)) in hits.iter().zip(landings).enumerate() {
+                if h == MISS {
+                    continue;
+                }
+                let h = h as usize;
+                if last.0 != h {
+                    last = (h, 0);
+                }
+                let at = landing
+                    .parameters()
+                    .and_then(|st| unshot_at(h, st, &mut last.1));
+                let value = at.unwrap_or(unshot[h]) + residual[h];
+                sum += value;
+                sums[k] = value.element_sum();
+            }
+            let n = rays_counted(hits, lossless(mesh.vertices[v].surface));
+            // Strata collapsed in pairs of neighbouring sectors:
+            // Var(mean) ≤ Σ (x_a − x_b)² / n² (Cochran 1977, §5A.12).
+            let variance = sums
+                .chunks_exact(2)
+                .map(|pair| (pair[0] - pair[1]).powi(2))
+                .sum::<f64>()
+                / (n * n);
+            AmbientEstimate {
+                irradiance: sum / n,
+                standard_error: variance.sqrt(),
+            }
         };
         (0..mesh.vertices.len()).into_par_iter().map(seen).collect()
+    }
+
+    /// Each vertex's harmonic mean distance to where its rays land,
+    /// R_v = N / Σ 1/d_k over the N rays that land on a patch (infinite
+    /// where none does, or its rays are not cast): the scale over which
+    /// its ambient irradiance changes (`ambient_smoothing.rs`).
+    #[must_use]
+    pub(crate) fn harmonic_distances(&self, mesh: &Mesh) -> Vec<f64> {
+        (0..mesh.vertices.len())
+            .into_par_iter()
+            .map(|v| {
+                let rays = v * VERTEX_RAYS..(v + 1) * VERTEX_RAYS;
+                let (Some(hits), Some(landings)) = (
+                    self.vertex_hits.get(rays.clone()),
+                    self.vertex_landings.get(rays),
+                ) else {
+                    return f64::INFINITY;
+                };
+                let x = mesh.vertices[v].receiver_position;
+                let (mut count, mut inverse) = (0.0, 0.0);
+                for (&h, landing) in hits.iter().zip(landings) {
+                    let (Some(patch), Some((s, t))) =
+                        (mesh.patches.get(h as usize), landing.parameters())
+                    else {
+                        continue;
+                    };
+                    let d = patch.cell.point(s, t).distance(x);
+                    if d > 0.0 && d.is_finite() {
+                        count += 1.0;
+                        inverse += 1.0 / d;
+                    }
+                }
+                if inverse > 0.0 {
+                    count / inverse
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .collect()
     }
 
     /// The fixed point A_p = ρ_p ⟨ΔB_h + A_h⟩_p, by Jacobi iteration; the
@@ -494,10 +559,15 @@ mod tests {
         let g = rays.irradiance(&mesh, (&unshot, &[Rgb::splat(0.5)]), &field, &|_| false);
         // Of every 8 rays: four at 2, two at 4, one nowhere (the mean, 1)
         // and one miss: (4·2 + 2·4 + 1) / 8.
-        assert!((g[0].g - 17.0 / 8.0).abs() < 1e-12, "{g:?}");
+        assert!((g[0].irradiance.g - 17.0 / 8.0).abs() < 1e-12, "{g:?}");
+        // Its standard error's bound, from the ray pairs (6, 6), (12, 3),
+        // (6, 6) and (12, 0) of the channels' sums in every 8 rays:
+        // √(8 · (9² + 12²)) / 64.
+        let expected = (8.0_f64 * (81.0 + 144.0)).sqrt() / 64.0;
+        assert!((g[0].standard_error - expected).abs() < 1e-12, "{g:?}");
         // In a zone that keeps its light the miss is left out: / 7.
         let g = rays.irradiance(&mesh, (&unshot, &[Rgb::splat(0.5)]), &field, &|_| true);
-        assert!((g[0].g - 17.0 / 7.0).abs() < 1e-12, "{g:?}");
+        assert!((g[0].irradiance.g - 17.0 / 7.0).abs() < 1e-12, "{g:?}");
     }
 
     /// Rays that leave the scene carry nothing: a patch half of whose rays

@@ -4,6 +4,7 @@
 //! gets (`scene_mesh.rs`, where lighting's fields meet the meshers).
 
 mod ambient;
+mod ambient_smoothing;
 mod element_index;
 mod element_power;
 mod energy_balance;

@@ -6,6 +6,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::ambient::AmbientRays;
+use super::ambient_smoothing;
 use super::element_power;
 use super::energy_balance::EnergyBalance;
 use super::indexed_update;
@@ -1008,12 +1009,17 @@ impl Solver {
             field.unshot_at(y, hint).map(|w| scale.apply(w))
         };
         let lossless = &self.surface_lossless;
-        rays.irradiance(
+        let gathered = rays.irradiance(
             &self.mesh,
             (&self.unshot, &reflectance),
             &unshot_at,
             &|surface| lossless[surface.index()],
-        )
+        );
+        if !self.settings.smooth_ambient {
+            return gathered.iter().map(|g| g.irradiance).collect();
+        }
+        let distances = rays.harmonic_distances(&self.mesh);
+        ambient_smoothing::smoothed(&self.mesh, &gathered, &distances)
     }
 
     /// The solution from the light shot so far, without the ambient term.

@@ -967,3 +967,55 @@ fn a_closed_room_counts_its_unshot_power_at_its_weight() {
     assert!(leaky.unshot_fraction() <= 0.05);
     assert!((leaky.convergence_fraction() - leaky.unshot_fraction()).abs() < 1e-12);
 }
+
+#[test]
+fn the_smoothed_ambient_term_is_nearer_an_unshot_lamps_light() {
+    // Before any shot, the ambient term stands for all the light: under a
+    // 1 m square lamp 2 m over a 6 × 6 m floor, each floor vertex's 64 rays
+    // estimate the lamp's irradiance E = π L F, F Lambert's exact factor,
+    // from the few of them that reach it. Averaged with its neighbours'
+    // (weighted by distance over their rays' harmonic mean distance), the
+    // estimate is nearer E (18 % off on average against 55 %), and the
+    // floor's light in all moves by a few thousandths (−4.1 % against
+    // −3.9 %: the rays' own error in all, 64 per vertex).
+    let mut b = SceneBuilder::default();
+    let floor = b.material("floor", 0.5, 0.0);
+    let lamp = b.material("lamp", 0.0, 10.0);
+    b.polygon("floor", floor, square_z(-3.0, 3.0, 0.0, true));
+    let panel = square_z(-0.5, 0.5, 2.0, false);
+    b.polygon("lamp", lamp, panel.clone());
+    let scene = b.scene;
+    let mesh = mesh(&scene, 0.2, 1.0);
+    let error = |smooth: bool| {
+        let mut settings = settings(0.05);
+        settings.smooth_ambient = smooth;
+        let solver =
+            isorad::Solver::with_mesh(scene.clone(), mesh.clone(), settings).expect("solver");
+        let solution = solver.solution_with_ambient();
+        let (mut sum, mut count, mut total, mut exact_total) = (0.0, 0.0, 0.0, 0.0);
+        for (vertex, h) in solver.mesh().vertices.iter().zip(&solution.irradiance) {
+            let p = vertex.position;
+            if vertex.surface != SurfaceId::new(0) || p.x.abs().max(p.y.abs()) > 2.5 {
+                continue;
+            }
+            let exact = PI
+                * 10.0
+                * isorad::radiometry::polygon_form_factor(
+                    vertex.receiver_position,
+                    DVec3::Z,
+                    &panel,
+                );
+            sum += (h.g / exact - 1.0).abs();
+            count += 1.0;
+            total += h.g;
+            exact_total += exact;
+        }
+        (sum / count, total / exact_total - 1.0)
+    };
+    let ((smoothed, smoothed_total), (raw, raw_total)) = (error(true), error(false));
+    assert!(
+        smoothed < 0.5 * raw && (smoothed_total - raw_total).abs() < 0.005,
+        "mean |E / E_exact − 1| over the floor: {smoothed:.4} smoothed, {raw:.4} not; \
+         in all {smoothed_total:+.4} and {raw_total:+.4}"
+    );
+}
