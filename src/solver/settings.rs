@@ -134,8 +134,9 @@ pub struct SolverSettings {
     /// the open, light leaves, the ambient term's guess of where the rest
     /// goes is poorer, and the unshot power counts in full. Closed rooms
     /// render at equal error in about a third less time (BENCHMARKS.md,
-    /// (e)); the open table's shadow rendered 2.50 % off per pixel at 10 %
-    /// against 2.18 % at 5 %. In (0, 1]; 1 holds every zone to the
+    /// (e); at 0.33 the furnished offices gain another 7–14 %, `scenes/room`
+    /// loses 4 %); the open table's shadow rendered 2.50 % off per pixel at
+    /// 10 % against 2.18 % at 5 %. In (0, 1]; 1 holds every zone to the
     /// tolerance. Without `conserve_closed_zones` every zone counts in full.
     pub closed_zone_weight: f64,
     /// Average each vertex's ambient irradiance with its mesh neighbours',
