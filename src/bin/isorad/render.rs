@@ -200,12 +200,21 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
         mesh.elements.len(),
         mesh.vertices.len()
     );
+    let (unshot, counted) = (solver.unshot_fraction(), solver.convergence_fraction());
+    let counted = if (unshot - counted).abs() > 1e-9 {
+        format!(
+            " ({:.3} % as the tolerance counts it, closed rooms' at --closed-zone-weight)",
+            100.0 * counted
+        )
+    } else {
+        String::new()
+    };
     eprintln!(
-        "solved: {} shots, {} shadow rays in {solve_seconds:.2} s ({:.2} M rays/s), unshot {:.3} %",
+        "solved: {} shots, {} shadow rays in {solve_seconds:.2} s ({:.2} M rays/s), unshot {:.3} %{counted}",
         solver.shots(),
         rays,
         rays as f64 / solve_seconds.max(1e-9) / 1e6,
-        100.0 * solver.unshot_fraction()
+        100.0 * unshot
     );
     let (interpolated, receptions) = solver.interpolated_receptions();
     if interpolated > 0 {
