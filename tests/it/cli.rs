@@ -115,11 +115,20 @@ fn a_bad_flag_value_is_an_error() {
         &["render", "--tolerance", "2", "-q"][..],
         &["render", "--max-edge", "-1", "-q"],
         &["render", "--width", "0", "-q"],
+        &["render", "--closed-zone-weight", "0", "-q"],
+        &["render", "--closed-zone-weight", "1.5", "-q"],
     ] {
         let out = isorad(dir.path(), args);
         assert!(!out.status.success(), "{args:?} succeeded");
         assert!(!stderr(&out).contains("panicked"), "{}", stderr(&out));
     }
+    // Named by its flag.
+    let out = isorad(dir.path(), &["render", "--closed-zone-weight", "1.5", "-q"]);
+    assert!(
+        stderr(&out).contains("--closed-zone-weight"),
+        "{}",
+        stderr(&out)
+    );
 }
 
 #[test]

@@ -284,6 +284,18 @@ fn toml_bad_settings_are_named_with_line_and_field() {
         &["0 is not in (0, 1]"],
     );
     expect_setting_error(
+        &format!("{obj}[solver]\nclosed_zone_weight = 1.5\n"),
+        3,
+        "solver.closed_zone_weight",
+        &["1.5 is not in (0, 1]"],
+    );
+    expect_setting_error(
+        &format!("{obj}[solver]\nsmooth_ambient = 1\n"),
+        3,
+        "solver.smooth_ambient",
+        &["bool"],
+    );
+    expect_setting_error(
         &format!("{obj}[mesh]\nkind = \"adaptive\"\nrefinement.threshold = 0\n"),
         4,
         "mesh.refinement.threshold",
