@@ -434,14 +434,15 @@ impl Mesh {
     /// vertex v's are `list[offsets[v]..offsets[v + 1]]`.
     #[must_use]
     pub fn vertex_neighbours(&self) -> (Vec<usize>, Vec<u32>) {
-        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        use rayon::slice::ParallelSliceMut;
+        let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(12 * self.elements.len());
         for element in &self.elements {
             let c = element.corners();
             for &a in c {
                 pairs.extend(c.iter().filter(|&&b| b != a).map(|&b| (a, b)));
             }
         }
-        pairs.sort_unstable();
+        pairs.par_sort_unstable();
         pairs.dedup();
         let mut offsets = vec![0; self.vertices.len() + 1];
         for &(a, _) in &pairs {
@@ -454,7 +455,9 @@ impl Mesh {
     }
 
     /// Whether each vertex lies on its surface mesh's outline: on an edge
-    /// that one element alone uses (a T-junction's vertex counts too).
+    /// that one element alone uses. Where elements split to different
+    /// depths meet, the coarse side's edge is used once too: the
+    /// T-junction's vertex and that edge's two ends count as outline.
     #[must_use]
     pub fn outline_vertices(&self) -> Vec<bool> {
         let mut outline = vec![false; self.vertices.len()];

@@ -236,8 +236,9 @@ impl AmbientRays {
     /// cast get none. Each estimate comes with a bound on its standard
     /// error, that of the mean of its rays' values summed over the
     /// channels, from its strata collapsed in pairs of neighbouring sectors
-    /// (a miss counted as 0): a surface that fills a ring of strata evenly
-    /// adds nothing to it, however bright.
+    /// (a miss counted as 0, or its pair left out where the mean leaves
+    /// misses out): a surface that fills a ring of strata evenly adds
+    /// nothing to it, however bright.
     ///
     /// In a zone that keeps all its light (`lossless` of a surface, see
     /// [`crate::SolverSettings::conserve_closed_zones`]) a ray that ends on
@@ -285,13 +286,25 @@ impl AmbientRays {
                 sums[k] = value.element_sum();
             }
             let n = rays_counted(hits, lossless(mesh.vertices[v].surface));
-            // Strata collapsed in pairs of neighbouring sectors:
-            // Var(mean) ≤ Σ (x_a − x_b)² / n² (Cochran 1977, §5A.12).
-            let variance = sums
-                .chunks_exact(2)
-                .map(|pair| (pair[0] - pair[1]).powi(2))
-                .sum::<f64>()
-                / (n * n);
+            // Strata collapsed in pairs of neighbouring sectors: each pair
+            // estimates twice a stratum's variance, so over the K pairs
+            // kept Var(mean) ≈ Σ (x_a − x_b)² / (2 K n) (Cochran 1977,
+            // §5A.12; Σ / n² with every pair). Where the mean leaves the
+            // misses out, so do the pairs.
+            let skip_misses = n < hits.len() as f64;
+            let (mut squares, mut pairs) = (0.0, 0.0);
+            for (pair, rays) in sums.chunks_exact(2).zip(hits.chunks_exact(2)) {
+                if skip_misses && rays.contains(&MISS) {
+                    continue;
+                }
+                squares += (pair[0] - pair[1]).powi(2);
+                pairs += 1.0;
+            }
+            let variance = if pairs > 0.0 {
+                squares / (2.0 * pairs * n)
+            } else {
+                0.0
+            };
             AmbientEstimate {
                 irradiance: sum / n,
                 standard_error: variance.sqrt(),
@@ -568,6 +581,10 @@ mod tests {
         // In a zone that keeps its light the miss is left out: / 7.
         let g = rays.irradiance(&mesh, (&unshot, &[Rgb::splat(0.5)]), &field, &|_| true);
         assert!((g[0].irradiance.g - 17.0 / 7.0).abs() < 1e-12, "{g:?}");
+        // And so is the pair that holds it: 24 pairs kept, Σ = 8 · 9²,
+        // over the 56 rays that land.
+        let expected = (8.0_f64 * 81.0 / (2.0 * 24.0 * 56.0)).sqrt();
+        assert!((g[0].standard_error - expected).abs() < 1e-12, "{g:?}");
     }
 
     /// Rays that leave the scene carry nothing: a patch half of whose rays

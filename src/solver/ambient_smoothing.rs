@@ -24,8 +24,12 @@
 //! top, and the wall a little higher (`tests/it/contacts.rs`). A vertex
 //! on its surface mesh's outline keeps its own estimate: its neighbours
 //! lie on one side, and their mean leans toward the surface's interior (a
-//! wall's foot toward its middle). Inside, a vertex's neighbours surround
-//! it, and the mean of a field that changes linearly is its value there.
+//! wall's foot toward its middle). Inside a regular grid a vertex's
+//! neighbours surround it symmetrically, and the mean of a field that
+//! changes linearly is its value there; where lattices meet, or in a
+//! contour or contact triangulation, the weighted neighbours' centre
+//! sits off the vertex, and the mean leans along the field's gradient by
+//! a fraction of an element.
 //!
 //! Under a lamp not yet shot, the floor's estimates of its light are 22 %
 //! off on average where they were 55 % (`tests/it/solver.rs`). The images,
@@ -177,6 +181,35 @@ mod tests {
             .collect();
         assert_eq!(moved, [0, 8]);
         assert_eq!(out[0], spiked[0]);
+    }
+
+    /// A vertex whose rays land close (an object beside it) is neither
+    /// averaged with its neighbours nor averaged into theirs, however far
+    /// theirs land: the smaller of the two distances sets the reach.
+    #[test]
+    fn a_vertex_whose_rays_land_close_keeps_to_itself() {
+        let mesh = grid(6);
+        let raw: Vec<Rgb> = (0..mesh.vertices.len())
+            .map(|v| Rgb::splat(1.0 + 0.01 * v as f64))
+            .collect();
+        // Vertex (3, 3), its rays landing 0.1 away; the others' 100 away.
+        let close = 3 * 7 + 3;
+        let mut distances = vec![100.0; raw.len()];
+        distances[close] = 0.1;
+        let out = smoothed(&mesh, &noisy(&raw, 1.0), &distances);
+        assert_eq!(out[close], raw[close]);
+        let alone = distances.iter().map(|_| 100.0).collect::<Vec<_>>();
+        let with = smoothed(&mesh, &noisy(&raw, 1.0), &alone);
+        for neighbour in [close - 1, close + 1, close - 7, close + 7] {
+            assert_ne!(
+                out[neighbour], with[neighbour],
+                "{neighbour} still takes it"
+            );
+            assert_ne!(
+                out[neighbour], raw[neighbour],
+                "{neighbour} averages nothing"
+            );
+        }
     }
 
     /// Independent noise on the inner vertices, uniform in ±0.5 on each

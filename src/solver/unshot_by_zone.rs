@@ -59,13 +59,14 @@ impl UnshotByZone {
     /// Counts the unshot power of patches whose zones `zone_of_patch` gives
     /// (indices below `zones`), from their unshot radiosity `unshot` and
     /// `areas`, each weighted toward the tolerance by `weights` (one per
-    /// patch; missing weights are 1).
+    /// patch).
     pub(crate) fn new(
         zone_of_patch: impl Iterator<Item = usize>,
         zones: usize,
         (unshot, areas): (&[Rgb], &[f64]),
         mut weights: Vec<f64>,
     ) -> UnshotByZone {
+        debug_assert_eq!(weights.len(), unshot.len());
         weights.resize(unshot.len(), 1.0);
         let mut patches = vec![Vec::new(); zones.max(1)];
         for (p, zone) in zone_of_patch.enumerate() {

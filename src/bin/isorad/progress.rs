@@ -61,8 +61,14 @@ pub fn solve_with_progress(
         let counted = progress.convergence_fraction.max(1e-12);
         let done = (counted.ln() / tolerance.ln()).clamp(0.0, 1.0);
         bar.set_position((1000.0 * done) as u64);
+        // Closed rooms' unshot power counts at its weight toward the tolerance.
+        let counted = if (unshot - counted).abs() > 1e-9 {
+            format!(" ({:.2} % counted)", 100.0 * counted)
+        } else {
+            String::new()
+        };
         bar.set_message(format!(
-            "unshot {:.2} %, {} shots",
+            "unshot {:.2} %{counted}, {} shots",
             100.0 * unshot,
             progress.shots
         ));
