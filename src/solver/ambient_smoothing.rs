@@ -60,18 +60,46 @@ pub(crate) const REACH: f64 = 2.0;
 /// vertex's by this many standard errors of their difference.
 pub(crate) const AGREEMENT: f64 = 3.0;
 
-/// The ambient irradiance `estimates` (per vertex of `mesh`) averaged over
-/// each inner vertex's neighbours, each weighted by its distance over the
-/// smaller harmonic mean distance `harmonic_distance` and by how far the
-/// two estimates differ over their noise (see the module docs).
+/// Each vertex's mesh neighbours, and whether it lies on its surface
+/// mesh's outline: what the averaging reads of the mesh, kept while the
+/// mesh stays as it is.
+#[derive(Clone, Debug)]
+pub(crate) struct Neighbourhood {
+    offsets: Vec<usize>,
+    neighbours: Vec<u32>,
+    outline: Vec<bool>,
+}
+
+impl Neighbourhood {
+    /// The neighbourhood of every vertex of `mesh`.
+    #[must_use]
+    pub(crate) fn new(mesh: &Mesh) -> Neighbourhood {
+        let (offsets, neighbours) = mesh.vertex_neighbours();
+        Neighbourhood {
+            offsets,
+            neighbours,
+            outline: mesh.outline_vertices(),
+        }
+    }
+}
+
+/// The ambient irradiance `estimates` (per vertex of `mesh`, whose
+/// neighbourhood is `around`) averaged over each inner vertex's
+/// neighbours, each weighted by its distance over the smaller harmonic
+/// mean distance `harmonic_distance` and by how far the two estimates
+/// differ over their noise (see the module docs).
 #[must_use]
 pub(crate) fn smoothed(
     mesh: &Mesh,
+    around: &Neighbourhood,
     estimates: &[AmbientEstimate],
     harmonic_distance: &[f64],
 ) -> Vec<Rgb> {
-    let (offsets, neighbours) = mesh.vertex_neighbours();
-    let outline = mesh.outline_vertices();
+    let Neighbourhood {
+        offsets,
+        neighbours,
+        outline,
+    } = around;
     (0..estimates.len())
         .into_par_iter()
         .map(|v| {
@@ -167,7 +195,7 @@ mod tests {
             .map(|v| Rgb::splat(2.0 + 0.3 * v.position.x - 0.1 * v.position.y))
             .collect();
         let far = vec![100.0; raw.len()];
-        let out = smoothed(&mesh, &noisy(&raw, 1.0), &far);
+        let out = smoothed(&mesh, &Neighbourhood::new(&mesh), &noisy(&raw, 1.0), &far);
         for (v, (a, b)) in raw.iter().zip(&out).enumerate() {
             assert!((a.r - b.r).abs() < 1e-12, "vertex {v}: {a:?} → {b:?}");
         }
@@ -175,7 +203,12 @@ mod tests {
         // neighbour, which it pulls, is the only other to move.
         let mut spiked = raw.clone();
         spiked[0] = Rgb::splat(40.0);
-        let out = smoothed(&mesh, &noisy(&spiked, 100.0), &far);
+        let out = smoothed(
+            &mesh,
+            &Neighbourhood::new(&mesh),
+            &noisy(&spiked, 100.0),
+            &far,
+        );
         let moved: Vec<usize> = (0..raw.len())
             .filter(|&v| (out[v].r - raw[v].r).abs() > 1e-9)
             .collect();
@@ -196,10 +229,15 @@ mod tests {
         let close = 3 * 7 + 3;
         let mut distances = vec![100.0; raw.len()];
         distances[close] = 0.1;
-        let out = smoothed(&mesh, &noisy(&raw, 1.0), &distances);
+        let out = smoothed(
+            &mesh,
+            &Neighbourhood::new(&mesh),
+            &noisy(&raw, 1.0),
+            &distances,
+        );
         assert_eq!(out[close], raw[close]);
         let alone = distances.iter().map(|_| 100.0).collect::<Vec<_>>();
-        let with = smoothed(&mesh, &noisy(&raw, 1.0), &alone);
+        let with = smoothed(&mesh, &Neighbourhood::new(&mesh), &noisy(&raw, 1.0), &alone);
         for neighbour in [close - 1, close + 1, close - 7, close + 7] {
             assert_ne!(
                 out[neighbour], with[neighbour],
@@ -244,17 +282,32 @@ mod tests {
                 .sum::<f64>()
                 / inner.len() as f64
         };
-        let far = smoothed(&mesh, &noisy(&raw, 0.9), &vec![50.0; raw.len()]);
+        let far = smoothed(
+            &mesh,
+            &Neighbourhood::new(&mesh),
+            &noisy(&raw, 0.9),
+            &vec![50.0; raw.len()],
+        );
         assert!(
             variance(&far) < variance(&raw) / 4.0,
             "{} against {}",
             variance(&far),
             variance(&raw)
         );
-        let near = smoothed(&mesh, &noisy(&raw, 0.9), &vec![0.2; raw.len()]);
+        let near = smoothed(
+            &mesh,
+            &Neighbourhood::new(&mesh),
+            &noisy(&raw, 0.9),
+            &vec![0.2; raw.len()],
+        );
         assert_eq!(near, raw);
         // Nor where the estimates claim no noise: their differences are real.
-        let exact = smoothed(&mesh, &noisy(&raw, 0.0), &vec![50.0; raw.len()]);
+        let exact = smoothed(
+            &mesh,
+            &Neighbourhood::new(&mesh),
+            &noisy(&raw, 0.0),
+            &vec![50.0; raw.len()],
+        );
         assert_eq!(exact, raw);
     }
 }

@@ -119,6 +119,10 @@ pub struct Solver {
     /// The rays the ambient term gathers the unshot light along, cast on
     /// first use.
     ambient_rays: Mutex<AmbientRays>,
+    /// Each vertex's mesh neighbours and whether it lies on its surface's
+    /// outline, for the ambient term's averaging; found on first use and
+    /// again after the mesh splits.
+    ambient_neighbourhood: std::sync::OnceLock<ambient_smoothing::Neighbourhood>,
     /// Whether each of the scene's photometric luminaires has shot.
     luminaire_shot: Vec<bool>,
     /// The closed zone each photometric luminaire stands in, whose
@@ -321,6 +325,7 @@ impl Solver {
             received_power: Rgb::ZERO,
             absorbed_power: Rgb::ZERO,
             ambient_rays: Mutex::new(AmbientRays::default()),
+            ambient_neighbourhood: std::sync::OnceLock::new(),
             luminaire_shot,
             luminaire_zones,
             emission_pending,
@@ -1019,7 +1024,10 @@ impl Solver {
             return gathered.iter().map(|g| g.irradiance).collect();
         }
         let distances = rays.harmonic_distances(&self.mesh);
-        ambient_smoothing::smoothed(&self.mesh, &gathered, &distances)
+        let neighbourhood = self
+            .ambient_neighbourhood
+            .get_or_init(|| ambient_smoothing::Neighbourhood::new(&self.mesh));
+        ambient_smoothing::smoothed(&self.mesh, neighbourhood, &gathered, &distances)
     }
 
     /// The solution from the light shot so far, without the ambient term.
@@ -1219,6 +1227,7 @@ impl Solver {
             members.invalidate();
         }
         self.reception.invalidate();
+        self.ambient_neighbourhood = std::sync::OnceLock::new();
     }
 
     /// The unshot corners of the mesh's new elements after a split (see
