@@ -196,3 +196,24 @@ fn adaptive_meshing_reaches_the_square_error_with_fewer_vertices_on_the_cornell_
         "adaptive: {vertices} vertices where square meshes need {square:.0}"
     );
 }
+
+/// A preview before the mesh splits and the image after it: the ambient
+/// term, averaged over each vertex's neighbours, has one value per vertex
+/// of the split mesh, every one finite.
+#[test]
+fn the_ambient_term_follows_the_mesh_as_it_splits() {
+    let mut settings = Settings::default();
+    settings.mesh.kind = MeshKind::Adaptive;
+    settings.mesh.max_edge = Length::OfDiagonal(1.0 / 20.0);
+    let mut solver = Solver::new(cornell(), settings).expect("valid settings");
+    let before = solver.solution_with_ambient().irradiance.len();
+    solver.run();
+    let after = solver.solution_with_ambient().irradiance;
+    assert!(
+        after.len() > before,
+        "{} vertices, {before} before",
+        after.len()
+    );
+    assert_eq!(after.len(), solver.mesh().vertices.len());
+    assert!(after.iter().all(|h| h.is_finite()));
+}
