@@ -282,32 +282,20 @@ mod tests {
                 .sum::<f64>()
                 / inner.len() as f64
         };
-        let far = smoothed(
-            &mesh,
-            &Neighbourhood::new(&mesh),
-            &noisy(&raw, 0.9),
-            &vec![50.0; raw.len()],
-        );
+        let around = Neighbourhood::new(&mesh);
+        // Estimates of standard error `error`, their rays landing `reach` off.
+        let smooth = |error: f64, reach: f64| {
+            smoothed(&mesh, &around, &noisy(&raw, error), &vec![reach; raw.len()])
+        };
+        let far = smooth(0.9, 50.0);
         assert!(
             variance(&far) < variance(&raw) / 4.0,
             "{} against {}",
             variance(&far),
             variance(&raw)
         );
-        let near = smoothed(
-            &mesh,
-            &Neighbourhood::new(&mesh),
-            &noisy(&raw, 0.9),
-            &vec![0.2; raw.len()],
-        );
-        assert_eq!(near, raw);
+        assert_eq!(smooth(0.9, 0.2), raw);
         // Nor where the estimates claim no noise: their differences are real.
-        let exact = smoothed(
-            &mesh,
-            &Neighbourhood::new(&mesh),
-            &noisy(&raw, 0.0),
-            &vec![50.0; raw.len()],
-        );
-        assert_eq!(exact, raw);
+        assert_eq!(smooth(0.0, 50.0), raw);
     }
 }
