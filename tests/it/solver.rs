@@ -707,6 +707,19 @@ fn shots_that_stay_in_a_room_give_the_same_light() {
     assert!(staying_shots.abs_diff(strongest_shots) * 10 < strongest_shots);
 }
 
+/// A grey ground (ρ 0.5) from −`ground` to `ground` on z = 0 under a square
+/// lamp (L 10) from −`lamp` to `lamp`, 2 m up and facing down: the builder,
+/// the ground's material and the lamp's polygon.
+fn lamp_over_ground(ground: f64, lamp: f64) -> (SceneBuilder, usize, Vec<DVec3>) {
+    let mut b = SceneBuilder::default();
+    let grey = b.material("grey", 0.5, 0.0);
+    let emitter = b.material("lamp", 0.0, 10.0);
+    b.polygon("ground", grey, square_z(-ground, ground, 0.0, true));
+    let panel = square_z(-lamp, lamp, 2.0, false);
+    b.polygon("lamp", emitter, panel.clone());
+    (b, grey, panel)
+}
+
 /// A closed box (faces turned inward, so its outside is black backs)
 /// floating between a lamp and the open ground: the box is a closed zone
 /// of its own, and the ground's shadow under it is the same with the cull
@@ -715,11 +728,7 @@ fn shots_that_stay_in_a_room_give_the_same_light() {
 /// its bounds, not its own alone.
 #[test]
 fn a_closed_box_in_the_open_still_casts_its_shadow() {
-    let mut b = SceneBuilder::default();
-    let grey = b.material("grey", 0.5, 0.0);
-    let lamp = b.material("lamp", 0.0, 10.0);
-    b.polygon("ground", grey, square_z(-2.0, 2.0, 0.0, true));
-    b.polygon("lamp", lamp, square_z(-0.3, 0.3, 2.0, false));
+    let (mut b, grey, _) = lamp_over_ground(2.0, 0.3);
     for quad in box_faces(DVec3::splat(0.6)) {
         let quad = quad.into_iter().map(|p| p + DVec3::new(-0.3, -0.3, 0.6));
         b.polygon("box", grey, quad.collect());
@@ -854,6 +863,19 @@ fn solved_room(scene: &Scene, conserve: bool) -> isorad::Solver {
     solver
 }
 
+/// The power the faces of [`closed_room_with_a_block`] receive in all,
+/// ambient term included, over Φ / (1 − ρ) (Φ its lamp's emitted power,
+/// ρ = 0.7), less 1.
+fn received_against_the_closed_room(solver: &isorad::Solver) -> f64 {
+    let total: f64 = solver
+        .solution_with_ambient()
+        .surface_totals()
+        .iter()
+        .map(|t| t.received_power.r)
+        .sum();
+    total / (PI * 10.0 * 0.36 / (1.0 - 0.7)) - 1.0
+}
+
 #[test]
 fn a_closed_room_receives_its_emission_over_one_minus_reflectance() {
     // Every face reflects ρ = 0.7, so the faces receive Φ / (1 − ρ) in all,
@@ -866,17 +888,10 @@ fn a_closed_room_receives_its_emission_over_one_minus_reflectance() {
     // −0.28 % and −0.77 %).
     let scene = closed_room_with_a_block();
     let emitted = PI * 10.0 * 0.36;
-    let expected = emitted / (1.0 - 0.7);
     let measure = |conserve: bool| {
         let solver = solved_room(&scene, conserve);
-        let solution = solver.solution_with_ambient();
-        let total: f64 = solution
-            .surface_totals()
-            .iter()
-            .map(|t| t.received_power.r)
-            .sum();
         let escaped = solver.energy_balance().escaped.r / emitted;
-        (total / expected - 1.0, escaped)
+        (received_against_the_closed_room(&solver), escaped)
     };
     let ((plain, plain_escaped), (conserved, conserved_escaped)) = (measure(false), measure(true));
     assert!(
@@ -944,17 +959,10 @@ fn a_closed_room_counts_its_unshot_power_at_its_weight() {
     );
     assert!((weighted.convergence_fraction() - 0.5 * unshot).abs() < 1e-12);
     assert!(full.unshot_fraction() <= 0.05 && full.shots() > weighted.shots());
-    let expected = PI * 10.0 * 0.36 / (1.0 - 0.7);
-    let received = |solver: &isorad::Solver| -> f64 {
-        let solution = solver.solution_with_ambient();
-        let total: f64 = solution
-            .surface_totals()
-            .iter()
-            .map(|t| t.received_power.r)
-            .sum();
-        total / expected - 1.0
-    };
-    let (early, late) = (received(&weighted), received(&full));
+    let (early, late) = (
+        received_against_the_closed_room(&weighted),
+        received_against_the_closed_room(&full),
+    );
     assert!(
         early.abs() < 0.002,
         "received in all against Φ / (1 − ρ): {early:+.4} stopped at {unshot:.3} unshot, \
@@ -978,12 +986,7 @@ fn the_smoothed_ambient_term_is_nearer_an_unshot_lamps_light() {
     // floor's light in all moves by a few thousandths (−4.0 % against
     // −3.9 %: the rays' own error in all, which at 0.1 m and 0.05 m
     // elements reads +1.7 % and +0.4 %).
-    let mut b = SceneBuilder::default();
-    let floor = b.material("floor", 0.5, 0.0);
-    let lamp = b.material("lamp", 0.0, 10.0);
-    b.polygon("floor", floor, square_z(-3.0, 3.0, 0.0, true));
-    let panel = square_z(-0.5, 0.5, 2.0, false);
-    b.polygon("lamp", lamp, panel.clone());
+    let (b, _, panel) = lamp_over_ground(3.0, 0.5);
     let scene = b.scene;
     let mesh = mesh(&scene, 0.2, 1.0);
     let error = |smooth: bool| {
