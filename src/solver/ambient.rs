@@ -258,6 +258,24 @@ impl AmbientRays {
     ) -> Vec<AmbientEstimate> {
         let patch_lossless: Vec<bool> = mesh.patches.iter().map(|p| lossless(p.surface)).collect();
         let residual = self.patch_residual(unshot, reflectance, &patch_lossless);
+        let fallback: Vec<Rgb> = unshot.iter().zip(&residual).map(|(u, a)| *u + *a).collect();
+        let value_at = |h: usize, st: (f64, f64), hint: &mut usize| {
+            unshot_at(h, st, hint).map(|w| w + residual[h])
+        };
+        self.gather(mesh, &value_at, &fallback, lossless)
+    }
+
+    /// Each vertex's mean over its rays of `value_at(h, (s, t), hint)`
+    /// where a ray lands on patch h, or `fallback[h]` where that gives
+    /// none, with its standard error (see [`AmbientRays::irradiance`]).
+    #[must_use]
+    pub(crate) fn gather(
+        &self,
+        mesh: &Mesh,
+        value_at: &UnshotAt<'_>,
+        fallback: &[Rgb],
+        lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
+    ) -> Vec<AmbientEstimate> {
         let seen = |v: usize| {
             let rays = v * VERTEX_RAYS..(v + 1) * VERTEX_RAYS;
             let (Some(hits), Some(landings)) = (
@@ -280,8 +298,8 @@ impl AmbientRays {
                 }
                 let at = landing
                     .parameters()
-                    .and_then(|st| unshot_at(h, st, &mut last.1));
-                let value = at.unwrap_or(unshot[h]) + residual[h];
+                    .and_then(|st| value_at(h, st, &mut last.1));
+                let value = at.unwrap_or(fallback[h]);
                 sum += value;
                 sums[k] = value.element_sum();
             }

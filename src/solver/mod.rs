@@ -5,6 +5,7 @@
 
 mod ambient;
 mod ambient_smoothing;
+mod ambient_sweeps;
 mod element_index;
 mod element_power;
 mod energy_balance;

@@ -5,8 +5,9 @@ use std::sync::Mutex;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::ambient::AmbientRays;
+use super::ambient::{AmbientEstimate, AmbientRays};
 use super::ambient_smoothing;
+use super::ambient_sweeps::{self, UnshotLight};
 use super::element_power;
 use super::energy_balance::EnergyBalance;
 use super::indexed_update;
@@ -1020,14 +1021,34 @@ impl Solver {
             &unshot_at,
             &|surface| lossless[surface.index()],
         );
-        if !self.settings.smooth_ambient {
-            return gathered.iter().map(|g| g.irradiance).collect();
-        }
         let distances = rays.harmonic_distances(&self.mesh);
-        let neighbourhood = self
-            .ambient_neighbourhood
-            .get_or_init(|| ambient_smoothing::Neighbourhood::new(&self.mesh));
-        ambient_smoothing::smoothed(&self.mesh, neighbourhood, &gathered, &distances)
+        let smooth = |gathered: &[AmbientEstimate]| -> Vec<Rgb> {
+            if !self.settings.smooth_ambient {
+                return gathered.iter().map(|g| g.irradiance).collect();
+            }
+            let neighbourhood = self
+                .ambient_neighbourhood
+                .get_or_init(|| ambient_smoothing::Neighbourhood::new(&self.mesh));
+            ambient_smoothing::smoothed(&self.mesh, neighbourhood, gathered, &distances)
+        };
+        let first = smooth(&gathered);
+        let vertex_reflectance: Vec<Rgb> = (0..self.mesh.vertices.len())
+            .map(|v| self.reflectance(v))
+            .collect();
+        let unshot = UnshotLight {
+            fields: &fields,
+            corners: &self.unshot_corners,
+            per_patch: &self.unshot,
+        };
+        ambient_sweeps::swept(
+            &rays,
+            &self.mesh,
+            (first, self.settings.ambient_sweeps),
+            (&unshot, &vertex_reflectance),
+            &|surface| lossless[surface.index()],
+            &smooth,
+        )
+        .0
     }
 
     /// The solution from the light shot so far, without the ambient term.

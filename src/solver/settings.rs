@@ -127,16 +127,18 @@ pub struct SolverSettings {
     /// `solver/unshot_by_zone.rs`.
     pub zone_affinity: f64,
     /// How much the unshot power of a closed zone that keeps all its light
-    /// counts toward [`SolverSettings::tolerance`] (0.5: a closed room
-    /// stops at twice the tolerance, 10 % at the default). There the
-    /// ambient term places the residual where its rays land and the zone
-    /// receives it whole ([`SolverSettings::conserve_closed_zones`]); in
-    /// the open, light leaves, the ambient term's guess of where the rest
-    /// goes is poorer, and the unshot power counts in full. Closed rooms
-    /// render at equal error in about a third less time (BENCHMARKS.md,
-    /// (e); at 0.33 the furnished offices gain another 7–14 %, `scenes/room`
-    /// loses 4 %); the open table's shadow rendered 2.50 % off per pixel at
-    /// 10 % against 2.18 % at 5 %. In (0, 1]; 1 holds every zone to the
+    /// counts toward [`SolverSettings::tolerance`] (0.25: a closed room
+    /// stops at four times the tolerance, 20 % at the default). There the
+    /// ambient term places the residual where its rays land, swept at the
+    /// vertices ([`SolverSettings::ambient_sweeps`]), and the zone receives
+    /// it whole ([`SolverSettings::conserve_closed_zones`]); in the open,
+    /// light leaves, the ambient term's guess of where the rest goes is
+    /// poorer, and the unshot power counts in full. With the sweeps, closed
+    /// rooms render at 0.25 as well as at 0.5 or better in a quarter to a
+    /// third less time (BENCHMARKS.md, (e): the cluttered office 2.64 %
+    /// per pixel against 2.71 %, `scenes/room` 1.58 % against 1.52 %);
+    /// the open table's shadow rendered 2.50 % off per pixel at 10 %
+    /// against 2.18 % at 5 %. In (0, 1]; 1 holds every zone to the
     /// tolerance. Without `conserve_closed_zones` every zone counts in full.
     pub closed_zone_weight: f64,
     /// Average each vertex's ambient irradiance with its mesh neighbours',
@@ -148,7 +150,22 @@ pub struct SolverSettings {
     /// three. The cluttered office renders at 2.81 % per pixel with it,
     /// 2.88 % without (BENCHMARKS.md, (e)).
     pub smooth_ambient: bool,
+    /// At most this many Jacobi sweeps over the vertices take the ambient
+    /// term's further bounces from where its rays land rather than from
+    /// each patch's mean (16; they stop when the term changes by less than
+    /// 0.5 % on average, after three to five in the offices; 0 keeps the
+    /// patch-level estimate; see `solver/ambient_sweeps.rs`). A patch half
+    /// hidden behind furniture no longer sends what it will still reflect
+    /// evenly from both halves: the cluttered office solved from its lamps'
+    /// shots alone renders at 2.81 % per pixel with them, 3.50 % without
+    /// (BENCHMARKS.md, (e)).
+    pub ambient_sweeps: usize,
 }
+
+/// The most ambient sweeps a solve may ask for: each costs about as much
+/// as the first gather, and a room whose reflectances near 1 would need
+/// hundreds to converge.
+const MAX_AMBIENT_SWEEPS: usize = 64;
 
 impl Default for SolverSettings {
     fn default() -> Self {
@@ -166,8 +183,9 @@ impl Default for SolverSettings {
             conserve_closed_zones: true,
             coarse_reception: 0.01,
             zone_affinity: 0.5,
-            closed_zone_weight: 0.5,
+            closed_zone_weight: 0.25,
             smooth_ambient: true,
+            ambient_sweeps: 16,
         }
     }
 }
@@ -238,6 +256,12 @@ impl SolverSettings {
             return Err(invalid(
                 "closed_zone_weight",
                 format!("{} is not in (0, 1]", self.closed_zone_weight),
+            ));
+        }
+        if self.ambient_sweeps > MAX_AMBIENT_SWEEPS {
+            return Err(invalid(
+                "ambient_sweeps",
+                format!("{} is more than {MAX_AMBIENT_SWEEPS}", self.ambient_sweeps),
             ));
         }
         Ok(())

@@ -77,6 +77,33 @@ impl UnshotCorners {
         PatchField::new(elements, power, patch.cell.normal())
     }
 
+    /// A patch's field read as W rather than ΔB: each corner's ΔB scaled
+    /// by `scale` (the patch's [`PatchField::exact_scale`]) plus `extra`
+    /// at its vertex. The ambient term's later sweeps read the unshot light
+    /// and what the surface will still reflect in one lookup.
+    pub(crate) fn scaled_field_plus(
+        &self,
+        mesh: &Mesh,
+        patch: &Patch,
+        scale: FieldScale,
+        extra: impl Fn(u32) -> Rgb,
+    ) -> PatchField {
+        let elements = patch
+            .elements
+            .iter()
+            .map(|&e| {
+                let element = &mesh.elements[e as usize];
+                let cell = mesh.element_cell(element);
+                let mut corners = [Rgb::ZERO; 4];
+                for (i, &v) in element.corners().iter().enumerate() {
+                    corners[i] = scale.apply(self.corners[e as usize][i]) + extra(v);
+                }
+                FieldElement::new(cell, corners)
+            })
+            .collect();
+        PatchField::new(elements, Rgb::ZERO, patch.cell.normal())
+    }
+
     /// Carries the corners over an adaptive split: `old` holds the corners
     /// of the elements before it, by their corner indices (an element's
     /// vertex array identifies it). A leaf that was not split keeps its

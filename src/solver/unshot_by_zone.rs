@@ -13,7 +13,7 @@
 //! its zone alone; the choice is then among the zones' strongest.
 //!
 //! The stop criterion reads a second total, Σ w_p ΔB_p A_p, with w_p the
-//! setting `closed_zone_weight` (0.5) on the patches of a closed zone that
+//! setting `closed_zone_weight` (0.25) on the patches of a closed zone that
 //! keeps all its light and 1 elsewhere: there the ambient term places the
 //! residual whole (see `ambient.rs`), so a closed room stops at twice the
 //! tolerance while an open scene is held to it.

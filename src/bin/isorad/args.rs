@@ -36,10 +36,15 @@ pub struct Overrides {
     #[arg(long)]
     tolerance: Option<f64>,
     /// How much a closed room's unshot power counts toward --tolerance
-    /// [default: 0.5; a closed room stops at twice the tolerance]; 1 holds
-    /// every room to the tolerance.
+    /// [default: 0.25; a closed room stops at four times the tolerance]; 1
+    /// holds every room to the tolerance.
     #[arg(long, value_name = "WEIGHT")]
     closed_zone_weight: Option<f64>,
+    /// At most this many sweeps over the vertices resolve the ambient
+    /// term's further bounces where its rays land [default: 16; they stop
+    /// once it changes by under 0.5 %]; 0 keeps each patch's mean.
+    #[arg(long, value_name = "COUNT")]
+    ambient_sweeps: Option<usize>,
     /// Form-factor kernel: mixed (default), wallace or exact.
     #[arg(long, value_enum, value_name = "KERNEL")]
     form_factor: Option<KernelArg>,
@@ -106,6 +111,9 @@ impl Overrides {
         if let Some(weight) = self.closed_zone_weight {
             solver.closed_zone_weight = weight;
         }
+        if let Some(sweeps) = self.ambient_sweeps {
+            solver.ambient_sweeps = sweeps;
+        }
         if let Some(kernel) = self.form_factor {
             solver.kernel = kernel.into();
         }
@@ -158,6 +166,11 @@ impl Overrides {
                 "--closed-zone-weight",
                 "solver.closed_zone_weight",
                 self.closed_zone_weight.is_some(),
+            ),
+            (
+                "--ambient-sweeps",
+                "solver.ambient_sweeps",
+                self.ambient_sweeps.is_some(),
             ),
             (
                 "--coarse-reception",
