@@ -37,6 +37,8 @@
 //! land (`tests/it/strata.rs`, one floor patch). In a closed scene
 //! of uniform ΔB and ρ this is Cohen's ΔB / (1 − ρ); over an open floor it
 //! is nothing; under the table it is what the underside will still send.
+//! A_h, one value per patch, is then resolved at the vertices by sweeps
+//! along the same rays (`ambient_sweeps.rs`).
 //! The rays are cast once and kept; only the lookups are repeated for each
 //! intermediate image. Photometric luminaires shoot before any patch, so
 //! the term never stands in for their direct light (a preview before the
@@ -232,7 +234,8 @@ impl AmbientRays {
     /// half and the ceiling that of its lit half, as its shots do. `hint`
     /// is the element a vertex's last ray on that patch found (see
     /// [`super::unshot::PatchField::unshot_at`]).
-    /// The residual A_h stays the patch's. Vertices whose rays have not been
+    /// The residual A_h stays the patch's here (`ambient_sweeps.rs` then
+    /// resolves it at the vertices). Vertices whose rays have not been
     /// cast get none. Each estimate comes with a bound on its standard
     /// error, that of the mean of its rays' values summed over the
     /// channels, from its strata collapsed in pairs of neighbouring sectors

@@ -154,7 +154,7 @@ pub struct SolverSettings {
     /// term's further bounces from where its rays land rather than from
     /// each patch's mean (16; they stop when the term changes by less than
     /// 0.5 % on average, after three to five in the offices; 0 keeps the
-    /// patch-level estimate; see `solver/ambient_sweeps.rs`). A patch half
+    /// patch-level estimate; at most 64; see `solver/ambient_sweeps.rs`). A patch half
     /// hidden behind furniture no longer sends what it will still reflect
     /// evenly from both halves: the cluttered office solved from its lamps'
     /// shots alone renders at 2.81 % per pixel with them, 3.50 % without

@@ -117,6 +117,8 @@ fn a_bad_flag_value_is_an_error() {
         &["render", "--width", "0", "-q"],
         &["render", "--closed-zone-weight", "0", "-q"],
         &["render", "--closed-zone-weight", "1.5", "-q"],
+        &["render", "--ambient-sweeps", "100", "-q"],
+        &["render", "--ambient-sweeps", "-1", "-q"],
     ] {
         let out = isorad(dir.path(), args);
         assert!(!out.status.success(), "{args:?} succeeded");
@@ -129,6 +131,8 @@ fn a_bad_flag_value_is_an_error() {
         "{}",
         stderr(&out)
     );
+    let out = isorad(dir.path(), &["render", "--ambient-sweeps", "100", "-q"]);
+    assert!(stderr(&out).contains("--ambient-sweeps"), "{}", stderr(&out));
 }
 
 #[test]

@@ -290,6 +290,12 @@ fn toml_bad_settings_are_named_with_line_and_field() {
         &["1.5 is not in (0, 1]"],
     );
     expect_setting_error(
+        &format!("{obj}[solver]\nambient_sweeps = 65\n"),
+        3,
+        "solver.ambient_sweeps",
+        &["65 is more than 64"],
+    );
+    expect_setting_error(
         &format!("{obj}[solver]\nsmooth_ambient = 1\n"),
         3,
         "solver.smooth_ambient",
