@@ -132,7 +132,11 @@ fn a_bad_flag_value_is_an_error() {
         stderr(&out)
     );
     let out = isorad(dir.path(), &["render", "--ambient-sweeps", "100", "-q"]);
-    assert!(stderr(&out).contains("--ambient-sweeps"), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("--ambient-sweeps"),
+        "{}",
+        stderr(&out)
+    );
 }
 
 #[test]
