@@ -54,7 +54,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::unshot::cell_coordinates;
+use super::unshot::{cell_coordinates, interpolated};
 use super::zones::{cosine_direction, cosine_direction_at};
 use crate::lighting::SampleStream;
 use crate::mesh::Mesh;
@@ -85,10 +85,60 @@ const MISS: u32 = u32::MAX;
 const CONVERGENCE: f64 = 1e-6;
 const MAX_ITERATIONS: usize = 1000;
 
-/// The unshot radiosity of patch `p` at parameters (s, t) of its cell,
-/// `None` where no element lies; the `usize` is a hint kept between reads
-/// (see [`AmbientRays::irradiance`]).
-pub(crate) type UnshotAt<'a> = dyn Fn(usize, (f64, f64), &mut usize) -> Option<Rgb> + Sync + 'a;
+/// The element under the point at parameters (s, t) of patch `p`'s cell
+/// and the point's coordinates in it, `None` where no element lies; the
+/// `usize` is a hint kept between a vertex's reads (see
+/// [`AmbientRays::landing_elements`]).
+pub(crate) type Locate<'a> =
+    dyn Fn(usize, (f64, f64), &mut usize) -> Option<LandingElement> + Sync + 'a;
+
+/// A value read where vertex ray k (its index among all vertex rays)
+/// landed, `None` to read its patch's value instead.
+pub(crate) type RayValue<'a> = dyn Fn(usize) -> Option<Rgb> + Sync + 'a;
+
+/// The element a vertex ray landed on and the landing point's coordinates
+/// (s, t) in it ([`crate::mesh::Cell::point`] of the element's cell), or
+/// none: found once per image, then read by the first gather and every
+/// sweep (`ambient_sweeps.rs`) at the cost of an interpolation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct LandingElement {
+    element: u32,
+    s: f32,
+    t: f32,
+}
+
+impl LandingElement {
+    /// No element: the ray missed, or no element lies under its point.
+    pub(crate) const NONE: LandingElement = LandingElement {
+        element: u32::MAX,
+        s: 0.0,
+        t: 0.0,
+    };
+
+    /// The point at (s, t) of element `element`.
+    pub(crate) fn new(element: u32, (s, t): (f64, f64)) -> LandingElement {
+        LandingElement {
+            element,
+            s: s as f32,
+            t: t as f32,
+        }
+    }
+
+    /// A value given at the element's corners (in [`crate::mesh::Element::corners`]
+    /// order) interpolated at the point, linearly over a triangle and
+    /// bilinearly over a quad; `None` for [`LandingElement::NONE`].
+    /// `corners(e)` gives element e's corner values.
+    pub(crate) fn value(
+        self,
+        mesh: &Mesh,
+        corners: impl Fn(usize) -> [Rgb; 4],
+    ) -> Option<(usize, Rgb)> {
+        let e = self.element as usize;
+        let element = mesh.elements.get(e)?;
+        let st = (f64::from(self.s), f64::from(self.t));
+        Some((e, interpolated(corners(e), element.is_triangle, st)))
+    }
+}
 
 /// The patch each cached ray hits, for patches and for vertices.
 #[derive(Clone, Debug, Default)]
@@ -227,13 +277,12 @@ impl AmbientRays {
 
     /// The ambient irradiance G_v of every vertex (see the module docs), for
     /// unshot radiosity `unshot` and reflectance `reflectance` per patch.
-    /// A vertex ray reads the unshot radiosity where it lands,
-    /// `unshot_at(patch, (s, t), hint)` at those parameters of the patch's
-    /// cell, or the patch's mean where that gives none: a floor patch half
-    /// under a desk then sends the desk's underside the light of its dark
-    /// half and the ceiling that of its lit half, as its shots do. `hint`
-    /// is the element a vertex's last ray on that patch found (see
-    /// [`super::unshot::PatchField::unshot_at`]).
+    /// Vertex ray k reads the unshot radiosity where it lands,
+    /// `unshot_at(k)` (on the element under its point, see
+    /// [`AmbientRays::landing_elements`]), or the patch's mean where that
+    /// gives none: a floor patch half under a desk then sends the desk's
+    /// underside the light of its dark half and the ceiling that of its lit
+    /// half, as its shots do.
     /// The residual A_h stays the patch's here (`ambient_sweeps.rs` then
     /// resolves it at the vertices). Vertices whose rays have not been
     /// cast get none. Each estimate comes with a bound on its standard
@@ -256,53 +305,70 @@ impl AmbientRays {
         &self,
         mesh: &Mesh,
         (unshot, reflectance): (&[Rgb], &[Rgb]),
-        unshot_at: &UnshotAt<'_>,
+        unshot_at: &RayValue<'_>,
         lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
     ) -> Vec<AmbientEstimate> {
         let patch_lossless: Vec<bool> = mesh.patches.iter().map(|p| lossless(p.surface)).collect();
         let residual = self.patch_residual(unshot, reflectance, &patch_lossless);
         let fallback: Vec<Rgb> = unshot.iter().zip(&residual).map(|(u, a)| *u + *a).collect();
-        let value_at = |h: usize, st: (f64, f64), hint: &mut usize| {
-            unshot_at(h, st, hint).map(|w| w + residual[h])
+        let value_at = |k: usize| {
+            let h = self.vertex_hits[k] as usize;
+            unshot_at(k).map(|w| w + residual[h])
         };
         self.gather(mesh, &value_at, &fallback, lossless)
     }
 
-    /// Each vertex's mean over its rays of `value_at(h, (s, t), hint)`
-    /// where a ray lands on patch h, or `fallback[h]` where that gives
-    /// none, with its standard error (see [`AmbientRays::irradiance`]).
+    /// The element under every vertex ray's landing point, by
+    /// `locate(patch, (s, t), hint)` (`hint` the element a vertex's last
+    /// ray on that patch found), ray after ray as the rays are kept:
+    /// [`LandingElement::NONE`] for a miss, or where no element lies.
+    #[must_use]
+    pub(crate) fn landing_elements(&self, locate: &Locate<'_>) -> Vec<LandingElement> {
+        let mut located = vec![LandingElement::NONE; self.vertex_hits.len()];
+        located
+            .par_chunks_mut(VERTEX_RAYS)
+            .zip(self.vertex_hits.par_chunks(VERTEX_RAYS))
+            .zip(self.vertex_landings.par_chunks(VERTEX_RAYS))
+            .for_each(|((located, hits), landings)| {
+                let mut last = (usize::MAX, 0);
+                for ((slot, &h), landing) in located.iter_mut().zip(hits).zip(landings) {
+                    let Some(st) = landing.parameters().filter(|_| h != MISS) else {
+                        continue;
+                    };
+                    let h = h as usize;
+                    if last.0 != h {
+                        last = (h, 0);
+                    }
+                    *slot = locate(h, st, &mut last.1).unwrap_or(LandingElement::NONE);
+                }
+            });
+        located
+    }
+
+    /// Each vertex's mean over its rays of `value_at(k)` where ray k lands
+    /// on patch h, or `fallback[h]` where that gives none, with its
+    /// standard error (see [`AmbientRays::irradiance`]).
     #[must_use]
     pub(crate) fn gather(
         &self,
         mesh: &Mesh,
-        value_at: &UnshotAt<'_>,
+        value_at: &RayValue<'_>,
         fallback: &[Rgb],
         lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
     ) -> Vec<AmbientEstimate> {
         let seen = |v: usize| {
             let rays = v * VERTEX_RAYS..(v + 1) * VERTEX_RAYS;
-            let (Some(hits), Some(landings)) = (
-                self.vertex_hits.get(rays.clone()),
-                self.vertex_landings.get(rays),
-            ) else {
+            let Some(hits) = self.vertex_hits.get(rays.clone()) else {
                 return AmbientEstimate::default();
             };
-            let mut last = (usize::MAX, 0);
             let mut sum = Rgb::ZERO;
             // Each ray's value summed over the channels, 0 for a miss.
             let mut sums = [0.0; VERTEX_RAYS];
-            for (k, (&h, landing)) in hits.iter().zip(landings).enumerate() {
+            for (k, &h) in hits.iter().enumerate() {
                 if h == MISS {
                     continue;
                 }
-                let h = h as usize;
-                if last.0 != h {
-                    last = (h, 0);
-                }
-                let at = landing
-                    .parameters()
-                    .and_then(|st| value_at(h, st, &mut last.1));
-                let value = at.unwrap_or(fallback[h]);
+                let value = value_at(rays.start + k).unwrap_or(fallback[h as usize]);
                 sum += value;
                 sums[k] = value.element_sum();
             }
@@ -583,12 +649,20 @@ mod tests {
         let unshot = [Rgb::splat(1.0)];
         // 2 left of s = 0.5 and 4 right of it; each point read within a
         // step of where its ray landed.
-        let field = |patch: usize, (s, t): (f64, f64), _: &mut usize| {
+        // Element 0 lies left of s = 0.5, element 1 right of it.
+        let locate = |patch: usize, (s, t): (f64, f64), _: &mut usize| {
             assert_eq!(patch, 0);
             let step = 1.0 / f64::from(LANDING_STEPS);
             let near = |a: f64, b: f64| (a - b).abs() <= step;
             assert!((near(s, 0.1) && near(t, 0.9)) || (near(s, 0.7) && near(t, 0.2)));
-            Some(Rgb::splat(if s < 0.5 { 2.0 } else { 4.0 }))
+            Some(LandingElement::new(u32::from(s >= 0.5), (s, t)))
+        };
+        let landed = rays.landing_elements(&locate);
+        assert_eq!(landed.len(), VERTEX_RAYS);
+        let field = |k: usize| {
+            let element = landed[k].element;
+            (landed[k] != LandingElement::NONE)
+                .then(|| Rgb::splat(if element == 0 { 2.0 } else { 4.0 }))
         };
         let g = rays.irradiance(&mesh, (&unshot, &[Rgb::splat(0.5)]), &field, &|_| false);
         // Of every 8 rays: four at 2, two at 4, one nowhere (the mean, 1)

@@ -44,8 +44,7 @@
 
 use rayon::prelude::*;
 
-use super::ambient::{AmbientEstimate, AmbientRays};
-use super::unshot::{FieldScale, PatchField, UnshotCorners};
+use super::ambient::{AmbientEstimate, AmbientRays, LandingElement};
 use crate::mesh::Mesh;
 use crate::scene::{Rgb, SurfaceId};
 
@@ -55,12 +54,13 @@ use crate::scene::{Rgb, SurfaceId};
 /// about the last change.
 pub(crate) const SWEEP_CONVERGENCE: f64 = 0.005;
 
-/// What the sweeps read on every patch: its unshot field at the scale that
-/// carries its power, the corners it is made from, and the patches' mean
-/// unshot radiosity (read where a ray's landing point finds no element).
+/// What the sweeps read where the rays land: the element under each ray's
+/// landing point, every element's corners' unshot radiosity at the scale
+/// that carries its patch's power, and each patch's mean unshot radiosity
+/// (read where a landing point finds no element).
 pub(crate) struct UnshotLight<'a> {
-    pub(crate) fields: &'a [(PatchField, FieldScale)],
-    pub(crate) corners: &'a UnshotCorners,
+    pub(crate) landed: &'a [LandingElement],
+    pub(crate) corners: &'a [[Rgb; 4]],
     pub(crate) per_patch: &'a [Rgb],
 }
 
@@ -78,7 +78,7 @@ pub(crate) fn swept(
     let mut ambient = first;
     for sweep in 0..max_sweeps {
         let further: Vec<Rgb> = ambient
-            .iter()
+            .par_iter()
             .zip(reflectance)
             .map(|(g, rho)| *rho * *g)
             .collect();
@@ -93,8 +93,9 @@ pub(crate) fn swept(
 }
 
 /// One sweep's estimates: each vertex's mean of ΔB(y) + R(y) over its rays,
-/// R the light `further` per vertex (ρ G) interpolated on the element under
-/// each landing point, or its patch's area-weighted mean where none is.
+/// R the light `further` per vertex (ρ G), both interpolated on the element
+/// under each landing point, or their patch's area-weighted means where
+/// none is.
 fn gathered_once(
     rays: &AmbientRays,
     mesh: &Mesh,
@@ -102,19 +103,9 @@ fn gathered_once(
     further: &[Rgb],
     lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
 ) -> Vec<AmbientEstimate> {
-    let fields: Vec<PatchField> = mesh
-        .patches
-        .par_iter()
-        .zip(unshot.fields)
-        .map(|(patch, (_, scale))| {
-            unshot
-                .corners
-                .scaled_field_plus(mesh, patch, *scale, |v| further[v as usize])
-        })
-        .collect();
     let fallback: Vec<Rgb> = mesh
         .patches
-        .iter()
+        .par_iter()
         .zip(unshot.per_patch)
         .map(|(patch, &unshot)| {
             let (mut sum, mut area) = (Rgb::ZERO, 0.0);
@@ -126,10 +117,15 @@ fn gathered_once(
             unshot + if area > 0.0 { sum / area } else { Rgb::ZERO }
         })
         .collect();
-    let value_at = |p: usize, (s, t): (f64, f64), hint: &mut usize| {
-        let y = mesh.patches[p].cell.point(s, t);
-        fields[p].unshot_at(y, hint)
+    let corners = |e: usize| {
+        let vertices = mesh.elements[e].vertices;
+        let mut values = unshot.corners[e];
+        for (value, v) in values.iter_mut().zip(vertices) {
+            *value += further[v as usize];
+        }
+        values
     };
+    let value_at = |k: usize| unshot.landed[k].value(mesh, corners).map(|(_, w)| w);
     rays.gather(mesh, &value_at, &fallback, lossless)
 }
 

@@ -5,7 +5,7 @@ use std::sync::Mutex;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::ambient::{AmbientEstimate, AmbientRays};
+use super::ambient::{AmbientEstimate, AmbientRays, LandingElement};
 use super::ambient_smoothing;
 use super::ambient_sweeps::{self, UnshotLight};
 use super::element_power;
@@ -1009,11 +1009,23 @@ impl Solver {
                 (field, scale)
             })
             .collect();
-        let unshot_at = |p: usize, (s, t): (f64, f64), hint: &mut usize| {
-            let (field, scale) = &fields[p];
-            let y = self.mesh.patches[p].cell.point(s, t);
-            field.unshot_at(y, hint).map(|w| scale.apply(w))
-        };
+        // The element under each vertex ray's landing point, found once
+        // for the first gather and every sweep.
+        let landed = rays.landing_elements(&|p, (s, t), hint| {
+            let patch = &self.mesh.patches[p];
+            fields[p]
+                .0
+                .locate(patch.cell.point(s, t), hint)
+                .map(|(k, st)| LandingElement::new(patch.elements[k], st))
+        });
+        let corners: Vec<[Rgb; 4]> = (0..self.mesh.elements.len())
+            .into_par_iter()
+            .map(|e| {
+                let scale = fields[self.mesh.elements[e].patch as usize].1;
+                self.unshot_corners.of(e).map(|c| scale.apply(c))
+            })
+            .collect();
+        let unshot_at = |k: usize| landed[k].value(&self.mesh, |e| corners[e]).map(|(_, w)| w);
         let lossless = &self.surface_lossless;
         let gathered = rays.irradiance(
             &self.mesh,
@@ -1036,8 +1048,8 @@ impl Solver {
             .map(|v| self.reflectance(v))
             .collect();
         let unshot = UnshotLight {
-            fields: &fields,
-            corners: &self.unshot_corners,
+            landed: &landed,
+            corners: &corners,
             per_patch: &self.unshot,
         };
         ambient_sweeps::swept(

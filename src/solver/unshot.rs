@@ -77,31 +77,9 @@ impl UnshotCorners {
         PatchField::new(elements, power, patch.cell.normal())
     }
 
-    /// A patch's field read as W rather than ΔB: each corner's ΔB scaled
-    /// by `scale` (the patch's [`PatchField::exact_scale`]) plus `extra`
-    /// at its vertex. The ambient term's later sweeps read the unshot light
-    /// and what the surface will still reflect in one lookup.
-    pub(crate) fn scaled_field_plus(
-        &self,
-        mesh: &Mesh,
-        patch: &Patch,
-        scale: FieldScale,
-        extra: impl Fn(u32) -> Rgb,
-    ) -> PatchField {
-        let elements = patch
-            .elements
-            .iter()
-            .map(|&e| {
-                let element = &mesh.elements[e as usize];
-                let cell = mesh.element_cell(element);
-                let mut corners = [Rgb::ZERO; 4];
-                for (i, &v) in element.corners().iter().enumerate() {
-                    corners[i] = scale.apply(self.corners[e as usize][i]) + extra(v);
-                }
-                FieldElement::new(cell, corners)
-            })
-            .collect();
-        PatchField::new(elements, Rgb::ZERO, patch.cell.normal())
+    /// Element e's corners, ΔB at each (in [`Element::corners`] order).
+    pub(crate) fn of(&self, e: usize) -> [Rgb; 4] {
+        self.corners[e]
     }
 
     /// Carries the corners over an adaptive split: `old` holds the corners
@@ -223,16 +201,28 @@ impl FieldElement {
     /// ΔB at point y, linear over a triangle and bilinear over a quad (the
     /// parametrisation of [`Cell::point`]); `None` when y is outside.
     fn at(&self, y: DVec3) -> Option<Rgb> {
+        let st = self.coordinates(y)?;
+        Some(interpolated(self.corners, self.cell.is_triangle, st))
+    }
+
+    /// The coordinates (s, t) of point y in the element; `None` when y is
+    /// outside.
+    fn coordinates(&self, y: DVec3) -> Option<(f64, f64)> {
         if y.cmplt(self.min).any() || y.cmpgt(self.max).any() {
             return None;
         }
-        let (s, t) = cell_coordinates(&self.cell, y)?;
-        let [a, b, c, d] = self.corners;
-        Some(if self.cell.is_triangle {
-            a * (1.0 - s - t) + b * s + c * t
-        } else {
-            a * ((1.0 - s) * (1.0 - t)) + b * (s * (1.0 - t)) + c * (s * t) + d * ((1.0 - s) * t)
-        })
+        cell_coordinates(&self.cell, y)
+    }
+}
+
+/// Values at an element's corners at coordinates (s, t) of its cell
+/// ([`Cell::point`]): linear over a triangle (the fourth value unused),
+/// bilinear over a quad.
+pub(crate) fn interpolated([a, b, c, d]: [Rgb; 4], is_triangle: bool, (s, t): (f64, f64)) -> Rgb {
+    if is_triangle {
+        a * (1.0 - s - t) + b * s + c * t
+    } else {
+        a * ((1.0 - s) * (1.0 - t)) + b * (s * (1.0 - t)) + c * (s * t) + d * ((1.0 - s) * t)
     }
 }
 
@@ -428,6 +418,23 @@ impl PatchField {
             self.index().near(y).iter().find_map(|&k| {
                 let k = k as usize;
                 self.elements[k].at(y).inspect(|_| *hint = k)
+            })
+        })
+    }
+
+    /// The element under a point of the patch (its index among the
+    /// patch's elements) and the point's coordinates in it, as
+    /// [`PatchField::unshot_at`] finds them.
+    pub(crate) fn locate(&self, y: DVec3, hint: &mut usize) -> Option<(usize, (f64, f64))> {
+        let inside = |k: usize| self.elements.get(k)?.coordinates(y);
+        if let Some(st) = inside(*hint) {
+            return Some((*hint, st));
+        }
+        self.index().near(y).iter().find_map(|&k| {
+            let k = k as usize;
+            inside(k).map(|st| {
+                *hint = k;
+                (k, st)
             })
         })
     }
