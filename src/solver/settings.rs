@@ -127,19 +127,21 @@ pub struct SolverSettings {
     /// `solver/unshot_by_zone.rs`.
     pub zone_affinity: f64,
     /// How much the unshot power of a closed zone that keeps all its light
-    /// counts toward [`SolverSettings::tolerance`] (0.25: a closed room
-    /// stops at four times the tolerance, 20 % at the default). There the
-    /// ambient term places the residual where its rays land, swept at the
-    /// vertices ([`SolverSettings::ambient_sweeps`]), and the zone receives
-    /// it whole ([`SolverSettings::conserve_closed_zones`]); in the open,
-    /// light leaves, the ambient term's guess of where the rest goes is
-    /// poorer, and the unshot power counts in full. With the sweeps, closed
-    /// rooms render at 0.25 as well as at 0.5 or better in a quarter to a
-    /// third less time (BENCHMARKS.md, (e): the cluttered office 2.64 %
-    /// per pixel against 2.71 %, `scenes/room` 1.58 % against 1.52 %);
-    /// the open table's shadow rendered 2.50 % off per pixel at 10 %
-    /// against 2.18 % at 5 %. In (0, 1]; 1 holds every zone to the
-    /// tolerance. Without `conserve_closed_zones` every zone counts in full.
+    /// counts toward [`SolverSettings::tolerance`] (0.15: a closed room
+    /// stops at a third of its emitted power unshot at the default). There
+    /// the ambient term places the residual where its rays land, swept at
+    /// the vertices ([`SolverSettings::ambient_sweeps`]), and the zone
+    /// receives it whole ([`SolverSettings::conserve_closed_zones`]); in
+    /// the open, light leaves, the ambient term's guess of where the rest
+    /// goes is poorer, and the unshot power counts in full. With the
+    /// sweeps, closed rooms render at 0.15 within a few hundredths of a
+    /// point of 0.5 in half the time or less (BENCHMARKS.md, (e): the
+    /// cluttered office 2.69 % per pixel in 2.2 s against 2.71 % in 3.8 s);
+    /// at 0.1 the offices shoot their lamps alone and `scenes/room` loses a
+    /// fifth of its accuracy. The open table's shadow rendered 2.50 % off
+    /// per pixel at 10 % against 2.18 % at 5 %. In (0, 1]; 1 holds every
+    /// zone to the tolerance. Without `conserve_closed_zones` every zone
+    /// counts in full.
     pub closed_zone_weight: f64,
     /// Average each vertex's ambient irradiance with its mesh neighbours',
     /// weighted by their distance over the harmonic mean distance of their
@@ -183,7 +185,7 @@ impl Default for SolverSettings {
             conserve_closed_zones: true,
             coarse_reception: 0.01,
             zone_affinity: 0.5,
-            closed_zone_weight: 0.25,
+            closed_zone_weight: 0.15,
             smooth_ambient: true,
             ambient_sweeps: 16,
         }

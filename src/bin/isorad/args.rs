@@ -36,8 +36,8 @@ pub struct Overrides {
     #[arg(long)]
     tolerance: Option<f64>,
     /// How much a closed room's unshot power counts toward --tolerance
-    /// [default: 0.25; a closed room stops at four times the tolerance]; 1
-    /// holds every room to the tolerance.
+    /// [default: 0.15; a closed room stops at a third unshot]; 1 holds
+    /// every room to the tolerance.
     #[arg(long, value_name = "WEIGHT")]
     closed_zone_weight: Option<f64>,
     /// At most this many sweeps over the vertices resolve the ambient
