@@ -128,15 +128,11 @@ impl LandingElement {
     /// order) interpolated at the point, linearly over a triangle and
     /// bilinearly over a quad; `None` for [`LandingElement::NONE`].
     /// `corners(e)` gives element e's corner values.
-    pub(crate) fn value(
-        self,
-        mesh: &Mesh,
-        corners: impl Fn(usize) -> [Rgb; 4],
-    ) -> Option<(usize, Rgb)> {
+    pub(crate) fn value(self, mesh: &Mesh, corners: impl Fn(usize) -> [Rgb; 4]) -> Option<Rgb> {
         let e = self.element as usize;
         let element = mesh.elements.get(e)?;
         let st = (f64::from(self.s), f64::from(self.t));
-        Some((e, interpolated(corners(e), element.is_triangle, st)))
+        Some(interpolated(corners(e), element.is_triangle, st))
     }
 }
 
@@ -618,6 +614,30 @@ mod tests {
             // ρ ΔB / (1 − ρ) = 0.5 · 2 / 0.5.
             assert!((a.g - 2.0).abs() < 1e-5, "{a:?}");
         }
+    }
+
+    /// A landing element reads its corners' values at its point, linearly
+    /// over a triangle and bilinearly over a quad; no element reads none.
+    #[test]
+    fn a_landing_element_interpolates_its_corners() {
+        let mut mesh = Mesh::default();
+        for is_triangle in [false, true] {
+            mesh.elements.push(crate::mesh::Element {
+                vertices: [0, 1, 2, if is_triangle { 2 } else { 3 }],
+                is_triangle,
+                surface: crate::scene::SurfaceId::new(0),
+                patch: 0,
+                area: 1.0,
+            });
+        }
+        let corners = |_| [1.0, 2.0, 4.0, 8.0].map(Rgb::splat);
+        let quad = LandingElement::new(0, (0.25, 0.5)).value(&mesh, corners);
+        // (1 − s)(1 − t)·1 + s(1 − t)·2 + s t·4 + (1 − s) t·8
+        let expected = 0.375 + 0.25 + 0.5 + 3.0;
+        assert!((quad.unwrap().r - expected).abs() < 1e-12, "{quad:?}");
+        let triangle = LandingElement::new(1, (0.25, 0.5)).value(&mesh, corners);
+        assert!((triangle.unwrap().r - (0.25 + 0.5 + 2.0)).abs() < 1e-12);
+        assert_eq!(LandingElement::NONE.value(&mesh, corners), None);
     }
 
     /// A vertex ray reads the unshot light where it landed, and the

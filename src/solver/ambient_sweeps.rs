@@ -66,7 +66,7 @@ pub(crate) struct UnshotLight<'a> {
 
 /// G after up to `max_sweeps` sweeps from `first` (see the module docs),
 /// with `reflectance` per vertex; `smooth` turns a sweep's estimates into
-/// the values the next sweep reads. Returns G and the sweeps taken.
+/// the values the next sweep reads.
 pub(crate) fn swept(
     rays: &AmbientRays,
     mesh: &Mesh,
@@ -74,9 +74,9 @@ pub(crate) fn swept(
     (unshot, reflectance): (&UnshotLight<'_>, &[Rgb]),
     lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
     smooth: &dyn Fn(&[AmbientEstimate]) -> Vec<Rgb>,
-) -> (Vec<Rgb>, usize) {
+) -> Vec<Rgb> {
     let mut ambient = first;
-    for sweep in 0..max_sweeps {
+    for _ in 0..max_sweeps {
         let further: Vec<Rgb> = ambient
             .par_iter()
             .zip(reflectance)
@@ -86,10 +86,10 @@ pub(crate) fn swept(
         let change = mean_change(&next, &ambient);
         ambient = next;
         if change <= SWEEP_CONVERGENCE {
-            return (ambient, sweep + 1);
+            break;
         }
     }
-    (ambient, max_sweeps)
+    ambient
 }
 
 /// One sweep's estimates: each vertex's mean of ΔB(y) + R(y) over its rays,
@@ -125,7 +125,7 @@ fn gathered_once(
         }
         values
     };
-    let value_at = |k: usize| unshot.landed[k].value(mesh, corners).map(|(_, w)| w);
+    let value_at = |k: usize| unshot.landed[k].value(mesh, corners);
     rays.gather(mesh, &value_at, &fallback, lossless)
 }
 

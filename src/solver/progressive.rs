@@ -1025,7 +1025,7 @@ impl Solver {
                 self.unshot_corners.of(e).map(|c| scale.apply(c))
             })
             .collect();
-        let unshot_at = |k: usize| landed[k].value(&self.mesh, |e| corners[e]).map(|(_, w)| w);
+        let unshot_at = |k: usize| landed[k].value(&self.mesh, |e| corners[e]);
         let lossless = &self.surface_lossless;
         let gathered = rays.irradiance(
             &self.mesh,
@@ -1060,7 +1060,6 @@ impl Solver {
             &|surface| lossless[surface.index()],
             &smooth,
         )
-        .0
     }
 
     /// The solution from the light shot so far, without the ambient term.
