@@ -100,27 +100,26 @@ pub(crate) type RayValue<'a> = dyn Fn(usize) -> Option<Rgb> + Sync + 'a;
 /// (s, t) in it ([`crate::mesh::Cell::point`] of the element's cell), or
 /// none: found once per image, then read by the first gather and every
 /// sweep (`ambient_sweeps.rs`) at the cost of an interpolation.
+/// Eight bytes a ray: the coordinates are kept to 1/65,535 of the element.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct LandingElement {
     element: u32,
-    s: f32,
-    t: f32,
+    st: [u16; 2],
 }
 
 impl LandingElement {
     /// No element: the ray missed, or no element lies under its point.
     pub(crate) const NONE: LandingElement = LandingElement {
         element: u32::MAX,
-        s: 0.0,
-        t: 0.0,
+        st: [0; 2],
     };
 
-    /// The point at (s, t) of element `element`.
+    /// The point at (s, t) of element `element`, each coordinate in [0, 1].
     pub(crate) fn new(element: u32, (s, t): (f64, f64)) -> LandingElement {
+        let step = |w: f64| (w.clamp(0.0, 1.0) * f64::from(u16::MAX)).round() as u16;
         LandingElement {
             element,
-            s: s as f32,
-            t: t as f32,
+            st: [step(s), step(t)],
         }
     }
 
@@ -131,7 +130,8 @@ impl LandingElement {
     pub(crate) fn value(self, mesh: &Mesh, corners: impl Fn(usize) -> [Rgb; 4]) -> Option<Rgb> {
         let e = self.element as usize;
         let element = mesh.elements.get(e)?;
-        let st = (f64::from(self.s), f64::from(self.t));
+        let coordinate = |k: u16| f64::from(k) / f64::from(u16::MAX);
+        let st = (coordinate(self.st[0]), coordinate(self.st[1]));
         Some(interpolated(corners(e), element.is_triangle, st))
     }
 }
@@ -634,9 +634,10 @@ mod tests {
         let quad = LandingElement::new(0, (0.25, 0.5)).value(&mesh, corners);
         // (1 − s)(1 − t)·1 + s(1 − t)·2 + s t·4 + (1 − s) t·8
         let expected = 0.375 + 0.25 + 0.5 + 3.0;
-        assert!((quad.unwrap().r - expected).abs() < 1e-12, "{quad:?}");
+        // The coordinates are kept to 1/65,535.
+        assert!((quad.unwrap().r - expected).abs() < 1e-3, "{quad:?}");
         let triangle = LandingElement::new(1, (0.25, 0.5)).value(&mesh, corners);
-        assert!((triangle.unwrap().r - (0.25 + 0.5 + 2.0)).abs() < 1e-12);
+        assert!((triangle.unwrap().r - (0.25 + 0.5 + 2.0)).abs() < 1e-3);
         assert_eq!(LandingElement::NONE.value(&mesh, corners), None);
     }
 
