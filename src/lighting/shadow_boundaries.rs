@@ -314,6 +314,12 @@ impl Source<'_> {
                     let Some(range) = edge_range(frame, self.plane, v, [a, b]) else {
                         continue;
                     };
+                    // The runs' shadows lie on the whole range's: where that
+                    // misses the receiver, so do they, and no rays are cast.
+                    let whole = [range.0, range.1].map(|t| project(frame, v, a.lerp(b, t)));
+                    if clip_segment_to_polygon(whole, &outline).is_none() {
+                        continue;
+                    }
                     let ends = (receiver, id, lamp);
                     for (t0, t1) in event_runs((scene, visibility), ends, v, [a, b], range) {
                         let segment = [t0, t1].map(|t| project(frame, v, a.lerp(b, t)));
