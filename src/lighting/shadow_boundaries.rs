@@ -301,13 +301,19 @@ impl Source<'_> {
                 s.normal().dot(v - s.vertices()[0]) > 0.0
             };
             let lamp = self.surfaces.first().copied().unwrap_or(id);
+            // The faces across each edge, looked up once for all corners.
+            let across: Vec<Vec<SurfaceId>> = (0..polygon.len())
+                .map(|k| {
+                    let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+                    neighbours.across(id, a, b).collect()
+                })
+                .collect();
             for &v in &corners {
                 let facing = normal.dot(v - polygon[0]) > 0.0;
                 for k in 0..polygon.len() {
                     let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
-                    let mut across = neighbours.across(id, a, b).peekable();
-                    let silhouette = across.peek().is_none()
-                        || (facing && neighbours.across(id, a, b).any(|n| !faces(n, v)));
+                    let silhouette =
+                        across[k].is_empty() || (facing && across[k].iter().any(|&n| !faces(n, v)));
                     if !silhouette {
                         continue;
                     }
