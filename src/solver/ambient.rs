@@ -66,14 +66,18 @@ const PATCH_SIDE: usize = 8;
 pub(crate) const PATCH_RAYS: usize = PATCH_SIDE * PATCH_SIDE;
 /// Rays each vertex casts into its hemisphere, in strata of projected
 /// solid angle: [`VERTEX_RINGS`] rings of equal projected area times
-/// `VERTEX_RAYS / VERTEX_RINGS` sectors. At the 5 % default tolerance the
-/// term's noise, not its bias, is most of what stopping early costs (measured
-/// once by hand, with the ray count changed): the cluttered office of `bench/generate_building.py` stopped at 10 % renders
-/// 3.96 % off per pixel (`bench/compare_images.py`, over pixels above 1 % of
-/// the reference's maximum) with 32 random rays per vertex, 3.78 % with 128 and
-/// 3.77 % with 1024 (3.44 % solved to 1 %); at 5 %, 64 stratified rays give
-/// 3.61 %, and 128 give 3.58 % for a tenth more time in all.
-pub(crate) const VERTEX_RAYS: usize = 64;
+/// `VERTEX_RAYS / VERTEX_RINGS` sectors. Since closed rooms stop after
+/// their lamps' shots (`closed_zone_weight` 0.1), the term carries all of
+/// their reflected light, and its noise is what the count sets (measured
+/// by hand, `isorad render` at the references' sizes, the golden tests'
+/// metric, per-pixel error and time): the cluttered office of
+/// `bench/generate_building.py` renders at 2.79 % in 1.67 s with 64 rays,
+/// 2.68 % in 1.77 s with 96 and 2.67 % in 2.06 s with 128; `scenes/room`
+/// at 1.92, 1.69 and 1.64 %; the furnished office at 1.48, 1.39 and
+/// 1.35 %. With 48 rays and closed rooms stopping at a third, the room
+/// read 1.81 % where 64 gave 1.58 %. Earlier, with rooms shot to 10 %:
+/// 3.96 % with 32 random rays, 3.78 % with 128, 3.77 % with 1024.
+pub(crate) const VERTEX_RAYS: usize = 96;
 const VERTEX_RINGS: usize = 8;
 
 /// No patch: the ray left the scene.
@@ -150,7 +154,7 @@ pub(crate) struct AmbientRays {
     /// [`LANDING_STEPS`]th of its side ([`Landing`]). The unshot light is
     /// read at that point, from the element under it, not as the patch's
     /// mean. Two bytes a ray: these are most of what a solve holds per
-    /// vertex (64 rays of 6 bytes; the parameters as two `f32` took 12).
+    /// vertex (96 rays of 6 bytes; the parameters as two `f32` took 12).
     vertex_landings: Vec<Landing>,
 }
 
@@ -690,16 +694,17 @@ mod tests {
         // and one miss: (4·2 + 2·4 + 1) / 8.
         assert!((g[0].irradiance.g - 17.0 / 8.0).abs() < 1e-12, "{g:?}");
         // Its standard error's bound, from the ray pairs (6, 6), (12, 3),
-        // (6, 6) and (12, 0) of the channels' sums in every 8 rays:
-        // √(8 · (9² + 12²)) / 64.
-        let expected = (8.0_f64 * (81.0 + 144.0)).sqrt() / 64.0;
+        // (6, 6) and (12, 0) of the channels' sums in each of the n / 8
+        // groups of 8 rays: √(n / 8 · (9² + 12²)) / n.
+        let (n, groups) = (VERTEX_RAYS as f64, (VERTEX_RAYS / 8) as f64);
+        let expected = (groups * (81.0 + 144.0)).sqrt() / n;
         assert!((g[0].standard_error - expected).abs() < 1e-12, "{g:?}");
         // In a zone that keeps its light the miss is left out: / 7.
         let g = rays.irradiance(&mesh, (&unshot, &[Rgb::splat(0.5)]), &field, &|_| true);
         assert!((g[0].irradiance.g - 17.0 / 7.0).abs() < 1e-12, "{g:?}");
-        // And so is the pair that holds it: 24 pairs kept, Σ = 8 · 9²,
-        // over the 56 rays that land.
-        let expected = (8.0_f64 * 81.0 / (2.0 * 24.0 * 56.0)).sqrt();
+        // And so is the pair that holds it: 3 pairs kept in each group,
+        // Σ = groups · 9², over the 7 rays in each that land.
+        let expected = (groups * 81.0 / (2.0 * 3.0 * groups * 7.0 * groups)).sqrt();
         assert!((g[0].standard_error - expected).abs() < 1e-12, "{g:?}");
     }
 

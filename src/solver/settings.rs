@@ -185,7 +185,7 @@ impl Default for SolverSettings {
             conserve_closed_zones: true,
             coarse_reception: 0.01,
             zone_affinity: 0.5,
-            closed_zone_weight: 0.15,
+            closed_zone_weight: 0.1,
             smooth_ambient: true,
             ambient_sweeps: 16,
         }
