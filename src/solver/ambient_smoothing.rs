@@ -1,7 +1,7 @@
 //! The ambient term's estimates averaged over each vertex's neighbours.
 //!
 //! A vertex's ambient irradiance G_v is a Monte Carlo estimate over its
-//! 64 rays (see `ambient.rs`), and neighbouring vertices' estimates are
+//! 96 rays (see `ambient.rs`), and neighbouring vertices' estimates are
 //! independent: seen pixel by pixel, the noise of a term that carries a
 //! tenth of the light in a closed room stopped at 10 % unshot. The light
 //! it estimates, what surfaces some way off will still send, changes

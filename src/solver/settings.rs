@@ -127,21 +127,22 @@ pub struct SolverSettings {
     /// `solver/unshot_by_zone.rs`.
     pub zone_affinity: f64,
     /// How much the unshot power of a closed zone that keeps all its light
-    /// counts toward [`SolverSettings::tolerance`] (0.15: a closed room
-    /// stops at a third of its emitted power unshot at the default). There
-    /// the ambient term places the residual where its rays land, swept at
-    /// the vertices ([`SolverSettings::ambient_sweeps`]), and the zone
-    /// receives it whole ([`SolverSettings::conserve_closed_zones`]); in
-    /// the open, light leaves, the ambient term's guess of where the rest
-    /// goes is poorer, and the unshot power counts in full. With the
-    /// sweeps, closed rooms render at 0.15 within a few hundredths of a
-    /// point of 0.5 in half the time or less (BENCHMARKS.md, (e): the
-    /// cluttered office 2.69 % per pixel in 2.2 s against 2.71 % in 3.8 s);
-    /// at 0.1 the offices shoot their lamps alone and `scenes/room` loses a
-    /// fifth of its accuracy. The open table's shadow rendered 2.50 % off
-    /// per pixel at 10 % against 2.18 % at 5 %. In (0, 1]; 1 holds every
-    /// zone to the tolerance. Without `conserve_closed_zones` every zone
-    /// counts in full.
+    /// counts toward [`SolverSettings::tolerance`] (0.1: a closed room
+    /// stops at half its emitted power unshot at the default, which in
+    /// the offices is after their lamps' shots). There the ambient term
+    /// places the residual where its rays land, swept at the vertices
+    /// ([`SolverSettings::ambient_sweeps`]), and the zone receives it whole
+    /// ([`SolverSettings::conserve_closed_zones`]); in the open, light
+    /// leaves, the ambient term's guess of where the rest goes is poorer,
+    /// and the unshot power counts in full. With the sweeps and 96 rays a
+    /// vertex the offices render at 0.1 about as well as at 0.15 or 0.5 in
+    /// a fraction of the time (BENCHMARKS.md, (e): the cluttered office
+    /// 2.68 % per pixel in 1.8 s, against 2.69 % in 2.0 s at 0.15 with 64
+    /// rays and 2.71 % in 3.8 s at 0.5); `scenes/room` and the shipped
+    /// office read 0.1–0.3 points worse than at 0.15 in a fifth less time.
+    /// The open table's shadow rendered 2.50 % off per pixel at 10 %
+    /// against 2.18 % at 5 %. In (0, 1]; 1 holds every zone to the
+    /// tolerance. Without `conserve_closed_zones` every zone counts in full.
     pub closed_zone_weight: f64,
     /// Average each vertex's ambient irradiance with its mesh neighbours',
     /// weighted by their distance over the harmonic mean distance of their
