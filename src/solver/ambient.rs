@@ -42,7 +42,7 @@
 //! The rays are cast once and kept; only the lookups are repeated for each
 //! intermediate image. Photometric luminaires shoot before any patch, so
 //! the term never stands in for their direct light (a preview before the
-//! first shot shows none). The iteration stops after 1000 sweeps: for
+//! first shot shows none). The iteration stops after 1000 iterations: for
 //! ρ f near 1 (reflectances of 0.99 in a closed room) it then falls short.
 //!
 //! # References
@@ -154,7 +154,9 @@ pub(crate) struct AmbientRays {
     /// [`LANDING_STEPS`]th of its side ([`Landing`]). The unshot light is
     /// read at that point, from the element under it, not as the patch's
     /// mean. Two bytes a ray: these are most of what a solve holds per
-    /// vertex (96 rays of 6 bytes; the parameters as two `f32` took 12).
+    /// vertex (96 rays of 6 bytes; the parameters as two `f32` took 12);
+    /// while an image is made, each ray's landing element takes 8 more
+    /// ([`AmbientRays::landing_elements`]), dropped after it.
     vertex_landings: Vec<Landing>,
 }
 

@@ -2,8 +2,9 @@
 //!
 //! A vertex's ambient irradiance G_v is a Monte Carlo estimate over its
 //! 96 rays (see `ambient.rs`), and neighbouring vertices' estimates are
-//! independent: seen pixel by pixel, the noise of a term that carries a
-//! tenth of the light in a closed room stopped at 10 % unshot. The light
+//! independent: seen pixel by pixel, the noise of a term that carries
+//! half the light of a closed room (all its reflected light, in the
+//! offices, after their lamps' shots). The light
 //! it estimates, what surfaces some way off will still send, changes
 //! slowly: over a distance d by about d / R of itself, R the harmonic mean
 //! distance to where the rays land (Ward, Rubinstein & Clear 1988, the

@@ -149,19 +149,20 @@ pub struct SolverSettings {
     /// rays (Ward, Rubinstein & Clear 1988) and by how far the estimates
     /// differ over their noise, vertices on a surface's outline left alone
     /// (true; see `solver/ambient_smoothing.rs`): the term's noise, seen
-    /// pixel by pixel where it carries a tenth of the light, falls by about
-    /// three. The cluttered office renders at 2.81 % per pixel with it,
-    /// 2.88 % without (BENCHMARKS.md, (e)).
+    /// pixel by pixel, falls by about three. The cluttered office stopped
+    /// at 10 % (the term a tenth of its light) rendered at 2.81 % per pixel
+    /// with it, 2.88 % without (BENCHMARKS.md, (e)); closed rooms now leave
+    /// it half of their light.
     pub smooth_ambient: bool,
     /// At most this many Jacobi sweeps over the vertices take the ambient
     /// term's further bounces from where its rays land rather than from
     /// each patch's mean (16; they stop when the term changes by less than
     /// 0.5 % on average, after three to five in the offices; 0 keeps the
-    /// patch-level estimate; at most 64; see `solver/ambient_sweeps.rs`). A patch half
-    /// hidden behind furniture no longer sends what it will still reflect
-    /// evenly from both halves: the cluttered office solved from its lamps'
-    /// shots alone renders at 2.81 % per pixel with them, 3.50 % without
-    /// (BENCHMARKS.md, (e)).
+    /// patch-level estimate; at most 64; see `solver/ambient_sweeps.rs`).
+    /// A patch half hidden behind furniture no longer sends what it will
+    /// still reflect evenly from both halves: with 64 rays a vertex, the
+    /// cluttered office solved from its lamps' shots alone rendered at
+    /// 2.81 % per pixel with them, 3.50 % without (BENCHMARKS.md, (e)).
     pub ambient_sweeps: usize,
 }
 
@@ -194,7 +195,8 @@ impl Default for SolverSettings {
 }
 
 impl SolverSettings {
-    /// Quick, noisier images: 10 % tolerance, fewer shadow samples.
+    /// Quick, noisier images: 10 % tolerance (closed rooms stop once their
+    /// emitters have shot), fewer shadow samples.
     #[must_use]
     pub fn preview() -> Self {
         SolverSettings {
@@ -205,13 +207,15 @@ impl SolverSettings {
         }
     }
 
-    /// Converged, smooth images: 0.1 % tolerance, more shadow samples.
+    /// Converged, smooth images: 0.1 % tolerance, held in full by closed
+    /// rooms too (`closed_zone_weight` 1), more shadow samples.
     #[must_use]
     pub fn final_quality() -> Self {
         SolverSettings {
             tolerance: 0.001,
             direct_samples: 256,
             max_samples: 1024,
+            closed_zone_weight: 1.0,
             ..Self::default()
         }
     }
@@ -303,8 +307,8 @@ impl Settings {
         }
     }
 
-    /// Converged, smooth images: finer elements, 0.1 % tolerance, more
-    /// shadow samples.
+    /// Converged, smooth images: finer elements, 0.1 % tolerance (closed
+    /// rooms' too), more shadow samples.
     #[must_use]
     pub fn final_quality() -> Self {
         Settings {

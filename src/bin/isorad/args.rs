@@ -36,7 +36,8 @@ pub struct Overrides {
     #[arg(long)]
     tolerance: Option<f64>,
     /// How much a closed room's unshot power counts toward --tolerance
-    /// [default: 0.1; a closed room stops at half unshot]; 1 holds
+    /// [default: 0.1; a closed room stops at ten times --tolerance, half
+    /// unshot at 0.05]; 1 holds
     /// every room to the tolerance.
     #[arg(long, value_name = "WEIGHT")]
     closed_zone_weight: Option<f64>,
