@@ -139,7 +139,7 @@ pub struct SolverSettings {
     /// a fraction of the time (BENCHMARKS.md, (e): the cluttered office
     /// 2.68 % per pixel in 1.8 s, against 2.69 % in 2.0 s at 0.15 with 64
     /// rays and 2.71 % in 3.8 s at 0.5); `scenes/room` and the shipped
-    /// office read 0.1–0.3 points worse than at 0.15 in a fifth less time.
+    /// office read 0.1–0.3 points worse than at 0.15, in 5–10 % less time.
     /// The open table's shadow rendered 2.50 % off per pixel at 10 %
     /// against 2.18 % at 5 %. In (0, 1]; 1 holds every zone to the
     /// tolerance. Without `conserve_closed_zones` every zone counts in full.
