@@ -39,8 +39,12 @@
 //! is nothing; under the table it is what the underside will still send.
 //! A_h, one value per patch, is then resolved at the vertices by sweeps
 //! along the same rays (`ambient_sweeps.rs`).
-//! The rays are cast once and kept; only the lookups are repeated for each
-//! intermediate image. Photometric luminaires shoot before any patch, so
+//! The term is made room by room, each closed zone's vertices with their
+//! own rays (`ambient_rooms.rs`). The patches' rays are cast once and
+//! kept, and so are the vertices' up to 2²⁴ rays (about 175,000
+//! vertices): an intermediate image then repeats only the lookups. A
+//! larger mesh casts each room's rays for each image and drops them
+//! after, so that the term holds one room's rays at a time. Photometric luminaires shoot before any patch, so
 //! the term never stands in for their direct light (a preview before the
 //! first shot shows none). The iteration stops after 1000 iterations: for
 //! ρ f near 1 (reflectances of 0.99 in a closed room) it then falls short.
@@ -127,6 +131,11 @@ impl LandingElement {
         }
     }
 
+    /// The element's index, or `None` for [`LandingElement::NONE`].
+    pub(crate) fn element(self) -> Option<usize> {
+        (self != LandingElement::NONE).then_some(self.element as usize)
+    }
+
     /// A value given at the element's corners (in [`crate::mesh::Element::corners`]
     /// order) interpolated at the point, linearly over a triangle and
     /// bilinearly over a quad; `None` for [`LandingElement::NONE`].
@@ -140,24 +149,30 @@ impl LandingElement {
     }
 }
 
-/// The patch each cached ray hits, for patches and for vertices.
+/// The patch each of the patches' cached rays hits, [`PATCH_RAYS`] per
+/// patch, patch after patch: cast once, read by every image.
 #[derive(Clone, Debug, Default)]
-pub(crate) struct AmbientRays {
-    /// `PATCH_RAYS` hits per patch, patch after patch.
-    patch_hits: Vec<u32>,
-    /// `VERTEX_RAYS` hits per vertex, vertex after vertex (for the first
-    /// `vertex_hits.len() / VERTEX_RAYS` vertices; more are cast as an
-    /// adaptive mesh grows).
-    vertex_hits: Vec<u32>,
-    /// Where each vertex ray lands on its patch: the patch cell's
-    /// parameters there ([`crate::mesh::Cell::point`]) to a
-    /// [`LANDING_STEPS`]th of its side ([`Landing`]). The unshot light is
-    /// read at that point, from the element under it, not as the patch's
-    /// mean. Two bytes a ray: these are most of what a solve holds per
-    /// vertex (96 rays of 6 bytes; the parameters as two `f32` took 12);
-    /// while an image is made, each ray's landing element takes 8 more
-    /// ([`AmbientRays::landing_elements`]), dropped after it.
-    vertex_landings: Vec<Landing>,
+pub(crate) struct PatchRays {
+    hits: Vec<u32>,
+}
+
+/// The rays of a list of vertices (a closed room's, or all): the patch
+/// each hits and where it lands on it, [`VERTEX_RAYS`] per vertex, vertex
+/// after vertex in the list's order. Ray k of the list is ray
+/// k mod [`VERTEX_RAYS`] of vertex `vertices[k / VERTEX_RAYS]`.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct VertexRays {
+    vertices: Vec<u32>,
+    hits: Vec<u32>,
+    /// Where each ray lands on its patch: the patch cell's parameters
+    /// there ([`crate::mesh::Cell::point`]) to a [`LANDING_STEPS`]th of
+    /// its side ([`Landing`]). The unshot light is read at that point,
+    /// from the element under it, not as the patch's mean. Two bytes a
+    /// ray: with the hit, these are most of what the term holds per vertex
+    /// while a room's image is made (96 rays of 6 bytes; the parameters as
+    /// two `f32` took 12), with each ray's landing element, 8 more
+    /// ([`VertexRays::landing_elements`]).
+    landings: Vec<Landing>,
 }
 
 /// Steps per side of a patch's cell to which a vertex ray's landing point
@@ -201,98 +216,146 @@ pub(crate) struct AmbientEstimate {
     pub(crate) standard_error: f64,
 }
 
-impl AmbientRays {
-    /// Casts the rays not cast yet: every patch's once, and those of
-    /// vertices added since the last call. A ray from surface `s` traverses
-    /// `visibility_of(s)`: the BVH of its closed zone's bounds, or the
-    /// scene's.
+impl PatchRays {
+    /// Casts every patch's rays, unless they are cast: from stratified
+    /// points on its elements, cosine-weighted. A ray from surface `s`
+    /// traverses `visibility_of(s)`: the BVH of its closed zone's bounds,
+    /// or the scene's.
     pub(crate) fn cast_missing<'v>(
         &mut self,
         scene: &Scene,
         mesh: &Mesh,
+        locator: &PatchLocator,
         visibility_of: &(dyn Fn(SurfaceId) -> &'v Visibility + Sync),
     ) {
-        let done = self.vertex_hits.len() / VERTEX_RAYS;
-        let patches_cast = self.patch_hits.len() == mesh.patches.len() * PATCH_RAYS;
-        if patches_cast && done >= mesh.vertices.len() {
+        if self.hits.len() == mesh.patches.len() * PATCH_RAYS {
             return;
         }
-        let locator = PatchLocator::new(scene, mesh);
-        if !patches_cast {
-            // A patch without elements (all hidden) casts only misses.
-            self.patch_hits = (0..mesh.patches.len())
+        // A patch without elements (all hidden) casts only misses.
+        self.hits = (0..mesh.patches.len())
+            .into_par_iter()
+            .flat_map_iter(|p| (0..PATCH_RAYS).map(move |k| (p, k)))
+            .map(|(p, k)| {
+                let patch = &mesh.patches[p];
+                let normal = scene.surface(patch.surface).normal();
+                let mut stream = SampleStream::new(p as u64, k as u64 | 1 << 40);
+                point_on_elements(mesh, p, k, &mut stream).map_or(MISS, |origin| {
+                    // Not stratified: the points are, by k.
+                    let direction = cosine_direction(normal, &mut stream);
+                    let start = (origin, normal, patch.surface);
+                    let visibility = visibility_of(patch.surface);
+                    locator.hit(scene, visibility, start, direction).0
+                })
+            })
+            .collect();
+    }
+
+    /// The fixed point A_p = ρ_p ⟨ΔB_h + A_h⟩_p, by Jacobi iteration, for
+    /// unshot radiosity `unshot` and reflectance `reflectance` per patch;
+    /// the mean of a `lossless` patch's rays as
+    /// [`VertexRays::irradiance`] takes it. Zero before the rays are cast.
+    #[must_use]
+    pub(crate) fn residual(
+        &self,
+        unshot: &[Rgb],
+        reflectance: &[Rgb],
+        lossless: &[bool],
+    ) -> Vec<Rgb> {
+        let patches = unshot.len();
+        if self.hits.len() != patches * PATCH_RAYS {
+            return vec![Rgb::ZERO; patches];
+        }
+        let scale = unshot.iter().map(|b| b.max_element()).fold(0.0, f64::max);
+        let mut residual = vec![Rgb::ZERO; patches];
+        for _ in 0..MAX_ITERATIONS {
+            let next: Vec<Rgb> = (0..patches)
                 .into_par_iter()
-                .flat_map_iter(|p| (0..PATCH_RAYS).map(move |k| (p, k)))
-                .map(|(p, k)| {
-                    let patch = &mesh.patches[p];
-                    let normal = scene.surface(patch.surface).normal();
-                    let mut stream = SampleStream::new(p as u64, k as u64 | 1 << 40);
-                    point_on_elements(mesh, p, k, &mut stream).map_or(MISS, |origin| {
-                        // Not stratified: the points are, by k.
-                        let direction = cosine_direction(normal, &mut stream);
-                        let start = (origin, normal, patch.surface);
-                        let visibility = visibility_of(patch.surface);
-                        locator.hit(scene, visibility, start, direction).0
-                    })
+                .map(|p| {
+                    let hits = &self.hits[p * PATCH_RAYS..(p + 1) * PATCH_RAYS];
+                    let seen = hits
+                        .iter()
+                        .filter(|&&h| h != MISS)
+                        .map(|&h| unshot[h as usize] + residual[h as usize])
+                        .sum::<Rgb>();
+                    reflectance[p] * seen / rays_counted(hits, lossless[p])
                 })
                 .collect();
+            let change = next
+                .iter()
+                .zip(&residual)
+                .map(|(a, b)| (*a - *b).abs().max_element())
+                .fold(0.0, f64::max);
+            residual = next;
+            if change <= CONVERGENCE * scale {
+                break;
+            }
         }
-        if done < mesh.vertices.len() {
-            // Written in place, vertex by vertex: no list of the new rays
-            // beside the kept ones, nor a vector doubling as it grows.
-            let (from, to) = (done * VERTEX_RAYS, mesh.vertices.len() * VERTEX_RAYS);
-            self.vertex_hits.truncate(from);
-            self.vertex_landings.truncate(from);
-            self.vertex_hits.reserve_exact(to - from);
-            self.vertex_landings.reserve_exact(to - from);
-            self.vertex_hits.resize(to, MISS);
-            self.vertex_landings.resize(to, Landing::NOWHERE);
-            self.vertex_hits[from..]
-                .par_chunks_mut(VERTEX_RAYS)
-                .zip(self.vertex_landings[from..].par_chunks_mut(VERTEX_RAYS))
-                .enumerate()
-                .for_each(|(n, (hits, landings))| {
-                    let v = done + n;
-                    let vertex = &mesh.vertices[v];
-                    let normal = scene.surface(vertex.surface).normal();
-                    let visibility = visibility_of(vertex.surface);
-                    for (k, (hit, landing)) in hits.iter_mut().zip(landings.iter_mut()).enumerate()
-                    {
-                        let mut stream = SampleStream::new(v as u64, k as u64 | 2 << 40);
-                        let origin = vertex.receiver_position;
-                        let sectors = VERTEX_RAYS / VERTEX_RINGS;
-                        let direction =
-                            stratified_direction(normal, k, (VERTEX_RINGS, sectors), &mut stream);
-                        let start = (origin, normal, vertex.surface);
-                        let (patch, point) = locator.hit(scene, visibility, start, direction);
-                        *hit = patch;
-                        *landing = mesh
-                            .patches
-                            .get(patch as usize)
-                            .and_then(|patch| cell_coordinates(&patch.cell, point))
-                            .filter(|(s, t)| s.is_finite() && t.is_finite())
-                            .map_or(Landing::NOWHERE, Landing::at);
-                    }
-                });
+        residual
+    }
+}
+
+impl VertexRays {
+    /// Casts the rays of `vertices`, [`VERTEX_RAYS`] from where each
+    /// gathers, stratified in projected solid angle. A vertex's rays are
+    /// the same whatever list it is cast in: each is seeded by its vertex
+    /// and its index. A ray from surface `s` traverses `visibility_of(s)`.
+    #[must_use]
+    pub(crate) fn cast<'v>(
+        scene: &Scene,
+        mesh: &Mesh,
+        vertices: Vec<u32>,
+        locator: &PatchLocator,
+        visibility_of: &(dyn Fn(SurfaceId) -> &'v Visibility + Sync),
+    ) -> VertexRays {
+        let count = vertices.len() * VERTEX_RAYS;
+        let mut hits = vec![MISS; count];
+        let mut landings = vec![Landing::NOWHERE; count];
+        hits.par_chunks_mut(VERTEX_RAYS)
+            .zip(landings.par_chunks_mut(VERTEX_RAYS))
+            .zip(vertices.par_iter())
+            .for_each(|((hits, landings), &v)| {
+                let vertex = &mesh.vertices[v as usize];
+                let normal = scene.surface(vertex.surface).normal();
+                let visibility = visibility_of(vertex.surface);
+                for (k, (hit, landing)) in hits.iter_mut().zip(landings.iter_mut()).enumerate() {
+                    let mut stream = SampleStream::new(u64::from(v), k as u64 | 2 << 40);
+                    let origin = vertex.receiver_position;
+                    let sectors = VERTEX_RAYS / VERTEX_RINGS;
+                    let direction =
+                        stratified_direction(normal, k, (VERTEX_RINGS, sectors), &mut stream);
+                    let start = (origin, normal, vertex.surface);
+                    let (patch, point) = locator.hit(scene, visibility, start, direction);
+                    *hit = patch;
+                    *landing = mesh
+                        .patches
+                        .get(patch as usize)
+                        .and_then(|patch| cell_coordinates(&patch.cell, point))
+                        .filter(|(s, t)| s.is_finite() && t.is_finite())
+                        .map_or(Landing::NOWHERE, Landing::at);
+                }
+            });
+        VertexRays {
+            vertices,
+            hits,
+            landings,
         }
     }
 
-    /// The ambient irradiance G_v of every vertex (see the module docs), for
-    /// unshot radiosity `unshot` and reflectance `reflectance` per patch.
-    /// Vertex ray k reads the unshot radiosity where it lands,
-    /// `unshot_at(k)` (on the element under its point, see
-    /// [`AmbientRays::landing_elements`]), or the patch's mean where that
-    /// gives none: a floor patch half under a desk then sends the desk's
-    /// underside the light of its dark half and the ceiling that of its lit
-    /// half, as its shots do.
+    /// The ambient irradiance G_v of each listed vertex (see the module
+    /// docs), in the list's order, for each patch's `residual` A_h
+    /// ([`PatchRays::residual`]) and its `patch_value` ΔB_h + A_h.
+    /// Ray k reads the unshot radiosity where it lands, `unshot_at(k)` (on
+    /// the element under its point, see [`VertexRays::landing_elements`]),
+    /// or the patch's mean where that gives none: a floor patch half under
+    /// a desk then sends the desk's underside the light of its dark half
+    /// and the ceiling that of its lit half, as its shots do.
     /// The residual A_h stays the patch's here (`ambient_sweeps.rs` then
-    /// resolves it at the vertices). Vertices whose rays have not been
-    /// cast get none. Each estimate comes with a bound on its standard
-    /// error, that of the mean of its rays' values summed over the
-    /// channels, from its strata collapsed in pairs of neighbouring sectors
-    /// (a miss counted as 0, or its pair left out where the mean leaves
-    /// misses out): a surface that fills a ring of strata evenly adds
-    /// nothing to it, however bright.
+    /// resolves it at the vertices). Each estimate comes with a bound on
+    /// its standard error, that of the mean of its rays' values summed
+    /// over the channels, from its strata collapsed in pairs of
+    /// neighbouring sectors (a miss counted as 0, or its pair left out
+    /// where the mean leaves misses out): a surface that fills a ring of
+    /// strata evenly adds nothing to it, however bright.
     ///
     /// In a zone that keeps all its light (`lossless` of a surface, see
     /// [`crate::SolverSettings::conserve_closed_zones`]) a ray that ends on
@@ -306,31 +369,28 @@ impl AmbientRays {
     pub(crate) fn irradiance(
         &self,
         mesh: &Mesh,
-        (unshot, reflectance): (&[Rgb], &[Rgb]),
+        (residual, patch_value): (&[Rgb], &[Rgb]),
         unshot_at: &RayValue<'_>,
         lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
     ) -> Vec<AmbientEstimate> {
-        let patch_lossless: Vec<bool> = mesh.patches.iter().map(|p| lossless(p.surface)).collect();
-        let residual = self.patch_residual(unshot, reflectance, &patch_lossless);
-        let fallback: Vec<Rgb> = unshot.iter().zip(&residual).map(|(u, a)| *u + *a).collect();
         let value_at = |k: usize| {
-            let h = self.vertex_hits[k] as usize;
+            let h = self.hits[k] as usize;
             unshot_at(k).map(|w| w + residual[h])
         };
-        self.gather(mesh, &value_at, &fallback, lossless)
+        self.gather(mesh, &value_at, &|h| patch_value[h], lossless)
     }
 
-    /// The element under every vertex ray's landing point, by
+    /// The element under every ray's landing point, by
     /// `locate(patch, (s, t), hint)` (`hint` the element a vertex's last
     /// ray on that patch found), ray after ray as the rays are kept:
     /// [`LandingElement::NONE`] for a miss, or where no element lies.
     #[must_use]
     pub(crate) fn landing_elements(&self, locate: &Locate<'_>) -> Vec<LandingElement> {
-        let mut located = vec![LandingElement::NONE; self.vertex_hits.len()];
+        let mut located = vec![LandingElement::NONE; self.hits.len()];
         located
             .par_chunks_mut(VERTEX_RAYS)
-            .zip(self.vertex_hits.par_chunks(VERTEX_RAYS))
-            .zip(self.vertex_landings.par_chunks(VERTEX_RAYS))
+            .zip(self.hits.par_chunks(VERTEX_RAYS))
+            .zip(self.landings.par_chunks(VERTEX_RAYS))
             .for_each(|((located, hits), landings)| {
                 let mut last = (usize::MAX, 0);
                 for ((slot, &h), landing) in located.iter_mut().zip(hits).zip(landings) {
@@ -347,22 +407,20 @@ impl AmbientRays {
         located
     }
 
-    /// Each vertex's mean over its rays of `value_at(k)` where ray k lands
-    /// on patch h, or `fallback[h]` where that gives none, with its
-    /// standard error (see [`AmbientRays::irradiance`]).
+    /// Each listed vertex's mean over its rays of `value_at(k)` where ray
+    /// k lands on patch h, or `fallback(h)` where that gives none, with its
+    /// standard error (see [`VertexRays::irradiance`]).
     #[must_use]
     pub(crate) fn gather(
         &self,
         mesh: &Mesh,
         value_at: &RayValue<'_>,
-        fallback: &[Rgb],
+        fallback: &(dyn Fn(usize) -> Rgb + Sync),
         lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
     ) -> Vec<AmbientEstimate> {
-        let seen = |v: usize| {
-            let rays = v * VERTEX_RAYS..(v + 1) * VERTEX_RAYS;
-            let Some(hits) = self.vertex_hits.get(rays.clone()) else {
-                return AmbientEstimate::default();
-            };
+        let seen = |(i, &v): (usize, &u32)| {
+            let rays = i * VERTEX_RAYS..(i + 1) * VERTEX_RAYS;
+            let hits = &self.hits[rays.clone()];
             let mut sum = Rgb::ZERO;
             // Each ray's value summed over the channels, 0 for a miss.
             let mut sums = [0.0; VERTEX_RAYS];
@@ -370,11 +428,11 @@ impl AmbientRays {
                 if h == MISS {
                     continue;
                 }
-                let value = value_at(rays.start + k).unwrap_or(fallback[h as usize]);
+                let value = value_at(rays.start + k).unwrap_or_else(|| fallback(h as usize));
                 sum += value;
                 sums[k] = value.element_sum();
             }
-            let n = rays_counted(hits, lossless(mesh.vertices[v].surface));
+            let n = rays_counted(hits, lossless(mesh.vertices[v as usize].surface));
             // Strata collapsed in pairs of neighbouring sectors: each pair
             // estimates twice a stratum's variance, so over the K pairs
             // kept Var(mean) ≈ Σ (x_a − x_b)² / (2 K n) (Cochran 1977,
@@ -399,28 +457,23 @@ impl AmbientRays {
                 standard_error: variance.sqrt(),
             }
         };
-        (0..mesh.vertices.len()).into_par_iter().map(seen).collect()
+        self.vertices.par_iter().enumerate().map(seen).collect()
     }
 
-    /// Each vertex's harmonic mean distance to where its rays land,
+    /// Each listed vertex's harmonic mean distance to where its rays land,
     /// R_v = N / Σ 1/d_k over the N rays that land on a patch (infinite
-    /// where none does, or its rays are not cast): the scale over which
-    /// its ambient irradiance changes (`ambient_smoothing.rs`).
+    /// where none does): the scale over which its ambient irradiance
+    /// changes (`ambient_smoothing.rs`).
     #[must_use]
     pub(crate) fn harmonic_distances(&self, mesh: &Mesh) -> Vec<f64> {
-        (0..mesh.vertices.len())
-            .into_par_iter()
-            .map(|v| {
-                let rays = v * VERTEX_RAYS..(v + 1) * VERTEX_RAYS;
-                let (Some(hits), Some(landings)) = (
-                    self.vertex_hits.get(rays.clone()),
-                    self.vertex_landings.get(rays),
-                ) else {
-                    return f64::INFINITY;
-                };
-                let x = mesh.vertices[v].receiver_position;
+        self.vertices
+            .par_iter()
+            .enumerate()
+            .map(|(i, &v)| {
+                let rays = i * VERTEX_RAYS..(i + 1) * VERTEX_RAYS;
+                let x = mesh.vertices[v as usize].receiver_position;
                 let (mut count, mut inverse) = (0.0, 0.0);
-                for (&h, landing) in hits.iter().zip(landings) {
+                for (&h, landing) in self.hits[rays.clone()].iter().zip(&self.landings[rays]) {
                     let (Some(patch), Some((s, t))) =
                         (mesh.patches.get(h as usize), landing.parameters())
                     else {
@@ -439,42 +492,6 @@ impl AmbientRays {
                 }
             })
             .collect()
-    }
-
-    /// The fixed point A_p = ρ_p ⟨ΔB_h + A_h⟩_p, by Jacobi iteration; the
-    /// mean of a `lossless` patch's rays as [`AmbientRays::irradiance`]
-    /// takes it.
-    fn patch_residual(&self, unshot: &[Rgb], reflectance: &[Rgb], lossless: &[bool]) -> Vec<Rgb> {
-        let patches = unshot.len();
-        if self.patch_hits.len() != patches * PATCH_RAYS {
-            return vec![Rgb::ZERO; patches];
-        }
-        let scale = unshot.iter().map(|b| b.max_element()).fold(0.0, f64::max);
-        let mut residual = vec![Rgb::ZERO; patches];
-        for _ in 0..MAX_ITERATIONS {
-            let next: Vec<Rgb> = (0..patches)
-                .into_par_iter()
-                .map(|p| {
-                    let hits = &self.patch_hits[p * PATCH_RAYS..(p + 1) * PATCH_RAYS];
-                    let seen = hits
-                        .iter()
-                        .filter(|&&h| h != MISS)
-                        .map(|&h| unshot[h as usize] + residual[h as usize])
-                        .sum::<Rgb>();
-                    reflectance[p] * seen / rays_counted(hits, lossless[p])
-                })
-                .collect();
-            let change = next
-                .iter()
-                .zip(&residual)
-                .map(|(a, b)| (*a - *b).abs().max_element())
-                .fold(0.0, f64::max);
-            residual = next;
-            if change <= CONVERGENCE * scale {
-                break;
-            }
-        }
-        residual
     }
 }
 
@@ -539,13 +556,13 @@ fn point_on_elements(mesh: &Mesh, p: usize, k: usize, stream: &mut SampleStream)
 
 /// Which patch of a surface holds a point: each patch's cell in its
 /// surface's plane coordinates, grouped by surface.
-struct PatchLocator {
+pub(crate) struct PatchLocator {
     by_surface: Vec<Vec<(u32, Vec<DVec2>)>>,
     reach: f64,
 }
 
 impl PatchLocator {
-    fn new(scene: &Scene, mesh: &Mesh) -> PatchLocator {
+    pub(crate) fn new(scene: &Scene, mesh: &Mesh) -> PatchLocator {
         let mut by_surface = vec![Vec::new(); scene.surfaces.len()];
         for (p, patch) in mesh.patches.iter().enumerate() {
             let frame = scene.surface(patch.surface).frame();
@@ -598,13 +615,9 @@ impl PatchLocator {
 mod tests {
     use super::*;
 
-    /// Cached rays of patches only, `PATCH_RAYS` hits after another.
-    fn patch_rays(patch_hits: Vec<u32>) -> AmbientRays {
-        AmbientRays {
-            patch_hits,
-            vertex_hits: Vec::new(),
-            vertex_landings: Vec::new(),
-        }
+    /// Patches' rays, `PATCH_RAYS` hits after another.
+    fn patch_rays(hits: Vec<u32>) -> PatchRays {
+        PatchRays { hits }
     }
 
     /// Two patches that see only each other (every ray of each hits the
@@ -615,7 +628,7 @@ mod tests {
         let rays = patch_rays([vec![1; PATCH_RAYS], vec![0; PATCH_RAYS]].concat());
         let unshot = [Rgb::splat(2.0), Rgb::splat(2.0)];
         let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];
-        let residual = rays.patch_residual(&unshot, &reflectance, &[false; 2]);
+        let residual = rays.residual(&unshot, &reflectance, &[false; 2]);
         for a in residual {
             // ρ ΔB / (1 − ρ) = 0.5 · 2 / 0.5.
             assert!((a.g - 2.0).abs() < 1e-5, "{a:?}");
@@ -662,10 +675,10 @@ mod tests {
         let hits: Vec<u32> = (0..VERTEX_RAYS)
             .map(|k| if k % 8 == 7 { MISS } else { 0 })
             .collect();
-        let rays = AmbientRays {
-            patch_hits: Vec::new(),
-            vertex_hits: hits,
-            vertex_landings: landings,
+        let rays = VertexRays {
+            vertices: vec![0],
+            hits,
+            landings,
         };
         let mut mesh = Mesh::default();
         mesh.vertices.push(crate::mesh::MeshVertex {
@@ -691,7 +704,7 @@ mod tests {
             (landed[k] != LandingElement::NONE)
                 .then(|| Rgb::splat(if element == 0 { 2.0 } else { 4.0 }))
         };
-        let g = rays.irradiance(&mesh, (&unshot, &[Rgb::splat(0.5)]), &field, &|_| false);
+        let g = rays.irradiance(&mesh, (&[Rgb::ZERO], &unshot), &field, &|_| false);
         // Of every 8 rays: four at 2, two at 4, one nowhere (the mean, 1)
         // and one miss: (4·2 + 2·4 + 1) / 8.
         assert!((g[0].irradiance.g - 17.0 / 8.0).abs() < 1e-12, "{g:?}");
@@ -702,7 +715,7 @@ mod tests {
         let expected = (groups * (81.0 + 144.0)).sqrt() / n;
         assert!((g[0].standard_error - expected).abs() < 1e-12, "{g:?}");
         // In a zone that keeps its light the miss is left out: / 7.
-        let g = rays.irradiance(&mesh, (&unshot, &[Rgb::splat(0.5)]), &field, &|_| true);
+        let g = rays.irradiance(&mesh, (&[Rgb::ZERO], &unshot), &field, &|_| true);
         assert!((g[0].irradiance.g - 17.0 / 7.0).abs() < 1e-12, "{g:?}");
         // And so is the pair that holds it: 3 pairs kept in each group,
         // Σ = groups · 9², over the 7 rays in each that land.
@@ -720,13 +733,13 @@ mod tests {
         let rays = patch_rays([half, vec![MISS; PATCH_RAYS]].concat());
         let unshot = [Rgb::ZERO, Rgb::splat(4.0)];
         let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];
-        let residual = rays.patch_residual(&unshot, &reflectance, &[false; 2]);
+        let residual = rays.residual(&unshot, &reflectance, &[false; 2]);
         assert!((residual[0].r - 1.0).abs() < 1e-12, "{residual:?}");
         assert_eq!(residual[1], Rgb::ZERO);
         // In a zone that keeps its light, the misses are left out of the
         // mean (half the rays land: just enough); a patch none of whose
         // rays land still sees nothing.
-        let residual = rays.patch_residual(&unshot, &reflectance, &[true; 2]);
+        let residual = rays.residual(&unshot, &reflectance, &[true; 2]);
         assert!((residual[0].r - 2.0).abs() < 1e-12, "{residual:?}");
         assert_eq!(residual[1], Rgb::ZERO);
         // Fewer than half landing: inside an object, the mean over all.
@@ -734,7 +747,7 @@ mod tests {
             .map(|k| if k % 4 == 0 { 1 } else { MISS })
             .collect();
         let rays = patch_rays([few, vec![MISS; PATCH_RAYS]].concat());
-        let residual = rays.patch_residual(&unshot, &reflectance, &[true; 2]);
+        let residual = rays.residual(&unshot, &reflectance, &[true; 2]);
         assert!((residual[0].r - 0.5).abs() < 1e-12, "{residual:?}");
     }
 }

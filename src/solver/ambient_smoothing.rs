@@ -48,6 +48,7 @@
 use rayon::prelude::*;
 
 use super::ambient::AmbientEstimate;
+use super::ambient_rooms::{LocalIndex, Room};
 use crate::mesh::Mesh;
 use crate::scene::Rgb;
 
@@ -61,9 +62,9 @@ pub(crate) const REACH: f64 = 2.0;
 /// vertex's by this many standard errors of their difference.
 pub(crate) const AGREEMENT: f64 = 3.0;
 
-/// Each vertex's mesh neighbours, and whether it lies on its surface
-/// mesh's outline: what the averaging reads of the mesh, kept while the
-/// mesh stays as it is.
+/// Each vertex's mesh neighbours in a room, and whether it lies on its
+/// surface mesh's outline: what the averaging reads of the mesh. Vertices
+/// are the room's (their places in [`Room::vertices`]).
 #[derive(Clone, Debug)]
 pub(crate) struct Neighbourhood {
     offsets: Vec<usize>,
@@ -72,27 +73,70 @@ pub(crate) struct Neighbourhood {
 }
 
 impl Neighbourhood {
-    /// The neighbourhood of every vertex of `mesh`.
+    /// The neighbourhood of every vertex of `room`, whose members `local`
+    /// has entered: the other corners of the elements it is a corner of,
+    /// and whether it ends an edge (between consecutive corners) that one
+    /// element alone uses. Where elements split to different depths meet,
+    /// the coarse side's edge is used once too: the T-junction's vertex and
+    /// that edge's two ends count as outline. A room's elements use only
+    /// its own vertices (a room is a set of whole surfaces).
     #[must_use]
-    pub(crate) fn new(mesh: &Mesh) -> Neighbourhood {
-        let (offsets, neighbours) = mesh.vertex_neighbours();
+    pub(crate) fn new(mesh: &Mesh, room: &Room, local: &LocalIndex) -> Neighbourhood {
+        let count = room.vertices.len();
+        let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(12 * room.elements.len());
+        let mut edges: Vec<(u32, u32)> = Vec::with_capacity(4 * room.elements.len());
+        for &e in &room.elements {
+            let mut corners = [0u32; 4];
+            let mut n = 0;
+            for &v in mesh.elements[e as usize].corners() {
+                if let Some(i) = local.vertex(v as usize) {
+                    corners[n] = i as u32;
+                    n += 1;
+                }
+            }
+            let corners = &corners[..n];
+            for &a in corners {
+                pairs.extend(corners.iter().filter(|&&b| b != a).map(|&b| (a, b)));
+            }
+            for k in 0..n {
+                let (a, b) = (corners[k], corners[(k + 1) % n]);
+                edges.push((a.min(b), a.max(b)));
+            }
+        }
+        pairs.par_sort_unstable();
+        pairs.dedup();
+        let mut offsets = vec![0; count + 1];
+        for &(a, _) in &pairs {
+            offsets[a as usize + 1] += 1;
+        }
+        for v in 0..count {
+            offsets[v + 1] += offsets[v];
+        }
+        edges.par_sort_unstable();
+        let mut outline = vec![false; count];
+        for run in edges.chunk_by(|a, b| a == b) {
+            if let [(a, b)] = run {
+                outline[*a as usize] = true;
+                outline[*b as usize] = true;
+            }
+        }
         Neighbourhood {
             offsets,
-            neighbours,
-            outline: mesh.outline_vertices(),
+            neighbours: pairs.into_iter().map(|(_, b)| b).collect(),
+            outline,
         }
     }
 }
 
-/// The ambient irradiance `estimates` (per vertex of `mesh`, whose
-/// neighbourhood is `around`) averaged over each inner vertex's
+/// The ambient irradiance `estimates` of `room`'s vertices (in its order,
+/// whose neighbourhood is `around`) averaged over each inner vertex's
 /// neighbours, each weighted by its distance over the smaller harmonic
 /// mean distance `harmonic_distance` and by how far the two estimates
 /// differ over their noise (see the module docs).
 #[must_use]
 pub(crate) fn smoothed(
     mesh: &Mesh,
-    around: &Neighbourhood,
+    (room, around): (&Room, &Neighbourhood),
     estimates: &[AmbientEstimate],
     harmonic_distance: &[f64],
 ) -> Vec<Rgb> {
@@ -101,6 +145,7 @@ pub(crate) fn smoothed(
         neighbours,
         outline,
     } = around;
+    let position = |i: usize| mesh.vertices[room.vertices[i] as usize].position;
     (0..estimates.len())
         .into_par_iter()
         .map(|v| {
@@ -111,7 +156,7 @@ pub(crate) fn smoothed(
             if outline.get(v).is_none_or(|&on| on) {
                 return own.irradiance;
             }
-            let x = mesh.vertices[v].position;
+            let x = position(v);
             let reach = harmonic_distance.get(v).copied().unwrap_or(0.0);
             let (mut sum, mut weight) = (own.irradiance, 1.0);
             for &u in &neighbours[from..to] {
@@ -119,7 +164,7 @@ pub(crate) fn smoothed(
                 let (Some(other), Some(&r)) = (estimates.get(u), harmonic_distance.get(u)) else {
                     continue;
                 };
-                let d = x.distance(mesh.vertices[u].position);
+                let d = x.distance(position(u));
                 let near = 1.0 - d / (REACH * r.min(reach));
                 let noise = own.standard_error.hypot(other.standard_error);
                 let gap = (other.irradiance.element_sum() - own.irradiance.element_sum()).abs();
@@ -157,6 +202,15 @@ mod tests {
             .collect()
     }
 
+    /// The whole mesh as one room, and its neighbourhood.
+    fn whole(mesh: &Mesh) -> (Room, Neighbourhood) {
+        let room = Room::whole(mesh);
+        let mut local = LocalIndex::new(mesh);
+        local.enter(&room);
+        let around = Neighbourhood::new(mesh, &room, &local);
+        (room, around)
+    }
+
     /// An n × n grid of unit quads on the plane z = 0.
     fn grid(n: u32) -> Mesh {
         let mut mesh = Mesh::default();
@@ -190,13 +244,14 @@ mod tests {
     #[test]
     fn a_linear_field_is_kept_and_the_outline_untouched() {
         let mesh = grid(6);
+        let (room, around) = whole(&mesh);
         let raw: Vec<Rgb> = mesh
             .vertices
             .iter()
             .map(|v| Rgb::splat(2.0 + 0.3 * v.position.x - 0.1 * v.position.y))
             .collect();
         let far = vec![100.0; raw.len()];
-        let out = smoothed(&mesh, &Neighbourhood::new(&mesh), &noisy(&raw, 1.0), &far);
+        let out = smoothed(&mesh, (&room, &around), &noisy(&raw, 1.0), &far);
         for (v, (a, b)) in raw.iter().zip(&out).enumerate() {
             assert!((a.r - b.r).abs() < 1e-12, "vertex {v}: {a:?} → {b:?}");
         }
@@ -204,12 +259,7 @@ mod tests {
         // neighbour, which it pulls, is the only other to move.
         let mut spiked = raw.clone();
         spiked[0] = Rgb::splat(40.0);
-        let out = smoothed(
-            &mesh,
-            &Neighbourhood::new(&mesh),
-            &noisy(&spiked, 100.0),
-            &far,
-        );
+        let out = smoothed(&mesh, (&room, &around), &noisy(&spiked, 100.0), &far);
         let moved: Vec<usize> = (0..raw.len())
             .filter(|&v| (out[v].r - raw[v].r).abs() > 1e-9)
             .collect();
@@ -223,6 +273,7 @@ mod tests {
     #[test]
     fn a_vertex_whose_rays_land_close_keeps_to_itself() {
         let mesh = grid(6);
+        let (room, around) = whole(&mesh);
         let raw: Vec<Rgb> = (0..mesh.vertices.len())
             .map(|v| Rgb::splat(1.0 + 0.01 * v as f64))
             .collect();
@@ -230,15 +281,10 @@ mod tests {
         let close = 3 * 7 + 3;
         let mut distances = vec![100.0; raw.len()];
         distances[close] = 0.1;
-        let out = smoothed(
-            &mesh,
-            &Neighbourhood::new(&mesh),
-            &noisy(&raw, 1.0),
-            &distances,
-        );
+        let out = smoothed(&mesh, (&room, &around), &noisy(&raw, 1.0), &distances);
         assert_eq!(out[close], raw[close]);
         let alone = distances.iter().map(|_| 100.0).collect::<Vec<_>>();
-        let with = smoothed(&mesh, &Neighbourhood::new(&mesh), &noisy(&raw, 1.0), &alone);
+        let with = smoothed(&mesh, (&room, &around), &noisy(&raw, 1.0), &alone);
         for neighbour in [close - 1, close + 1, close - 7, close + 7] {
             assert_ne!(
                 out[neighbour], with[neighbour],
@@ -283,10 +329,15 @@ mod tests {
                 .sum::<f64>()
                 / inner.len() as f64
         };
-        let around = Neighbourhood::new(&mesh);
+        let (room, around) = whole(&mesh);
         // Estimates of standard error `error`, their rays landing `reach` off.
         let smooth = |error: f64, reach: f64| {
-            smoothed(&mesh, &around, &noisy(&raw, error), &vec![reach; raw.len()])
+            smoothed(
+                &mesh,
+                (&room, &around),
+                &noisy(&raw, error),
+                &vec![reach; raw.len()],
+            )
         };
         let far = smooth(0.9, 50.0);
         assert!(

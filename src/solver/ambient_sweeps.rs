@@ -26,7 +26,8 @@
 //! times the share of rays that land and is spread over the surfaces each
 //! vertex sees. Each sweep is smoothed as the first is
 //! (`ambient_smoothing.rs`). The sweeps stop when the mean change of G
-//! over the vertices falls below [`SWEEP_CONVERGENCE`] of its mean, or
+//! over a room's vertices falls below [`SWEEP_CONVERGENCE`] of its mean
+//! (each closed zone is swept on its own, `ambient_rooms.rs`), or
 //! after the solver's `ambient_sweeps`.
 //!
 //! This is Jacobi iteration for the remaining transport (Cohen & Wallace
@@ -44,32 +45,37 @@
 
 use rayon::prelude::*;
 
-use super::ambient::{AmbientEstimate, AmbientRays, LandingElement};
+use super::ambient::{AmbientEstimate, LandingElement, VertexRays};
+use super::ambient_rooms::{LocalIndex, Room};
 use crate::mesh::Mesh;
 use crate::scene::{Rgb, SurfaceId};
 
-/// The sweeps stop when the mean absolute change of G over the vertices
-/// (channels summed) is below this fraction of G's mean. The change
-/// shrinks about 2.5-fold per sweep in the offices; the error left is
-/// about the last change.
+/// The sweeps stop when the mean absolute change of G over the room's
+/// vertices (channels summed) is below this fraction of G's mean. The
+/// change shrinks about 2.5-fold per sweep in the offices; the error left
+/// is about the last change.
 pub(crate) const SWEEP_CONVERGENCE: f64 = 0.005;
 
-/// What the sweeps read where the rays land: the element under each ray's
-/// landing point, every element's corners' unshot radiosity at the scale
-/// that carries its patch's power, and each patch's mean unshot radiosity
-/// (read where a landing point finds no element).
+/// What the sweeps read where a room's rays land: the element under each
+/// ray's landing point, the room's elements' corners' unshot radiosity at
+/// the scale that carries its patch's power (in the room's order), each
+/// patch's mean unshot radiosity (read where a landing point finds no
+/// element), and each patch's ΔB + A at patch resolution (read where a
+/// ray leaves the room through a seam: `ambient_rooms.rs`).
 pub(crate) struct UnshotLight<'a> {
     pub(crate) landed: &'a [LandingElement],
     pub(crate) corners: &'a [[Rgb; 4]],
     pub(crate) per_patch: &'a [Rgb],
+    pub(crate) outside: &'a [Rgb],
 }
 
-/// G after up to `max_sweeps` sweeps from `first` (see the module docs),
-/// with `reflectance` per vertex; `smooth` turns a sweep's estimates into
-/// the values the next sweep reads.
+/// G of `room`'s vertices (in its order; `local` has entered it) after up
+/// to `max_sweeps` sweeps from `first` (see the module docs), with
+/// `reflectance` per vertex of the room; `smooth` turns a sweep's
+/// estimates into the values the next sweep reads.
 pub(crate) fn swept(
-    rays: &AmbientRays,
-    mesh: &Mesh,
+    (rays, mesh): (&VertexRays, &Mesh),
+    (room, local): (&Room, &LocalIndex),
     (first, max_sweeps): (Vec<Rgb>, usize),
     (unshot, reflectance): (&UnshotLight<'_>, &[Rgb]),
     lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
@@ -82,7 +88,8 @@ pub(crate) fn swept(
             .zip(reflectance)
             .map(|(g, rho)| *rho * *g)
             .collect();
-        let next = smooth(&gathered_once(rays, mesh, unshot, &further, lossless));
+        let estimates = gathered_once((rays, mesh), (room, local), unshot, &further, lossless);
+        let next = smooth(&estimates);
         let change = mean_change(&next, &ambient);
         ambient = next;
         if change <= SWEEP_CONVERGENCE {
@@ -92,46 +99,52 @@ pub(crate) fn swept(
     ambient
 }
 
-/// One sweep's estimates: each vertex's mean of ΔB(y) + R(y) over its rays,
-/// R the light `further` per vertex (ρ G), both interpolated on the element
-/// under each landing point, or their patch's area-weighted means where
-/// none is.
+/// One sweep's estimates: each of the room's vertices' mean of ΔB(y) + R(y)
+/// over its rays, R the light `further` per vertex of the room (ρ G), both
+/// interpolated on the element under each landing point, or their patch's
+/// area-weighted means where none is.
 fn gathered_once(
-    rays: &AmbientRays,
-    mesh: &Mesh,
+    (rays, mesh): (&VertexRays, &Mesh),
+    (room, local): (&Room, &LocalIndex),
     unshot: &UnshotLight<'_>,
     further: &[Rgb],
     lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
 ) -> Vec<AmbientEstimate> {
-    let fallback: Vec<Rgb> = mesh
+    let further_at = |v: u32| local.vertex(v as usize).map_or(Rgb::ZERO, |i| further[i]);
+    let per_patch: Vec<Rgb> = room
         .patches
         .par_iter()
-        .zip(unshot.per_patch)
-        .map(|(patch, &unshot)| {
+        .map(|&p| {
+            let patch = &mesh.patches[p as usize];
             let (mut sum, mut area) = (Rgb::ZERO, 0.0);
             for &e in &patch.elements {
                 let element = &mesh.elements[e as usize];
-                sum += element.corner_mean(|v| further[v as usize]) * element.area;
+                sum += element.corner_mean(further_at) * element.area;
                 area += element.area;
             }
-            unshot + if area > 0.0 { sum / area } else { Rgb::ZERO }
+            unshot.per_patch[p as usize] + if area > 0.0 { sum / area } else { Rgb::ZERO }
         })
         .collect();
+    let fallback = |h: usize| local.patch(h).map_or(unshot.outside[h], |i| per_patch[i]);
     // Each element's corners' ΔB + R, once per sweep rather than at every
     // ray that lands on it.
-    let corners: Vec<[Rgb; 4]> = mesh
+    let corners: Vec<[Rgb; 4]> = room
         .elements
         .par_iter()
         .zip(unshot.corners)
-        .map(|(element, unshot)| {
+        .map(|(&e, unshot)| {
             let mut values = *unshot;
-            for (value, &v) in values.iter_mut().zip(&element.vertices) {
-                *value += further[v as usize];
+            for (value, &v) in values.iter_mut().zip(&mesh.elements[e as usize].vertices) {
+                *value += further_at(v);
             }
             values
         })
         .collect();
-    let value_at = |k: usize| unshot.landed[k].value(mesh, |e| corners[e]);
+    let value_at = |k: usize| {
+        let landed = unshot.landed[k];
+        let i = local.element(landed.element()?)?;
+        landed.value(mesh, |_| corners[i])
+    };
     rays.gather(mesh, &value_at, &fallback, lossless)
 }
 

@@ -4,6 +4,7 @@
 //! gets (`scene_mesh.rs`, where lighting's fields meet the meshers).
 
 mod ambient;
+mod ambient_rooms;
 mod ambient_smoothing;
 mod ambient_sweeps;
 mod element_index;

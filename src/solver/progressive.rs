@@ -5,7 +5,8 @@ use std::sync::Mutex;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::ambient::{AmbientEstimate, AmbientRays, LandingElement};
+use super::ambient::{AmbientEstimate, LandingElement, PatchLocator, VertexRays};
+use super::ambient_rooms::{AmbientCache, LocalIndex, Room};
 use super::ambient_smoothing;
 use super::ambient_sweeps::{self, UnshotLight};
 use super::element_power;
@@ -118,12 +119,9 @@ pub struct Solver {
     /// power, counted as the received power is (see `element_power.rs`).
     absorbed_power: Rgb,
     /// The rays the ambient term gathers the unshot light along, cast on
-    /// first use.
-    ambient_rays: Mutex<AmbientRays>,
-    /// Each vertex's mesh neighbours and whether it lies on its surface's
-    /// outline, for the ambient term's averaging; found on first use and
-    /// again after the mesh splits.
-    ambient_neighbourhood: std::sync::OnceLock<ambient_smoothing::Neighbourhood>,
+    /// first use and kept while the mesh is not too large
+    /// (`solver/ambient_rooms.rs`).
+    ambient_rays: Mutex<AmbientCache>,
     /// Whether each of the scene's photometric luminaires has shot.
     luminaire_shot: Vec<bool>,
     /// The closed zone each photometric luminaire stands in, whose
@@ -325,8 +323,7 @@ impl Solver {
             shot_power: Rgb::ZERO,
             received_power: Rgb::ZERO,
             absorbed_power: Rgb::ZERO,
-            ambient_rays: Mutex::new(AmbientRays::default()),
-            ambient_neighbourhood: std::sync::OnceLock::new(),
+            ambient_rays: Mutex::new(AmbientCache::default()),
             luminaire_shot,
             luminaire_zones,
             emission_pending,
@@ -967,9 +964,15 @@ impl Solver {
     }
 
     /// The ambient irradiance G_v of every vertex: the light the unshot
-    /// radiosity will still give, gathered along cached rays (see
-    /// `solver/ambient.rs`).
+    /// radiosity will still give, gathered along rays (see
+    /// `solver/ambient.rs`), room by room (`solver/ambient_rooms.rs`).
     fn ambient_irradiance(&self) -> Vec<Rgb> {
+        self.ambient_irradiance_keeping(AmbientCache::keeps(self.mesh.vertices.len()))
+    }
+
+    /// [`Solver::ambient_irradiance`], the rooms' rays kept for the next
+    /// image or, unless `keep`, cast room by room and dropped.
+    fn ambient_irradiance_keeping(&self, keep: bool) -> Vec<Rgb> {
         let reflectance: Vec<Rgb> = self
             .mesh
             .patches
@@ -980,7 +983,7 @@ impl Solver {
                     .reflectance
             })
             .collect();
-        let mut rays = self
+        let mut cache = self
             .ambient_rays
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
@@ -993,71 +996,147 @@ impl Solver {
                 .and_then(|zones| zones.visibility(zones.of(surface)))
                 .unwrap_or(&self.visibility)
         };
-        rays.cast_missing(&self.scene, &self.mesh, &visibility_of);
-        // Each patch's unshot field over its elements, at the scale that
-        // carries its power, for the vertices' rays to read where they land.
-        let fields: Vec<(PatchField, FieldScale)> = self
+        let locator = PatchLocator::new(&self.scene, &self.mesh);
+        cache
+            .patches
+            .cast_missing(&self.scene, &self.mesh, &locator, &visibility_of);
+        let patch_lossless: Vec<bool> = self
             .mesh
             .patches
+            .iter()
+            .map(|p| self.surface_lossless[p.surface.index()])
+            .collect();
+        let residual = cache
+            .patches
+            .residual(&self.unshot, &reflectance, &patch_lossless);
+        let patch_value: Vec<Rgb> = self
+            .unshot
+            .iter()
+            .zip(&residual)
+            .map(|(u, a)| *u + *a)
+            .collect();
+        let rooms = match zones {
+            Some(zones) => Room::all(&self.mesh, zones.count(), &|s| zones.of(s)),
+            None => vec![Room::whole(&self.mesh)],
+        };
+        let vertices = self.mesh.vertices.len();
+        let cast = |room: &Room| {
+            VertexRays::cast(
+                &self.scene,
+                &self.mesh,
+                room.vertices.clone(),
+                &locator,
+                &visibility_of,
+            )
+        };
+        if !keep {
+            cache.rooms = None;
+        } else if cache.rooms.as_ref().is_none_or(|(n, _)| *n != vertices) {
+            cache.rooms = Some((vertices, rooms.iter().map(cast).collect()));
+        }
+        let mut local = LocalIndex::new(&self.mesh);
+        let mut ambient = vec![Rgb::ZERO; vertices];
+        for (r, room) in rooms.iter().enumerate() {
+            let cast_now;
+            let rays = match &cache.rooms {
+                Some((_, kept)) => &kept[r],
+                None => {
+                    cast_now = cast(room);
+                    &cast_now
+                }
+            };
+            local.enter(room);
+            let room_ambient = self.room_ambient((room, &local), rays, (&residual, &patch_value));
+            for (&v, g) in room.vertices.iter().zip(room_ambient) {
+                ambient[v as usize] = g;
+            }
+            local.leave(room);
+        }
+        ambient
+    }
+
+    /// G_v of `room`'s vertices, in its order (`local` has entered it),
+    /// from its vertices' `rays` and each patch's residual A_h and
+    /// ΔB_h + A_h (see `solver/ambient.rs`).
+    fn room_ambient(
+        &self,
+        (room, local): (&Room, &LocalIndex),
+        rays: &VertexRays,
+        (residual, patch_value): (&[Rgb], &[Rgb]),
+    ) -> Vec<Rgb> {
+        let mesh = &self.mesh;
+        // Each of the room's patches' unshot field over its elements, at
+        // the scale that carries its power, for the rays to read where
+        // they land.
+        let fields: Vec<(PatchField, FieldScale)> = room
+            .patches
             .par_iter()
-            .zip(&self.unshot)
-            .map(|(patch, &unshot)| {
-                let field = self
-                    .unshot_corners
-                    .field(&self.mesh, patch, unshot * patch.area);
+            .map(|&p| {
+                let patch = &mesh.patches[p as usize];
+                let power = self.unshot[p as usize] * patch.area;
+                let field = self.unshot_corners.field(mesh, patch, power);
                 let scale = field.exact_scale();
                 (field, scale)
             })
             .collect();
-        // The element under each vertex ray's landing point, found once
-        // for the first gather and every sweep.
+        // The element under each ray's landing point, found once for the
+        // first gather and every sweep; none outside the room.
         let landed = rays.landing_elements(&|p, (s, t), hint| {
-            let patch = &self.mesh.patches[p];
-            fields[p]
-                .0
+            let (field, _) = &fields[local.patch(p)?];
+            let patch = &mesh.patches[p];
+            field
                 .locate(patch.cell.point(s, t), hint)
                 .map(|(k, st)| LandingElement::new(patch.elements[k], st))
         });
-        let corners: Vec<[Rgb; 4]> = (0..self.mesh.elements.len())
-            .into_par_iter()
-            .map(|e| {
-                let scale = fields[self.mesh.elements[e].patch as usize].1;
-                self.unshot_corners.of(e).map(|c| scale.apply(c))
+        let corners: Vec<[Rgb; 4]> = room
+            .elements
+            .par_iter()
+            .map(|&e| {
+                let corners = self.unshot_corners.of(e as usize);
+                let patch = mesh.elements[e as usize].patch as usize;
+                local
+                    .patch(patch)
+                    .map_or(corners, |i| corners.map(|c| fields[i].1.apply(c)))
             })
             .collect();
-        let unshot_at = |k: usize| landed[k].value(&self.mesh, |e| corners[e]);
-        let lossless = &self.surface_lossless;
-        let gathered = rays.irradiance(
-            &self.mesh,
-            (&self.unshot, &reflectance),
-            &unshot_at,
-            &|surface| lossless[surface.index()],
-        );
-        let distances = rays.harmonic_distances(&self.mesh);
+        let unshot_at = |k: usize| {
+            let landed = landed[k];
+            let i = local.element(landed.element()?)?;
+            landed.value(mesh, |_| corners[i])
+        };
+        let lossless = |surface: SurfaceId| self.surface_lossless[surface.index()];
+        let gathered = rays.irradiance(mesh, (residual, patch_value), &unshot_at, &lossless);
+        let distances = rays.harmonic_distances(mesh);
+        let around = self
+            .settings
+            .smooth_ambient
+            .then(|| ambient_smoothing::Neighbourhood::new(mesh, room, local));
         let smooth = |gathered: &[AmbientEstimate]| -> Vec<Rgb> {
-            if !self.settings.smooth_ambient {
-                return gathered.iter().map(|g| g.irradiance).collect();
+            match &around {
+                Some(around) => {
+                    ambient_smoothing::smoothed(mesh, (room, around), gathered, &distances)
+                }
+                None => gathered.iter().map(|g| g.irradiance).collect(),
             }
-            let neighbourhood = self
-                .ambient_neighbourhood
-                .get_or_init(|| ambient_smoothing::Neighbourhood::new(&self.mesh));
-            ambient_smoothing::smoothed(&self.mesh, neighbourhood, gathered, &distances)
         };
         let first = smooth(&gathered);
-        let vertex_reflectance: Vec<Rgb> = (0..self.mesh.vertices.len())
-            .map(|v| self.reflectance(v))
+        let vertex_reflectance: Vec<Rgb> = room
+            .vertices
+            .iter()
+            .map(|&v| self.reflectance(v as usize))
             .collect();
         let unshot = UnshotLight {
             landed: &landed,
             corners: &corners,
             per_patch: &self.unshot,
+            outside: patch_value,
         };
         ambient_sweeps::swept(
-            &rays,
-            &self.mesh,
+            (rays, mesh),
+            (room, local),
             (first, self.settings.ambient_sweeps),
             (&unshot, &vertex_reflectance),
-            &|surface| lossless[surface.index()],
+            &lossless,
             &smooth,
         )
     }
@@ -1259,7 +1338,6 @@ impl Solver {
             members.invalidate();
         }
         self.reception.invalidate();
-        self.ambient_neighbourhood = std::sync::OnceLock::new();
     }
 
     /// The unshot corners of the mesh's new elements after a split (see
@@ -1430,6 +1508,107 @@ fn indices_in_shadow_cache_runs<R: Send + Default>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::surface::newell_normal;
+    use crate::scene::{Material, Surface};
+
+    /// Two closed 4 × 3 × 4 m rooms 5 m apart, each with a lamp under its
+    /// ceiling and a block on its floor, every face towards the room.
+    fn two_closed_rooms() -> Scene {
+        let mut scene = Scene::default();
+        for (name, reflectance, radiance) in [("wall", 0.6, 0.0), ("lamp", 0.0, 10.0)] {
+            scene.materials.push(Material {
+                name: name.into(),
+                reflectance: Rgb::splat(reflectance),
+                emitted_radiance: Rgb::splat(radiance),
+            });
+        }
+        // A quad of a box's face, turned to face `towards`.
+        let mut add = |material: usize, mut quad: Vec<DVec3>, towards: DVec3| {
+            let centre = quad.iter().copied().sum::<DVec3>() / 4.0;
+            if newell_normal(&quad).dot(towards - centre) < 0.0 {
+                quad.reverse();
+            }
+            scene
+                .surfaces
+                .push(Surface::new("face", material, quad).expect("a valid quad"));
+        };
+        // The faces of the box [lo, hi], each facing `inwards` or out.
+        let box_faces = |lo: DVec3, hi: DVec3| {
+            (0..3).flat_map(move |axis| {
+                [0.0, 1.0].map(move |side| {
+                    let corner = |s: f64, t: f64| {
+                        let mut w = [0.0; 3];
+                        w[axis] = side;
+                        w[(axis + 1) % 3] = s;
+                        w[(axis + 2) % 3] = t;
+                        lo + (hi - lo) * DVec3::from_array(w)
+                    };
+                    vec![
+                        corner(0.0, 0.0),
+                        corner(1.0, 0.0),
+                        corner(1.0, 1.0),
+                        corner(0.0, 1.0),
+                    ]
+                })
+            })
+        };
+        for x in [0.0, 5.0] {
+            let (lo, hi) = (DVec3::new(x, 0.0, 0.0), DVec3::new(x + 4.0, 3.0, 4.0));
+            for quad in box_faces(lo, hi) {
+                add(0, quad, (lo + hi) / 2.0);
+            }
+            let (block_lo, block_hi) = (
+                lo + DVec3::new(1.0, 0.0, 1.0),
+                lo + DVec3::new(2.0, 0.8, 2.0),
+            );
+            // The block's faces but its bottom (the third), facing out.
+            let centre = (block_lo + block_hi) / 2.0;
+            for (k, quad) in box_faces(block_lo, block_hi).enumerate() {
+                let outwards = quad.iter().copied().sum::<DVec3>() / 2.0 - centre;
+                if k != 2 {
+                    add(0, quad, outwards);
+                }
+            }
+            let lamp = [(1.7, 1.7), (2.3, 1.7), (2.3, 2.3), (1.7, 2.3)]
+                .map(|(u, w)| lo + DVec3::new(u, 2.99, w))
+                .to_vec();
+            add(1, lamp, lo + DVec3::new(2.0, 0.0, 2.0));
+        }
+        scene
+    }
+
+    /// The ambient term made room by room is the same whether the rooms'
+    /// rays are kept between images or cast for each and dropped, and
+    /// each room's rays stay in it: the two rooms, lit alike, get the same
+    /// light within the rays' noise.
+    #[test]
+    fn rooms_kept_or_cast_again_give_the_same_ambient_term() {
+        let mut settings = Settings::default();
+        settings.mesh.max_edge = crate::Length::Absolute(0.5);
+        let mut solver = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
+        assert!(solver.closed_zones() >= 2, "{}", solver.closed_zones());
+        // Both lamps' shots: half the rooms' light is still unshot.
+        solver.step();
+        solver.step();
+        let streamed = solver.ambient_irradiance_keeping(false);
+        let kept = solver.ambient_irradiance_keeping(true);
+        let again = solver.ambient_irradiance_keeping(true);
+        assert!(streamed == kept, "kept and streamed rays differ");
+        assert!(kept == again, "the kept rays changed");
+        // Σ A G over the elements of the room from x0 to x0 + 4.
+        let room_total = |x0: f64| -> f64 {
+            let mesh = &solver.mesh;
+            let in_room = |x: f64| (x0 - 0.1..=x0 + 4.1).contains(&x);
+            mesh.elements
+                .iter()
+                .filter(|e| in_room(mesh.vertices[e.vertices[0] as usize].position.x))
+                .map(|e| e.corner_mean(|v| kept[v as usize]).element_sum() * e.area)
+                .sum()
+        };
+        let (a, b) = (room_total(0.0), room_total(5.0));
+        // 49.13 against 49.15.
+        assert!(a > 0.0 && (a - b).abs() < 0.01 * a, "{a} against {b}");
+    }
 
     /// Each run of receivers starts with a fresh shadow cache at the same
     /// receivers, however many threads share the runs: the cache's answers,
