@@ -269,12 +269,18 @@ impl Visibility {
         ignore: SurfaceId,
     ) -> Option<(SurfaceId, f64)> {
         let origin = (origin - self.centre) / self.scale;
-        let ray = Ray::new(
+        let mut ray = Ray::new(
             Vec3A::new(origin.x as f32, origin.y as f32, origin.z as f32),
-            bvh_direction(direction / CLOSEST_HIT_STEPS),
+            bvh_direction(direction),
             0.0,
             (reach * CLOSEST_HIT_STEPS / self.scale) as f32,
         );
+        // t in steps: the direction shortened after its inverse is taken,
+        // so that obvhs clamps the same components to 1/ε as for the unit
+        // direction (both factors exact, powers of two).
+        let steps = CLOSEST_HIT_STEPS as f32;
+        ray.direction /= steps;
+        ray.inv_direction *= steps;
         let mut hit = RayHit::none();
         let found = self.bvh.ray_traverse(ray, &mut hit, |ray, id| {
             if self.triangle_surfaces[id] == ignore {
@@ -497,21 +503,26 @@ mod tests {
             .add_polygon("far", grey, &square(40.0, false))
             .unwrap();
         let visibility = Visibility::new(&scene);
-        let (left, right) = (SurfaceId::new(20), SurfaceId::new(21));
-        assert!(scene.surface(left).normal().x > 0.9);
-        assert!(scene.surface(right).normal().x < -0.9);
-        let x = 0.5 + visibility.surface_offset();
-        let origin = DVec3::new(x, 0.01, -0.02);
-        let direction = DVec3::new(1.0, 0.3, 0.2).normalize();
-        let hit = visibility.closest_hit(origin, direction, 100.0, left);
-        let (surface, distance) = hit.expect("the near square");
-        let expected = (0.501 - x) / direction.x;
-        assert_eq!(surface, right, "hit at {distance} m, not {expected} m");
-        // Within the BVH's f32 rounding (a few micrometres here).
-        assert!(
-            (distance - expected).abs() < 1e-5,
-            "{distance} against {expected}"
-        );
+        for k in 0..40 {
+            let (left, right) = (SurfaceId::new(2 * k), SurfaceId::new(2 * k + 1));
+            assert!(scene.surface(left).normal().x > 0.9);
+            assert!(scene.surface(right).normal().x < -0.9);
+            let x = 0.05 * k as f64 + visibility.surface_offset();
+            let origin = DVec3::new(x, 0.01, -0.02);
+            // Slanted, and along the axis (whose zero components obvhs
+            // inverts to 1/ε).
+            for direction in [DVec3::new(1.0, 0.3, 0.2).normalize(), DVec3::X] {
+                let hit = visibility.closest_hit(origin, direction, 100.0, left);
+                let (surface, distance) = hit.expect("the near square");
+                let expected = (0.05 * k as f64 + 0.001 - x) / direction.x;
+                assert_eq!(surface, right, "pair {k}: {distance} m, not {expected} m");
+                // Within the BVH's f32 rounding (a few micrometres here).
+                assert!(
+                    (distance - expected).abs() < 1e-5,
+                    "{distance} against {expected}"
+                );
+            }
+        }
     }
 
     /// A blocked ray leaves its blocker in the cache, where the next ray

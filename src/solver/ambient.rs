@@ -44,8 +44,9 @@
 //! kept, and so are the vertices' up to 2²⁴ rays (about 175,000
 //! vertices): an intermediate image then repeats only the lookups. A
 //! larger mesh casts each room's rays for each image and drops them
-//! after, so that the term holds one room's rays at a time. Photometric luminaires shoot before any patch, so
-//! the term never stands in for their direct light (a preview before the
+//! after, so that the term holds one room's rays at a time. Photometric
+//! luminaires shoot before any patch, so the term never stands in for
+//! their direct light (a preview before the
 //! first shot shows none). The iteration stops after 1000 iterations: for
 //! ρ f near 1 (reflectances of 0.99 in a closed room) it then falls short.
 //!
@@ -96,12 +97,12 @@ const MAX_ITERATIONS: usize = 1000;
 /// The element under the point at parameters (s, t) of patch `p`'s cell
 /// and the point's coordinates in it, `None` where no element lies; the
 /// `usize` is a hint kept between a vertex's reads (see
-/// [`AmbientRays::landing_elements`]).
+/// [`VertexRays::landing_elements`]).
 pub(crate) type Locate<'a> =
     dyn Fn(usize, (f64, f64), &mut usize) -> Option<LandingElement> + Sync + 'a;
 
-/// A value read where vertex ray k (its index among all vertex rays)
-/// landed, `None` to read its patch's value instead.
+/// A value read where vertex ray k (its index among a [`VertexRays`]'s
+/// rays) landed, `None` to read its patch's value instead.
 pub(crate) type RayValue<'a> = dyn Fn(usize) -> Option<Rgb> + Sync + 'a;
 
 /// The element a vertex ray landed on and the landing point's coordinates
@@ -217,20 +218,22 @@ pub(crate) struct AmbientEstimate {
 }
 
 impl PatchRays {
-    /// Casts every patch's rays, unless they are cast: from stratified
-    /// points on its elements, cosine-weighted. A ray from surface `s`
-    /// traverses `visibility_of(s)`: the BVH of its closed zone's bounds,
-    /// or the scene's.
-    pub(crate) fn cast_missing<'v>(
+    /// Whether `mesh`'s patches' rays are cast.
+    pub(crate) fn is_cast(&self, mesh: &Mesh) -> bool {
+        self.hits.len() == mesh.patches.len() * PATCH_RAYS
+    }
+
+    /// Casts every patch's rays: from stratified points on its elements,
+    /// cosine-weighted. A ray from surface `s` traverses
+    /// `visibility_of(s)`: the BVH of its closed zone's bounds, or the
+    /// scene's.
+    pub(crate) fn cast<'v>(
         &mut self,
         scene: &Scene,
         mesh: &Mesh,
         locator: &PatchLocator,
         visibility_of: &(dyn Fn(SurfaceId) -> &'v Visibility + Sync),
     ) {
-        if self.hits.len() == mesh.patches.len() * PATCH_RAYS {
-            return;
-        }
         // A patch without elements (all hidden) casts only misses.
         self.hits = (0..mesh.patches.len())
             .into_par_iter()
@@ -339,6 +342,11 @@ impl VertexRays {
             hits,
             landings,
         }
+    }
+
+    /// The vertices whose rays these are, in the rays' order.
+    pub(crate) fn vertices(&self) -> &[u32] {
+        &self.vertices
     }
 
     /// The ambient irradiance G_v of each listed vertex (see the module

@@ -9,16 +9,18 @@
 //! sweeps read only its own vertices and elements, so the term is made
 //! room by room: each closed zone's vertices, elements and patches
 //! ([`Room`]), with its rays, landing elements, estimates and sweeps, and
-//! what lies outside every closed zone as one more room. Only one room's
-//! rays are held at a time, and the term's memory is that of the largest
-//! room, not of the building (README, How it works, 4): the 16 offices'
+//! what lies outside every closed zone as one more room. A mesh of more
+//! than [`KEPT_VERTEX_RAYS`] vertex rays casts each room's rays for the
+//! image and drops them after, so that one room's rays are held at a
+//! time, and the term's memory is that of the largest room, not of the
+//! building (README, How it works, 4): the 16 offices'
 //! render peaks at 115 MiB resident instead of 471 MiB, the same image
 //! pixel for pixel in the same time (BENCHMARKS.md, (e)).
 //!
-//! The rare ray that leaks out of a closed room through a seam (at most
-//! 1/256 of a zone's rays, `zones.rs`) reads the patch it lands on at
-//! patch resolution, its unshot radiosity and the light it will still
-//! reflect (`ambient.rs`).
+//! The rare ray that leaks out of a closed room through a seam (a zone
+//! stays closed while under 1/256 of the rays that find it leave,
+//! `zones.rs`) reads the patch it lands on at patch resolution, its
+//! unshot radiosity and the light it will still reflect (`ambient.rs`).
 
 use super::ambient::{PatchRays, VERTEX_RAYS, VertexRays};
 use crate::mesh::Mesh;
@@ -36,10 +38,9 @@ pub(crate) const KEPT_VERTEX_RAYS: usize = 1 << 24;
 #[derive(Clone, Debug, Default)]
 pub(crate) struct AmbientCache {
     pub(crate) patches: PatchRays,
-    /// Each room's vertex rays, in the rooms' order, for a mesh of this
-    /// many vertices (an adaptive mesh grows, and its rooms' rays are cast
-    /// again).
-    pub(crate) rooms: Option<(usize, Vec<VertexRays>)>,
+    /// Each room's vertex rays, in the rooms' order (none while the mesh
+    /// is too large to keep them).
+    pub(crate) rooms: Vec<VertexRays>,
 }
 
 impl AmbientCache {

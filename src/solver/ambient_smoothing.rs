@@ -239,6 +239,42 @@ mod tests {
         mesh
     }
 
+    /// A room's neighbourhood, in its own indices, is the mesh's: the
+    /// second of two grids on two surfaces, as a room of its own, has the
+    /// neighbours and the outline the whole mesh gives its vertices.
+    #[test]
+    fn a_rooms_neighbourhood_is_the_meshs() {
+        let mut mesh = grid(3);
+        let second = grid(4);
+        let offset = mesh.vertices.len() as u32;
+        for vertex in &second.vertices {
+            mesh.add_vertex(vertex.position + DVec3::Z, SurfaceId::new(1));
+        }
+        let patch = mesh.add_patch(SurfaceId::new(1), second.patches[0].cell);
+        for element in &second.elements {
+            let corners: Vec<u32> = element.corners().iter().map(|&v| v + offset).collect();
+            mesh.add_element(&corners, patch);
+        }
+        let rooms = Room::all(&mesh, 2, &|s| s.index());
+        let mut local = LocalIndex::new(&mesh);
+        local.enter(&rooms[1]);
+        let around = Neighbourhood::new(&mesh, &rooms[1], &local);
+        let (offsets, neighbours) = mesh.vertex_neighbours();
+        let outline = mesh.outline_vertices();
+        assert_eq!(rooms[1].vertices.len(), 25);
+        for (i, &v) in rooms[1].vertices.iter().enumerate() {
+            let v = v as usize;
+            let mut expected: Vec<u32> = neighbours[offsets[v]..offsets[v + 1]]
+                .iter()
+                .map(|&u| local.vertex(u as usize).expect("in the room") as u32)
+                .collect();
+            expected.sort_unstable();
+            let got = &around.neighbours[around.offsets[i]..around.offsets[i + 1]];
+            assert_eq!(got, expected.as_slice(), "vertex {v}");
+            assert_eq!(around.outline[i], outline[v], "vertex {v}");
+        }
+    }
+
     /// A field linear in x and y comes out unchanged; the outline keeps
     /// its own values whatever they are.
     #[test]

@@ -12,7 +12,7 @@
 //! much of the light still to come and its ceiling 2.7 % too little.
 //!
 //! So the term is taken further by Jacobi sweeps over the vertices, along
-//! the same cached rays. With G⁽⁰⁾ the patch-level estimate (smoothed, as
+//! the same rays. With G⁽⁰⁾ the patch-level estimate (smoothed, as
 //! images show it), each sweep gathers
 //!
 //! ```text
