@@ -225,6 +225,7 @@ fn contour(scene: &Scene) -> Mesh {
     mesh_surfaces(scene, &coarse(scene), &|surface| SurfaceGuides {
         layout: layouts[surface.index()].clone(),
         boundaries: Vec::new(),
+        contact_scale: None,
     })
 }
 

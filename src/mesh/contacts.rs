@@ -631,21 +631,22 @@ fn cell_distance(cell: &[DVec2], p: DVec2) -> f64 {
 /// standing on them (under a block on a floor) or under a parallel surface
 /// covering them (behind a ceiling panel, in the slot between two books):
 /// no light reaches them and no viewer sees them. An element is hidden
-/// when its centroid is ([`is_enclosed`]).
-pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[SurfaceId]) {
+/// when its centroid is ([`is_enclosed`]), each surface's slots judged
+/// against its own contact tolerance (given with it).
+pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[(SurfaceId, f64)]) {
     let visibility = Visibility::new(scene);
-    let mut touched = vec![false; scene.surfaces.len()];
-    for id in surfaces {
-        touched[id.index()] = true;
+    let mut tolerance = vec![None; scene.surfaces.len()];
+    for &(id, within) in surfaces {
+        tolerance[id.index()] = Some(within);
     }
     let hidden: Vec<bool> = mesh
         .elements
         .par_iter()
         .map(|element| {
-            touched[element.surface.index()] && {
+            tolerance[element.surface.index()].is_some_and(|within| {
                 let centroid = element.corner_mean(|v| mesh.vertices[v as usize].position);
-                is_enclosed(scene, &visibility, element.surface, centroid)
-            }
+                is_enclosed_within(scene, &visibility, (element.surface, centroid), within)
+            })
         })
         .collect();
     mesh.remove_elements(|index, _| hidden[index]);
@@ -659,12 +660,27 @@ pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[Surfac
 /// width of the mouth).
 #[must_use]
 pub fn is_enclosed(scene: &Scene, visibility: &Visibility, surface: SurfaceId, x: DVec3) -> bool {
-    let lift = 10.0 * visibility.surface_offset();
+    let tolerance = CONTACT_TOLERANCE * visibility.diagonal();
+    is_enclosed_within(scene, visibility, (surface, x), tolerance)
+}
+
+/// [`is_enclosed`] with the contact `tolerance` the slots are judged
+/// against ([`slot_gap`]): a thousandth of the surface's room's diagonal.
+#[must_use]
+pub fn is_enclosed_within(
+    scene: &Scene,
+    visibility: &Visibility,
+    (surface, x): (SurfaceId, DVec3),
+    tolerance: f64,
+) -> bool {
+    // Ten times the shadow rays' lift for a scene of the room's size: a
+    // point lifted by the lift of a building's size would start inside
+    // the slot behind an object 2 cm from a wall.
+    let lift = tolerance / 10.0;
     let reach = visibility.diagonal();
     let receiver = scene.surface(surface);
     let normal = receiver.normal();
     let origin = x + normal * lift;
-    let tolerance = CONTACT_TOLERANCE * visibility.diagonal();
     // A facing surface covers the point when the hit lies no higher above
     // the receiver's plane than the slot is wide (a face tilted within the
     // parallel test's 2.5° may be near at one end and far at the other).

@@ -83,12 +83,14 @@ pub(crate) fn mesh_scene_in_zones(
         }
         None => vec![Vec::new(); scene.surfaces.len()],
     };
+    let contact_scales = contact_scales(scene, zones);
     analysis.shadow_boundaries = boundaries.iter().map(Vec::len).sum();
     analysis.shadow_receivers = boundaries.iter().filter(|b| !b.is_empty()).count();
     if matches!(settings.kind, MeshKind::Square | MeshKind::Adaptive) {
         let mesh = mesh_surfaces(scene, &square, &|surface| SurfaceGuides {
             layout: None,
             boundaries: boundaries[surface.index()].clone(),
+            contact_scale: contact_scales[surface.index()],
         });
         return SceneMesh { mesh, analysis };
     }
@@ -151,8 +153,33 @@ pub(crate) fn mesh_scene_in_zones(
     let mesh = mesh_surfaces(scene, &square, &|surface| SurfaceGuides {
         layout: layouts[surface.index()].clone(),
         boundaries: boundaries[surface.index()].clone(),
+        contact_scale: contact_scales[surface.index()],
     });
     SceneMesh { mesh, analysis }
+}
+
+/// The diagonal of each surface's zone (`None` without zones): the length
+/// its contact tolerance is a fraction of, so that the rooms of a building
+/// mesh as each would alone (`mesh::SurfaceGuides::contact_scale`).
+fn contact_scales(scene: &Scene, zones: Option<&Zones>) -> Vec<Option<f64>> {
+    let Some(zones) = zones else {
+        return vec![None; scene.surfaces.len()];
+    };
+    let mut bounds = vec![(DVec3::INFINITY, DVec3::NEG_INFINITY); zones.count().max(1)];
+    for (id, surface) in scene.surfaces_with_ids() {
+        let (lo, hi) = surface.bounds();
+        if let Some(zone) = bounds.get_mut(zones.of(id)) {
+            *zone = (zone.0.min(lo), zone.1.max(hi));
+        }
+    }
+    scene
+        .surfaces_with_ids()
+        .map(|(id, _)| {
+            let (lo, hi) = bounds.get(zones.of(id))?;
+            let diagonal = (*hi - *lo).length();
+            (diagonal.is_finite() && diagonal > 0.0).then_some(diagonal)
+        })
+        .collect()
 }
 
 /// Receivers smaller than this many square elements keep the square grid

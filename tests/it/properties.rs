@@ -102,6 +102,7 @@ fn contour_mesh(scene: &Scene, peak: DVec2) -> Mesh {
     mesh_surfaces(scene, &square_settings(scene, 6.0), &|_| SurfaceGuides {
         layout: Some(layout.clone()),
         boundaries: Vec::new(),
+        contact_scale: None,
     })
 }
 

@@ -1107,3 +1107,52 @@ fn the_ambient_sweeps_send_a_hidden_face_the_light_it_sees() {
         "one sweep {one:.4}, sixteen {swept:.4}, sixty-four {many:.4}"
     );
 }
+
+/// A room's contacts are judged at its own scale, not the building's: a
+/// closed room with a block 2 cm from a wall (a contact tolerance of a
+/// thousandth of its 6.4 m diagonal) keeps the same area of walls, floor
+/// and ceiling meshed when a second closed room 200 m away makes the
+/// scene's diagonal 200 m. At the scene's tolerance (0.2 m, and a lift of
+/// 2 cm for the test of what is hidden) 0.2 m² of its floor round the
+/// block was dropped; what is left, 0.018 m², is the boundary vertices'
+/// inset, still the scene's.
+#[test]
+fn a_rooms_contacts_do_not_widen_with_the_building() {
+    let alone = closed_room_with_a_block_at(DVec3::new(0.02, 1.5, 0.0));
+    let mut b = SceneBuilder {
+        scene: alone.clone(),
+    };
+    for quad in box_faces(DVec3::new(4.0, 4.0, 3.0)) {
+        let far: Vec<DVec3> = quad
+            .iter()
+            .map(|&p| p + DVec3::new(200.0, 0.0, 0.0))
+            .collect();
+        b.polygon("far room", 0, far);
+    }
+    let building = b.scene;
+    let mut settings = isorad::Settings::default();
+    settings.mesh.max_edge = isorad::Length::Absolute(0.2);
+    settings.mesh.patch_max_edge = isorad::Length::Absolute(1.0);
+    // The area of the block's back and of the room's walls, floor and
+    // ceiling that the first room's mesh keeps.
+    let first_room = |scene: Scene| {
+        let solver = isorad::Solver::new(scene, settings.clone()).unwrap();
+        let area_of = |name: &str| -> f64 {
+            let mesh = solver.mesh();
+            let named = |e: &&isorad::mesh::Element| {
+                e.surface.index() < alone.surfaces.len() && alone.surface(e.surface).name == name
+            };
+            mesh.elements.iter().filter(named).map(|e| e.area).sum()
+        };
+        (area_of("room"), area_of("back"))
+    };
+    let (alone_room, alone_back) = first_room(alone.clone());
+    let (building_room, building_back) = first_room(building);
+    println!("room {alone_room} and {building_room}, back {alone_back} and {building_back}");
+    assert!(
+        (alone_back - 1.0).abs() < 1e-6,
+        "the back's area {alone_back}"
+    );
+    assert!((building_room - alone_room).abs() < 0.05, "{building_room}");
+    assert!((building_back - alone_back).abs() < 1e-9, "{building_back}");
+}
