@@ -63,9 +63,9 @@ pub struct SurfaceGuides {
     /// Lines that element edges follow: the shadow boundaries the lights
     /// cast on the surface (see `lighting::shadow_boundaries`).
     pub boundaries: Vec<[DVec2; 2]>,
-    /// The length the contact tolerance is a fraction of
-    /// ([`CONTACT_TOLERANCE`]): the diagonal of the surface's room (its
-    /// closed zone), or, where `None`, of the whole scene. A building's
+    /// The length the contact tolerance is a thousandth of: the diagonal
+    /// of the surface's room (its closed zone), or, where `None`, of the
+    /// whole scene. A building's
     /// rooms are then meshed as each would be alone: at a thousandth of a
     /// floor's diagonal, 65 mm for 64 offices, the books' millimetre slots
     /// and their 2 cm from the wall counted as contacts.
