@@ -82,47 +82,12 @@ impl Neighbourhood {
     /// its own vertices (a room is a set of whole surfaces).
     #[must_use]
     pub(crate) fn new(mesh: &Mesh, room: &Room, local: &LocalIndex) -> Neighbourhood {
-        let count = room.vertices.len();
-        let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(12 * room.elements.len());
-        let mut edges: Vec<(u32, u32)> = Vec::with_capacity(4 * room.elements.len());
-        for &e in &room.elements {
-            let mut corners = [0u32; 4];
-            let mut n = 0;
-            for &v in mesh.elements[e as usize].corners() {
-                if let Some(i) = local.vertex(v as usize) {
-                    corners[n] = i as u32;
-                    n += 1;
-                }
-            }
-            let corners = &corners[..n];
-            for &a in corners {
-                pairs.extend(corners.iter().filter(|&&b| b != a).map(|&b| (a, b)));
-            }
-            for k in 0..n {
-                let (a, b) = (corners[k], corners[(k + 1) % n]);
-                edges.push((a.min(b), a.max(b)));
-            }
-        }
-        pairs.par_sort_unstable();
-        pairs.dedup();
-        let mut offsets = vec![0; count + 1];
-        for &(a, _) in &pairs {
-            offsets[a as usize + 1] += 1;
-        }
-        for v in 0..count {
-            offsets[v + 1] += offsets[v];
-        }
-        edges.par_sort_unstable();
-        let mut outline = vec![false; count];
-        for run in edges.chunk_by(|a, b| a == b) {
-            if let [(a, b)] = run {
-                outline[*a as usize] = true;
-                outline[*b as usize] = true;
-            }
-        }
+        let number = |v: u32| local.vertex(v as usize).map(|i| i as u32);
+        let (offsets, neighbours, outline) =
+            mesh.neighbourhood_of(&room.elements, &number, room.vertices.len());
         Neighbourhood {
             offsets,
-            neighbours: pairs.into_iter().map(|(_, b)| b).collect(),
+            neighbours,
             outline,
         }
     }
@@ -241,7 +206,8 @@ mod tests {
 
     /// A room's neighbourhood, in its own indices, is the mesh's: the
     /// second of two grids on two surfaces, as a room of its own, has the
-    /// neighbours and the outline the whole mesh gives its vertices.
+    /// grid's outline and neighbours, and those the whole mesh gives its
+    /// vertices.
     #[test]
     fn a_rooms_neighbourhood_is_the_meshs() {
         let mut mesh = grid(3);
@@ -262,6 +228,13 @@ mod tests {
         let (offsets, neighbours) = mesh.vertex_neighbours();
         let outline = mesh.outline_vertices();
         assert_eq!(rooms[1].vertices.len(), 25);
+        // The 4 × 4 grid's 16 boundary vertices are its outline, and a
+        // corner's neighbours are its quad's three other corners.
+        assert_eq!(around.outline.iter().filter(|&&on| on).count(), 16);
+        assert_eq!(
+            &around.neighbours[around.offsets[0]..around.offsets[1]],
+            &[1, 5, 6]
+        );
         for (i, &v) in rooms[1].vertices.iter().enumerate() {
             let v = v as usize;
             let mut expected: Vec<u32> = neighbours[offsets[v]..offsets[v + 1]]
