@@ -7,6 +7,7 @@
 //! mesher is the assembly with no contour layouts ([`mesh_square`]).
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 use super::contacts::{
     Contact, contact_segments, gather_beside_covering_outlines, remesh_surface,
@@ -75,50 +76,39 @@ pub struct SurfaceGuides {
 /// Meshes every surface: a contour layout where `guides` gives one, the
 /// square grid elsewhere, with element edges along the shadow boundaries it
 /// gives, and contact lines and hidden parts handled as [`mesh_square`]
-/// does. Patches are the square grid's blocks either way.
+/// does. Patches are the square grid's blocks either way. Surfaces are
+/// meshed in parallel and appended in the scene's order, so the mesh is
+/// the same on any number of threads.
 #[must_use]
 pub fn mesh_surfaces(
     scene: &Scene,
     settings: &SquareMeshSettings,
-    guides: &dyn Fn(SurfaceId) -> SurfaceGuides,
+    guides: &(dyn Fn(SurfaceId) -> SurfaceGuides + Sync),
 ) -> Mesh {
-    let mut mesh = Mesh::default();
     let diagonal = scene.diagonal();
     let inset = receiver_inset(scene);
+    let boxes = SurfaceBoxes::new(scene);
+    let meshed: Vec<MeshedSurface> = (0..scene.surfaces.len())
+        .into_par_iter()
+        .map(|k| {
+            let id = SurfaceId::new(k);
+            let guides = guides(id);
+            let tolerance = CONTACT_TOLERANCE * guides.contact_scale.unwrap_or(diagonal);
+            mesh_surface(scene, &boxes, (id, &guides), (tolerance, inset), settings)
+        })
+        .collect();
+    let mut mesh = Mesh::default();
     let mut touched = Vec::new();
     let mut covering = Vec::new();
-    let boxes = SurfaceBoxes::new(scene);
-    for (id, surface) in scene.surfaces_with_ids() {
-        let guides = guides(id);
-        let tolerance = CONTACT_TOLERANCE * guides.contact_scale.unwrap_or(diagonal);
-        let contacts = contact_segments(scene, &boxes, id, (tolerance, inset), settings.max_edge);
-        let frame = surface.frame();
-        let marks: Vec<DVec3> = contacts.marks.iter().map(|&m| frame.to_world(m)).collect();
-        let grid = square_grid(surface, id, settings, &marks);
-        let covering_here: Vec<Contact> = contacts
-            .lines
-            .iter()
-            .filter(|c| c.clearance > 0.0)
-            .copied()
-            .collect();
-        if !covering_here.is_empty() {
-            covering.push((id, covering_here));
+    for (k, surface) in meshed.into_iter().enumerate() {
+        let id = SurfaceId::new(k);
+        mesh.append(surface.mesh);
+        if surface.touched {
+            touched.push((id, surface.tolerance));
         }
-        if !contacts.lines.is_empty() || contacts.covered {
-            touched.push((id, tolerance));
+        if !surface.covering.is_empty() {
+            covering.push((id, surface.covering));
         }
-        if contacts.lines.is_empty() && guides.layout.is_none() && guides.boundaries.is_empty() {
-            mesh.append(grid);
-            continue;
-        }
-        mesh.append(remesh_surface(
-            surface,
-            &grid,
-            &contacts.lines,
-            &guides.boundaries,
-            settings.max_edge,
-            guides.layout.as_ref(),
-        ));
     }
     if !touched.is_empty() {
         remove_hidden_elements(&mut mesh, scene, &touched);
@@ -126,4 +116,60 @@ pub fn mesh_surfaces(
     mesh.inset_boundary_receivers(inset);
     gather_beside_covering_outlines(&mut mesh, scene, &covering, settings.max_edge);
     mesh
+}
+
+/// One surface's mesh, before the hidden parts are dropped, and what the
+/// whole mesh's passes need of its contacts.
+struct MeshedSurface {
+    mesh: Mesh,
+    /// Another surface stands on it, or covers it: its hidden elements are
+    /// looked for, at `tolerance`.
+    touched: bool,
+    tolerance: f64,
+    /// The contact lines of surfaces standing clear of it (its vertices
+    /// along them gather beside).
+    covering: Vec<Contact>,
+}
+
+/// Meshes surface `id` alone: its square grid, re-triangulated along its
+/// contact lines and `guides`' boundaries or layout; contacts are found at
+/// `tolerance` and boundary points inset by `inset`.
+fn mesh_surface(
+    scene: &Scene,
+    boxes: &SurfaceBoxes,
+    (id, guides): (SurfaceId, &SurfaceGuides),
+    (tolerance, inset): (f64, f64),
+    settings: &SquareMeshSettings,
+) -> MeshedSurface {
+    let surface = scene.surface(id);
+    let contacts = contact_segments(scene, boxes, id, (tolerance, inset), settings.max_edge);
+    let frame = surface.frame();
+    let marks: Vec<DVec3> = contacts.marks.iter().map(|&m| frame.to_world(m)).collect();
+    let grid = square_grid(surface, id, settings, &marks);
+    let covering = contacts
+        .lines
+        .iter()
+        .filter(|c| c.clearance > 0.0)
+        .copied()
+        .collect();
+    let touched = !contacts.lines.is_empty() || contacts.covered;
+    let mesh =
+        if contacts.lines.is_empty() && guides.layout.is_none() && guides.boundaries.is_empty() {
+            grid
+        } else {
+            remesh_surface(
+                surface,
+                &grid,
+                &contacts.lines,
+                &guides.boundaries,
+                settings.max_edge,
+                guides.layout.as_ref(),
+            )
+        };
+    MeshedSurface {
+        mesh,
+        touched,
+        tolerance,
+        covering,
+    }
 }
