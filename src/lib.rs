@@ -112,6 +112,7 @@ pub mod calculation;
 pub mod export;
 pub mod lighting;
 pub mod mesh;
+pub mod phase;
 pub mod photometry;
 pub mod radiometry;
 pub mod render;
@@ -123,6 +124,7 @@ pub mod view;
 // The five steps: load, settings, solve, query, render and export.
 pub use error::{Error, Result};
 pub use export::export_solution;
+pub use phase::{Phase, PhaseProgress};
 pub use render::{Image, RenderSettings, ToneMap, write_exr, write_png};
 pub use scene::{Camera, LoadedScene, Material, Rgb, Scene, SurfaceId, load_scene};
 pub use solver::{

@@ -16,6 +16,7 @@ use super::contacts::{
 use super::contour::ContourLayout;
 use super::square::{SquareMeshSettings, square_grid};
 use super::topology::Mesh;
+use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Scene, Surface, SurfaceBoxes, SurfaceId};
 
 /// How close to a plane, as a fraction of the scene's diagonal, another
@@ -85,6 +86,18 @@ pub fn mesh_surfaces(
     settings: &SquareMeshSettings,
     guides: &(dyn Fn(SurfaceId) -> SurfaceGuides + Sync),
 ) -> Mesh {
+    mesh_surfaces_counted(scene, settings, guides, &silent)
+}
+
+/// [`mesh_surfaces`], reporting its progress surface by surface, and one
+/// unit more once the hidden parts are dropped.
+pub(crate) fn mesh_surfaces_counted(
+    scene: &Scene,
+    settings: &SquareMeshSettings,
+    guides: &(dyn Fn(SurfaceId) -> SurfaceGuides + Sync),
+    report: PhaseReporter,
+) -> Mesh {
+    let counter = PhaseCounter::start(Phase::Meshing, scene.surfaces.len() + 1, report);
     let diagonal = scene.diagonal();
     let inset = receiver_inset(scene);
     let boxes = SurfaceBoxes::new(scene);
@@ -94,7 +107,9 @@ pub fn mesh_surfaces(
             let id = SurfaceId::new(k);
             let guides = guides(id);
             let tolerance = CONTACT_TOLERANCE * guides.contact_scale.unwrap_or(diagonal);
-            mesh_surface(scene, &boxes, (id, &guides), (tolerance, inset), settings)
+            let meshed = mesh_surface(scene, &boxes, (id, &guides), (tolerance, inset), settings);
+            counter.add(1);
+            meshed
         })
         .collect();
     let mut mesh = Mesh::default();
@@ -115,6 +130,7 @@ pub fn mesh_surfaces(
     }
     mesh.inset_boundary_receivers(inset);
     gather_beside_covering_outlines(&mut mesh, scene, &covering, settings.max_edge);
+    counter.finish();
     mesh
 }
 

@@ -16,6 +16,7 @@ mod patch;
 mod square;
 mod topology;
 
+pub(crate) use assembly::mesh_surfaces_counted;
 pub(crate) use assembly::receiver_inset;
 pub use assembly::{SurfaceGuides, mesh_square, mesh_surfaces};
 pub(crate) use budget::estimate_square_elements;

@@ -25,6 +25,7 @@ use super::unshot_by_zone::UnshotByZone;
 use super::visibility_memory::{Recall, VisibilityMemory};
 use super::zones::{ZoneLabels, ZoneMembers, Zones};
 use crate::mesh::{Cell, ElementHierarchy, Mesh};
+use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Rgb, Scene, ShadowCache, SurfaceId, Visibility};
 
 /// The least and the most a reflected shot's element powers in a closed zone
@@ -184,15 +185,28 @@ impl Solver {
     /// [`crate::Error::MeshTooLarge`] when the mesh would have more than
     /// [`crate::MeshSettings::max_elements`] elements (counted before meshing).
     pub fn new(scene: Scene, settings: Settings) -> crate::Result<Self> {
+        Self::new_with_progress(scene, settings, &silent)
+    }
+
+    /// [`Solver::new`], reporting the closed rooms', shadow boundaries' and
+    /// meshing's progress to `report` (see [`crate::phase`]): a building's
+    /// take minutes.
+    pub fn new_with_progress(
+        scene: Scene,
+        settings: Settings,
+        report: PhaseReporter,
+    ) -> crate::Result<Self> {
         settings.validate()?;
         scene.validate()?;
         settings.mesh.check_budget(&scene)?;
         let visibility = Visibility::new(&scene);
         // The closed zones, found once: meshing pairs each receiver with
         // its own room's lights and occluders, and the shots stay in theirs.
+        let counter = PhaseCounter::start(Phase::ClosedRooms, 1, report);
         let zones = Zones::new(&scene, &visibility);
+        counter.finish();
         let SceneMesh { mesh, analysis } =
-            mesh_scene_in_zones(&scene, &visibility, &settings.mesh, Some(&zones));
+            mesh_scene_in_zones(&scene, &visibility, &settings.mesh, Some(&zones), report);
         let refiner = (settings.mesh.kind == MeshKind::Adaptive)
             .then(|| Refiner::new(&mesh, settings.mesh.refinement.clone()));
         let parts = (mesh, visibility, analysis, Some(zones));
@@ -965,14 +979,16 @@ impl Solver {
 
     /// The ambient irradiance G_v of every vertex: the light the unshot
     /// radiosity will still give, gathered along rays (see
-    /// `solver/ambient.rs`), room by room (`solver/ambient_rooms.rs`).
-    fn ambient_irradiance(&self) -> Vec<Rgb> {
-        self.ambient_irradiance_keeping(AmbientCache::keeps(self.mesh.vertices.len()))
+    /// `solver/ambient.rs`), room by room (`solver/ambient_rooms.rs`),
+    /// reporting its progress to `report`.
+    fn ambient_irradiance(&self, report: PhaseReporter) -> Vec<Rgb> {
+        let keep = AmbientCache::keeps(self.mesh.vertices.len());
+        self.ambient_irradiance_keeping(keep, report)
     }
 
     /// [`Solver::ambient_irradiance`], the rooms' rays kept for the next
     /// image or, unless `keep`, cast room by room and dropped.
-    fn ambient_irradiance_keeping(&self, keep: bool) -> Vec<Rgb> {
+    fn ambient_irradiance_keeping(&self, keep: bool, report: PhaseReporter) -> Vec<Rgb> {
         let reflectance: Vec<Rgb> = self
             .mesh
             .patches
@@ -1024,14 +1040,23 @@ impl Solver {
             None => vec![Room::whole(&self.mesh)],
         };
         let vertices = self.mesh.vertices.len();
+        // Half a room's vertices count once their rays are cast (or kept),
+        // the other half once their light is gathered.
+        let counter = PhaseCounter::start(Phase::AmbientTerm, vertices, report);
+        let halves = |room: &Room| {
+            let n = room.vertices.len();
+            (n / 2, n - n / 2)
+        };
         let cast = |room: &Room| {
-            VertexRays::cast(
+            let rays = VertexRays::cast(
                 &self.scene,
                 &self.mesh,
                 room.vertices.clone(),
                 locator(),
                 &visibility_of,
-            )
+            );
+            counter.add(halves(room).0);
+            rays
         };
         // Kept rays serve again where their room's vertices are the same
         // (an adaptive mesh adds vertices to the rooms it refines).
@@ -1041,7 +1066,10 @@ impl Solver {
                 .iter()
                 .enumerate()
                 .map(|(r, room)| match kept.get_mut(r) {
-                    Some(rays) if rays.vertices() == room.vertices => std::mem::take(rays),
+                    Some(rays) if rays.vertices() == room.vertices => {
+                        counter.add(halves(room).0);
+                        std::mem::take(rays)
+                    }
                     _ => cast(room),
                 })
                 .collect();
@@ -1064,7 +1092,9 @@ impl Solver {
                 ambient[v as usize] = g;
             }
             local.leave(room);
+            counter.add(halves(room).1);
         }
+        counter.finish();
         ambient
     }
 
@@ -1166,10 +1196,18 @@ impl Solver {
     /// `solver/ambient.rs`). What images and probes show.
     #[must_use]
     pub fn solution_with_ambient(&self) -> Solution<'_> {
+        self.solution_with_ambient_progress(&silent)
+    }
+
+    /// [`Solver::solution_with_ambient`], reporting the ambient term's
+    /// progress to `report` ([`crate::Phase::AmbientTerm`]): a building's
+    /// takes minutes.
+    #[must_use]
+    pub fn solution_with_ambient_progress(&self, report: PhaseReporter) -> Solution<'_> {
         if self.unshot.iter().all(|b| *b == Rgb::ZERO) {
             return self.solution();
         }
-        let ambient = self.ambient_irradiance();
+        let ambient = self.ambient_irradiance(report);
         let irradiance = self
             .irradiance
             .iter()
@@ -1609,9 +1647,9 @@ mod tests {
         // Both lamps' shots: half the rooms' light is still unshot.
         solver.step();
         solver.step();
-        let streamed = solver.ambient_irradiance_keeping(false);
-        let kept = solver.ambient_irradiance_keeping(true);
-        let again = solver.ambient_irradiance_keeping(true);
+        let streamed = solver.ambient_irradiance_keeping(false, &silent);
+        let kept = solver.ambient_irradiance_keeping(true, &silent);
+        let again = solver.ambient_irradiance_keeping(true, &silent);
         assert!(streamed == kept, "kept and streamed rays differ");
         assert!(kept == again, "the kept rays changed");
         // Σ A G over the elements of the room from x0 to x0 + 4.
@@ -1638,7 +1676,7 @@ mod tests {
         settings.mesh.kind = MeshKind::Adaptive;
         let mut solver = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
         let before = solver.mesh.vertices.len();
-        let _ = solver.ambient_irradiance_keeping(true);
+        let _ = solver.ambient_irradiance_keeping(true, &silent);
         for _ in 0..4 {
             solver.step();
         }
@@ -1646,8 +1684,8 @@ mod tests {
             solver.mesh.vertices.len() > before,
             "{before} vertices, none added"
         );
-        let kept = solver.ambient_irradiance_keeping(true);
-        let streamed = solver.ambient_irradiance_keeping(false);
+        let kept = solver.ambient_irradiance_keeping(true, &silent);
+        let streamed = solver.ambient_irradiance_keeping(false, &silent);
         assert!(
             kept == streamed,
             "kept and streamed rays differ after refinement"

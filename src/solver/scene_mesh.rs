@@ -13,8 +13,9 @@ use crate::lighting::{
 };
 use crate::mesh::{
     ContourLayout, ContourSettings, Mesh, SquareMeshSettings, SurfaceGuides, contour_layout,
-    level_line_layout, mesh_surfaces,
+    level_line_layout, mesh_surfaces_counted,
 };
+use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Scene, SurfaceBoxes, SurfaceId, Visibility};
 
 /// What meshing found: the luminaires, each receiver's analysis, and where
@@ -60,17 +61,19 @@ pub struct SceneMesh {
 pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSettings) -> SceneMesh {
     let lit = !luminaires(scene).is_empty() || !scene.luminaires.is_empty();
     let zones = lit.then(|| Zones::new(scene, visibility));
-    mesh_scene_in_zones(scene, visibility, settings, zones.as_ref())
+    mesh_scene_in_zones(scene, visibility, settings, zones.as_ref(), &silent)
 }
 
 /// [`mesh_scene`] with the scene's closed zones already found (`None`
 /// for a scene without light, which gets no shadow boundaries nor
 /// analyses): the solver finds them once, for meshing and for its shots.
+/// Reports the shadow boundaries' and the meshing's progress to `report`.
 pub(crate) fn mesh_scene_in_zones(
     scene: &Scene,
     visibility: &Visibility,
     settings: &MeshSettings,
     zones: Option<&Zones>,
+    report: PhaseReporter,
 ) -> SceneMesh {
     let square = settings.square_for(scene);
     let mut analysis = MeshAnalysis {
@@ -79,7 +82,8 @@ pub(crate) fn mesh_scene_in_zones(
     };
     let boundaries = match zones {
         Some(zones) => {
-            boundaries_in_zones(scene, visibility, &analysis.luminaires, settings, zones)
+            let lights = (&analysis.luminaires[..], report);
+            boundaries_in_zones(scene, visibility, lights, settings, zones)
         }
         None => vec![Vec::new(); scene.surfaces.len()],
     };
@@ -87,11 +91,12 @@ pub(crate) fn mesh_scene_in_zones(
     analysis.shadow_boundaries = boundaries.iter().map(Vec::len).sum();
     analysis.shadow_receivers = boundaries.iter().filter(|b| !b.is_empty()).count();
     if matches!(settings.kind, MeshKind::Square | MeshKind::Adaptive) {
-        let mesh = mesh_surfaces(scene, &square, &|surface| SurfaceGuides {
+        let guides = |surface: SurfaceId| SurfaceGuides {
             layout: None,
             boundaries: boundaries[surface.index()].clone(),
             contact_scale: contact_scales[surface.index()],
-        });
+        };
+        let mesh = mesh_surfaces_counted(scene, &square, &guides, report);
         return SceneMesh { mesh, analysis };
     }
     analysis.receivers = match zones {
@@ -150,11 +155,12 @@ pub(crate) fn mesh_scene_in_zones(
         analysis.newton_iterations += layout.newton_iterations;
         analysis.newton_solves += layout.newton_solves;
     }
-    let mesh = mesh_surfaces(scene, &square, &|surface| SurfaceGuides {
+    let guides = |surface: SurfaceId| SurfaceGuides {
         layout: layouts[surface.index()].clone(),
         boundaries: boundaries[surface.index()].clone(),
         contact_scale: contact_scales[surface.index()],
-    });
+    };
+    let mesh = mesh_surfaces_counted(scene, &square, &guides, report);
     SceneMesh { mesh, analysis }
 }
 
@@ -233,14 +239,15 @@ pub fn scene_shadow_boundaries(
         return vec![Vec::new(); scene.surfaces.len()];
     }
     let zones = Zones::new(scene, visibility);
-    boundaries_in_zones(scene, visibility, luminaires, settings, &zones)
+    boundaries_in_zones(scene, visibility, (luminaires, &silent), settings, &zones)
 }
 
-/// [`scene_shadow_boundaries`] with the scene's closed zones found.
+/// [`scene_shadow_boundaries`] with the scene's closed zones found,
+/// reporting its progress receiver by receiver.
 fn boundaries_in_zones(
     scene: &Scene,
     visibility: &Visibility,
-    luminaires: &[Luminaire],
+    (luminaires, report): (&[Luminaire], PhaseReporter),
     settings: &MeshSettings,
     zones: &Zones,
 ) -> Vec<Vec<[DVec2; 2]>> {
@@ -256,20 +263,26 @@ fn boundaries_in_zones(
     let ids: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
     let lights = LightPoints::new(scene, luminaires);
     let boxes = SurfaceBoxes::new(scene);
-    ids.par_iter()
+    let counter = PhaseCounter::start(Phase::ShadowBoundaries, ids.len(), report);
+    let boundaries = ids
+        .par_iter()
         .map(|&id| {
             let zone = zones.of(id);
             let receiver = (id, (zones.labels(), &boxes));
-            lights.boundaries_on(
+            let found = lights.boundaries_on(
                 scene,
                 zones.visibility(zone).unwrap_or(visibility),
                 &neighbours,
                 receiver,
                 limits,
                 square.max_edge,
-            )
+            );
+            counter.add(1);
+            found
         })
-        .collect()
+        .collect();
+    counter.finish();
+    boundaries
 }
 
 /// What [`analyse_receivers`] finds on every receiver, each paired only

@@ -4,13 +4,15 @@
 
 use std::fmt::Write as _;
 use std::path::Path;
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use glam::DVec3;
 use isorad::{
-    Camera, Error, Length, Material, ProbeMode, RenderSettings, Rgb, Scene, Settings, Solver,
-    StopReason, ToneMap, Until, load_scene, scene::ProbePoint, write_exr, write_png,
+    Camera, Error, Length, Material, Phase, PhaseProgress, ProbeMode, RenderSettings, Rgb, Scene,
+    Settings, Solver, StopReason, ToneMap, Until, load_scene, scene::ProbePoint, write_exr,
+    write_png,
 };
 
 /// A room built in code, in coordinates and colours that f32 holds exactly
@@ -189,6 +191,44 @@ fn a_scene_built_in_code_and_loaded_from_obj_solve_identically() {
         .map(|(x, y)| (*x - *y).abs().max_element())
         .fold(0.0, f64::max);
     assert!(worst <= 1e-12, "largest radiosity difference {worst}");
+}
+
+#[test]
+fn the_phases_outside_the_shots_report_their_progress_in_order() {
+    let reports = Mutex::new(Vec::new());
+    let record = |p: PhaseProgress| reports.lock().unwrap().push(p);
+    let mut solver = Solver::new_with_progress(room_in_code(), preview(), &record).unwrap();
+    let prepared = reports.lock().unwrap().len();
+    solver.run();
+    assert_eq!(
+        reports.lock().unwrap().len(),
+        prepared,
+        "shots report elsewhere"
+    );
+    let solution = solver.solution_with_ambient_progress(&record);
+    let reports = reports.into_inner().unwrap();
+
+    // Each phase once, in the order it runs, from 0 to its total.
+    let mut order: Vec<Phase> = reports.iter().map(|p| p.phase).collect();
+    order.dedup();
+    let expected = [
+        Phase::ClosedRooms,
+        Phase::ShadowBoundaries,
+        Phase::Meshing,
+        Phase::AmbientTerm,
+    ];
+    assert_eq!(order, expected);
+    let surfaces = solver.scene().surfaces.len();
+    let vertices = solver.mesh().vertices.len();
+    let totals = [1, surfaces, surfaces + 1, vertices];
+    for (phase, total) in expected.into_iter().zip(totals) {
+        let seen: Vec<&PhaseProgress> = reports.iter().filter(|p| p.phase == phase).collect();
+        assert!(seen.iter().all(|p| p.total == total), "{phase:?}: {seen:?}");
+        assert_eq!(seen.first().unwrap().done, 0, "{phase:?} starts at 0");
+        assert_eq!(seen.last().unwrap().done, total, "{phase:?} ends done");
+    }
+    // The reporter changes nothing: the same ambient term without one.
+    assert_eq!(solution.radiosity, solver.solution_with_ambient().radiosity);
 }
 
 #[test]

@@ -45,6 +45,11 @@ fn render_with_no_scene_writes_the_cornell_box() {
         "shots",
         "shadow rays",
         "rays/s",
+        "time: closed rooms",
+        "shadow boundaries",
+        "meshing",
+        "solve",
+        "ambient term",
     ] {
         assert!(summary.contains(word), "summary lacks `{word}`: {summary}");
     }

@@ -10,6 +10,8 @@ use isorad::{
     solver::FormFactorKernel,
 };
 
+use crate::progress::PhaseBars;
+
 /// What to solve, and how: shared by `render` and `probe`.
 #[derive(Args)]
 pub struct SolveArgs {
@@ -285,6 +287,8 @@ value_enum!(
 /// A loaded and meshed scene, ready to solve.
 pub struct Prepared {
     pub solver: Solver,
+    /// The progress bars of the phases outside the shots, and their times.
+    pub phases: PhaseBars,
     /// Where the scene came from, for messages.
     pub source: String,
 }
@@ -299,8 +303,12 @@ pub fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
     }
     let settings = settings_from(&args.overrides, &loaded.options)?;
     let contour = settings.mesh.kind == MeshKind::Contour;
-    let solver = Solver::new(loaded.scene, settings)
-        .map_err(|error| with_flag_names(error, &args.overrides.given()))?;
+    let phases = PhaseBars::new(args.quiet);
+    let report = |progress| phases.report(progress);
+    let solver = Solver::new_with_progress(loaded.scene, settings, &report)
+        .map_err(|error| with_flag_names(error, &args.overrides.given()));
+    phases.finish();
+    let solver = solver?;
     let analysis = solver.mesh_analysis();
     if contour {
         eprintln!(
@@ -327,6 +335,7 @@ pub fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
     }
     Ok(Prepared {
         solver,
+        phases,
         source: loaded.source,
     })
 }

@@ -9,7 +9,7 @@ use isorad::calculation::{
     write_isolux_plot,
 };
 
-use crate::args::{SolveArgs, ensure_directory_exists, prepare};
+use crate::args::{Prepared, SolveArgs, ensure_directory_exists, prepare};
 use crate::progress::solve_to_tolerance;
 
 #[derive(Args)]
@@ -46,7 +46,9 @@ pub struct GridArgs {
 
 pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
     check_outputs(args)?;
-    let mut solver = prepare(&args.solve)?.solver;
+    let Prepared {
+        mut solver, phases, ..
+    } = prepare(&args.solve)?;
     // The grid is checked before solving, so that a wrong name costs no solve.
     let grid =
         CalculationGrid::on_surface(solver.scene(), &args.surface, args.height, args.spacing)
@@ -58,7 +60,7 @@ pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
                 other => other.into(),
             })?;
     solve_to_tolerance(&mut solver, args.solve.quiet)?;
-    let solution = solver.solution_with_ambient();
+    let solution = phases.solution_with_ambient(&solver);
     let lux = grid.illuminance(&solution);
     grid.write_csv(&args.csv, &lux)?;
     for line in grid.header_lines(&lux) {

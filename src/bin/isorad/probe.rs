@@ -10,7 +10,7 @@ use isorad::{
 };
 use rayon::prelude::*;
 
-use crate::args::{ProbeModeArg, SolveArgs, prepare};
+use crate::args::{Prepared, ProbeModeArg, SolveArgs, prepare};
 use crate::progress::solve_to_tolerance;
 
 #[derive(Args)]
@@ -30,9 +30,11 @@ pub struct ProbeArgs {
 
 pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
     let points = load_probe_points(&args.points)?;
-    let mut solver = prepare(&args.solve)?.solver;
+    let Prepared {
+        mut solver, phases, ..
+    } = prepare(&args.solve)?;
     solve_to_tolerance(&mut solver, args.solve.quiet)?;
-    let solution = solver.solution_with_ambient();
+    let solution = phases.solution_with_ambient(&solver);
     let mode = args.mode.into();
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     let mut header = String::from(

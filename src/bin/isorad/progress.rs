@@ -1,11 +1,12 @@
 //! The solve loop behind a progress bar, previews between shots, and
 //! Ctrl-C.
 
+use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
-use isorad::{Progress, Solver, StopReason, Until};
+use isorad::{Phase, PhaseProgress, Progress, Solution, Solver, StopReason, Until};
 
 /// Set by Ctrl-C: the solve stops between two shots and the solution so far
 /// is written.
@@ -107,4 +108,123 @@ fn warn_if_nothing_is_lit(solver: &Solver) {
              check that the emitting faces face the scene"
         );
     }
+}
+
+/// Progress bars for the long phases outside the shots (`isorad::phase`):
+/// a building's closed rooms, shadow boundaries and mesh before the first
+/// shot, its ambient term after the last. One bar at a time, none when
+/// quiet; how long each phase took is kept for the summary.
+pub struct PhaseBars {
+    quiet: bool,
+    state: Mutex<PhaseState>,
+}
+
+#[derive(Default)]
+struct PhaseState {
+    /// The phase under way, its bar and when it started.
+    current: Option<(Phase, ProgressBar, Instant)>,
+    /// Seconds per phase, in the order they first ran (a phase that runs
+    /// again, the ambient term of each preview, adds up).
+    seconds: Vec<(Phase, f64)>,
+}
+
+impl PhaseBars {
+    pub fn new(quiet: bool) -> Self {
+        PhaseBars {
+            quiet,
+            state: Mutex::new(PhaseState::default()),
+        }
+    }
+
+    /// Shows `progress` (called by the library from any thread).
+    pub fn report(&self, progress: PhaseProgress) {
+        let mut state = self
+            .state
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let same = matches!(&state.current, Some((phase, ..)) if *phase == progress.phase);
+        // A phase that reports its start again (the ambient term of the next
+        // image) starts a new bar.
+        if !same || progress.done == 0 {
+            state.close();
+            let bar = if self.quiet {
+                ProgressBar::hidden()
+            } else {
+                ProgressBar::new(progress.total as u64)
+            };
+            bar.set_style(
+                ProgressStyle::with_template(
+                    "{spinner} {prefix} [{bar:40}] {human_pos}/{human_len} {msg} ({elapsed})",
+                )
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
+            );
+            bar.set_prefix(progress.phase.describe());
+            bar.set_message(progress.phase.unit());
+            bar.enable_steady_tick(Duration::from_millis(100));
+            state.current = Some((progress.phase, bar, Instant::now()));
+        }
+        if let Some((_, bar, _)) = &state.current {
+            bar.set_position(progress.done as u64);
+        }
+    }
+
+    /// The solver's solution with its ambient term, behind a bar.
+    pub fn solution_with_ambient<'a>(&self, solver: &'a Solver) -> Solution<'a> {
+        let solution = solver.solution_with_ambient_progress(&|p| self.report(p));
+        self.finish();
+        solution
+    }
+
+    /// Closes the bar under way, if any.
+    pub fn finish(&self) {
+        self.state
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .close();
+    }
+
+    /// Seconds per phase so far, in the order the phases first ran, the
+    /// one under way included.
+    pub fn seconds(&self) -> Vec<(Phase, f64)> {
+        let mut state = self
+            .state
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        state.close();
+        state.seconds.clone()
+    }
+}
+
+impl PhaseState {
+    /// Clears the bar under way and adds its time to its phase's.
+    fn close(&mut self) {
+        let Some((phase, bar, start)) = self.current.take() else {
+            return;
+        };
+        bar.finish_and_clear();
+        let seconds = start.elapsed().as_secs_f64();
+        match self.seconds.iter_mut().find(|(p, _)| *p == phase) {
+            Some((_, total)) => *total += seconds,
+            None => self.seconds.push((phase, seconds)),
+        }
+    }
+}
+
+/// "closed rooms 0.7 s, shadow boundaries 4.6 s, meshing 3.8 s, solve
+/// 7.0 s, ambient term 22.8 s": the phases' times for the summary, in the
+/// order they run, with the shots' `solve_seconds` before the ambient term.
+pub fn phase_times(seconds: &[(Phase, f64)], solve_seconds: f64) -> String {
+    let solve = format!("solve {solve_seconds:.1} s");
+    let mut parts: Vec<String> = Vec::new();
+    for (phase, s) in seconds {
+        if *phase == Phase::AmbientTerm {
+            parts.push(solve.clone());
+        }
+        parts.push(format!("{} {s:.1} s", phase.describe()));
+    }
+    if !parts.contains(&solve) {
+        parts.push(solve);
+    }
+    parts.join(", ")
 }

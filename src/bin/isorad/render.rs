@@ -19,7 +19,7 @@ use isorad::{
 };
 
 use crate::args::{Prepared, SolveArgs, ensure_directory_exists, prepare};
-use crate::progress::{INTERRUPTED, Interrupted, solve_with_progress};
+use crate::progress::{INTERRUPTED, Interrupted, phase_times, solve_with_progress};
 use crate::table::significant;
 
 #[derive(Args)]
@@ -86,7 +86,11 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     check_outputs(args)?;
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed))
         .context("cannot install the Ctrl-C handler")?;
-    let Prepared { mut solver, source } = prepare(&args.solve)?;
+    let Prepared {
+        mut solver,
+        phases,
+        source,
+    } = prepare(&args.solve)?;
     let mut camera = solver.scene().camera_or_default();
     camera.width = args.width.unwrap_or(camera.width);
     camera.height = args.height.unwrap_or(camera.height);
@@ -111,11 +115,11 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         &until,
         args.solve.quiet,
         args.preview_every,
-        |solver| write_images(&solver.solution_with_ambient()).map(|_| ()),
+        |solver| write_images(&phases.solution_with_ambient(solver)).map(|_| ()),
     )?;
     // The images, exports and false colour read one solution: the ambient
     // term is gathered once.
-    let solution = solver.solution_with_ambient();
+    let solution = phases.solution_with_ambient(&solver);
     let exposure = write_images(&solution)?;
     // Exports (final only, not at previews) take the PNG's exposure.
     for path in &args.export {
@@ -125,6 +129,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         write_false_colour(args, &solution, &camera, &render_settings, path)?;
     }
     print_summary(&source, &solver, solve_seconds);
+    eprintln!("time: {}", phase_times(&phases.seconds(), solve_seconds));
     let mut written: Vec<String> = [&args.output, &args.png]
         .into_iter()
         .chain(&args.export)
