@@ -1,6 +1,7 @@
-//! Driving the solver: a custom progress display, and cancellation after a
-//! time budget from another thread, leaving a solution that is consistent
-//! (its energy ledger balanced) and can be resumed.
+//! Driving the solver: a custom progress display (of meshing, the shots and
+//! the ambient term), and cancellation after a time budget from another
+//! thread, leaving a solution that is consistent (its energy ledger
+//! balanced) and can be resumed.
 //!
 //! ```sh
 //! cargo run --release --example progress
@@ -9,13 +10,26 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use isorad::{Settings, Solver, StopReason, Until, load_scene};
+use isorad::{PhaseProgress, Settings, Solver, StopReason, Until, load_scene};
 
 fn main() -> isorad::Result<()> {
     let scene = load_scene("cornell")?.scene;
     let mut settings = Settings::default();
     settings.solver.tolerance = 1e-4; // far more than half a second's work
-    let mut solver = Solver::new(scene, settings)?;
+    // Meshing and the ambient term report their phases from the solver's
+    // threads: a display of one's own prints where each starts and ends.
+    let phase = |p: PhaseProgress| {
+        if p.done == 0 || p.done == p.total {
+            let at = if p.done == 0 { "starts" } else { "done" };
+            println!(
+                "{} {at}: {} {}",
+                p.phase.describe(),
+                p.total,
+                p.phase.unit()
+            );
+        }
+    };
+    let mut solver = Solver::new_with_progress(scene, settings, &phase)?;
 
     // Another thread (a GUI's stop button, say) cancels after 0.5 s.
     let cancel = AtomicBool::new(false);
@@ -50,7 +64,7 @@ fn main() -> isorad::Result<()> {
     assert!(imbalance < 1e-9);
 
     // The solution so far, with the ambient term for the light not yet shot.
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution_with_ambient_progress(&phase);
     let floor = solution.surface_totals()[0];
     println!(
         "floor: mean radiosity {:.2} W/m² (ambient term added)",
