@@ -1,6 +1,9 @@
 //! The long phases outside the shots, for progress displays: a building's
 //! closed rooms, shadow boundaries and mesh take minutes before the first
-//! shot, and its ambient term minutes after the last.
+//! shot, and its ambient term minutes after the last. A phase that does
+//! not apply (shadow boundaries without luminaires, contour layouts under
+//! the square mesher, the ambient term with nothing unshot) reports
+//! nothing.
 //!
 //! [`crate::Solver::new_with_progress`] and
 //! [`crate::Solver::solution_with_ambient_progress`] call a reporter with a
@@ -20,6 +23,9 @@ pub enum Phase {
     /// The shadow boundaries the luminaires cast, receiver by receiver;
     /// counted in surfaces.
     ShadowBoundaries,
+    /// Under the contour mesher, which receivers get contours (the
+    /// dominance analysis) and their layouts; counted in surfaces.
+    ContourLayouts,
     /// Meshing, surface by surface, then dropping the parts hidden under
     /// objects; counted in surfaces, and one unit more for the hidden parts.
     Meshing,
@@ -36,6 +42,7 @@ impl Phase {
         match self {
             Phase::ClosedRooms => "closed rooms",
             Phase::ShadowBoundaries => "shadow boundaries",
+            Phase::ContourLayouts => "contour layouts",
             Phase::Meshing => "meshing",
             Phase::AmbientTerm => "ambient term",
         }
@@ -46,7 +53,7 @@ impl Phase {
     pub fn unit(self) -> &'static str {
         match self {
             Phase::ClosedRooms => "steps",
-            Phase::ShadowBoundaries | Phase::Meshing => "surfaces",
+            Phase::ShadowBoundaries | Phase::ContourLayouts | Phase::Meshing => "surfaces",
             Phase::AmbientTerm => "vertices",
         }
     }

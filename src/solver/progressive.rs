@@ -5,7 +5,7 @@ use std::sync::Mutex;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::ambient::{AmbientEstimate, LandingElement, PatchLocator, VertexRays};
+use super::ambient::{AmbientEstimate, LandingElement, PatchLocator, PatchRays, VertexRays};
 use super::ambient_rooms::{AmbientCache, LocalIndex, Room};
 use super::ambient_smoothing;
 use super::ambient_sweeps::{self, UnshotLight};
@@ -188,9 +188,9 @@ impl Solver {
         Self::new_with_progress(scene, settings, &silent)
     }
 
-    /// [`Solver::new`], reporting the closed rooms', shadow boundaries' and
-    /// meshing's progress to `report` (see [`crate::phase`]): a building's
-    /// take minutes.
+    /// [`Solver::new`], reporting to `report` the progress of finding the
+    /// closed rooms, the shadow boundaries, the contour layouts and the
+    /// mesh (see [`crate::phase`]), which take minutes for a building.
     pub fn new_with_progress(
         scene: Scene,
         settings: Settings,
@@ -989,16 +989,14 @@ impl Solver {
     /// [`Solver::ambient_irradiance`], the rooms' rays kept for the next
     /// image or, unless `keep`, cast room by room and dropped.
     fn ambient_irradiance_keeping(&self, keep: bool, report: PhaseReporter) -> Vec<Rgb> {
-        let reflectance: Vec<Rgb> = self
-            .mesh
-            .patches
-            .iter()
-            .map(|p| {
-                self.scene
-                    .material_of(self.scene.surface(p.surface))
-                    .reflectance
-            })
-            .collect();
+        let vertices = self.mesh.vertices.len();
+        // Half a room's vertices count once their rays are cast (or kept),
+        // the other half once their light is gathered.
+        let counter = PhaseCounter::start(Phase::AmbientTerm, vertices, report);
+        let halves = |room: &Room| {
+            let n = room.vertices.len();
+            (n / 2, n - n / 2)
+        };
         let mut cache = self
             .ambient_rays
             .lock()
@@ -1020,32 +1018,10 @@ impl Solver {
                 .patches
                 .cast(&self.scene, &self.mesh, locator(), &visibility_of);
         }
-        let patch_lossless: Vec<bool> = self
-            .mesh
-            .patches
-            .iter()
-            .map(|p| self.surface_lossless[p.surface.index()])
-            .collect();
-        let residual = cache
-            .patches
-            .residual(&self.unshot, &reflectance, &patch_lossless);
-        let patch_value: Vec<Rgb> = self
-            .unshot
-            .iter()
-            .zip(&residual)
-            .map(|(u, a)| *u + *a)
-            .collect();
+        let (residual, patch_value) = self.patch_residual(&cache.patches);
         let rooms = match zones {
             Some(zones) => Room::all(&self.mesh, zones.count(), &|s| zones.of(s)),
             None => vec![Room::whole(&self.mesh)],
-        };
-        let vertices = self.mesh.vertices.len();
-        // Half a room's vertices count once their rays are cast (or kept),
-        // the other half once their light is gathered.
-        let counter = PhaseCounter::start(Phase::AmbientTerm, vertices, report);
-        let halves = |room: &Room| {
-            let n = room.vertices.len();
-            (n / 2, n - n / 2)
         };
         let cast = |room: &Room| {
             let rays = VertexRays::cast(
@@ -1096,6 +1072,31 @@ impl Solver {
         }
         counter.finish();
         ambient
+    }
+
+    /// Each patch's residual A_h, the unshot light's further bounces at
+    /// patch resolution ([`PatchRays::residual`], zero until `rays` are
+    /// cast), and ΔB_h + A_h, what a vertex ray reads where it lands on
+    /// no element of its room.
+    fn patch_residual(&self, rays: &PatchRays) -> (Vec<Rgb>, Vec<Rgb>) {
+        let (reflectance, lossless): (Vec<Rgb>, Vec<bool>) = self
+            .mesh
+            .patches
+            .iter()
+            .map(|p| {
+                let surface = self.scene.surface(p.surface);
+                let reflectance = self.scene.material_of(surface).reflectance;
+                (reflectance, self.surface_lossless[p.surface.index()])
+            })
+            .unzip();
+        let residual = rays.residual(&self.unshot, &reflectance, &lossless);
+        let patch_value = self
+            .unshot
+            .iter()
+            .zip(&residual)
+            .map(|(u, a)| *u + *a)
+            .collect();
+        (residual, patch_value)
     }
 
     /// G_v of `room`'s vertices, in its order (`local` has entered it),
@@ -1200,8 +1201,9 @@ impl Solver {
     }
 
     /// [`Solver::solution_with_ambient`], reporting the ambient term's
-    /// progress to `report` ([`crate::Phase::AmbientTerm`]): a building's
-    /// takes minutes.
+    /// progress to `report` ([`crate::Phase::AmbientTerm`]), which takes
+    /// minutes for a building; nothing is reported when no light is left
+    /// unshot (there is no ambient term).
     #[must_use]
     pub fn solution_with_ambient_progress(&self, report: PhaseReporter) -> Solution<'_> {
         if self.unshot.iter().all(|b| *b == Rgb::ZERO) {

@@ -82,8 +82,8 @@ pub(crate) fn mesh_scene_in_zones(
     };
     let boundaries = match zones {
         Some(zones) => {
-            let lights = (&analysis.luminaires[..], report);
-            boundaries_in_zones(scene, visibility, lights, settings, zones)
+            let luminaires = &analysis.luminaires;
+            boundaries_in_zones(scene, visibility, luminaires, settings, zones, report)
         }
         None => vec![Vec::new(); scene.surfaces.len()],
     };
@@ -99,6 +99,7 @@ pub(crate) fn mesh_scene_in_zones(
         let mesh = mesh_surfaces_counted(scene, &square, &guides, report);
         return SceneMesh { mesh, analysis };
     }
+    let counter = PhaseCounter::start(Phase::ContourLayouts, scene.surfaces.len(), report);
     analysis.receivers = match zones {
         Some(zones) => analyses_in_zones(
             scene,
@@ -143,7 +144,9 @@ pub(crate) fn mesh_scene_in_zones(
             let budget = layout_budget(scene, surface, spacing);
             (layout.points.len() <= budget).then_some(layout)
         })
+        .inspect(|_| counter.add(1))
         .collect();
+    counter.finish();
     for ((surface, _), layout) in scene.surfaces_with_ids().zip(&layouts) {
         let Some(layout) = layout else { continue };
         let radial = analysed[surface.index()].is_some_and(|k| analysis.receivers[k].qualifies);
@@ -239,7 +242,7 @@ pub fn scene_shadow_boundaries(
         return vec![Vec::new(); scene.surfaces.len()];
     }
     let zones = Zones::new(scene, visibility);
-    boundaries_in_zones(scene, visibility, (luminaires, &silent), settings, &zones)
+    boundaries_in_zones(scene, visibility, luminaires, settings, &zones, &silent)
 }
 
 /// [`scene_shadow_boundaries`] with the scene's closed zones found,
@@ -247,13 +250,15 @@ pub fn scene_shadow_boundaries(
 fn boundaries_in_zones(
     scene: &Scene,
     visibility: &Visibility,
-    (luminaires, report): (&[Luminaire], PhaseReporter),
+    luminaires: &[Luminaire],
     settings: &MeshSettings,
     zones: &Zones,
+    report: PhaseReporter,
 ) -> Vec<Vec<[DVec2; 2]>> {
     if (luminaires.is_empty() && scene.luminaires.is_empty()) || !settings.shadow_boundaries {
         return vec![Vec::new(); scene.surfaces.len()];
     }
+    let counter = PhaseCounter::start(Phase::ShadowBoundaries, scene.surfaces.len(), report);
     let square = settings.square_for(scene);
     let neighbours = EdgeNeighbours::new(scene);
     let limits = BoundaryLimits {
@@ -263,7 +268,6 @@ fn boundaries_in_zones(
     let ids: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
     let lights = LightPoints::new(scene, luminaires);
     let boxes = SurfaceBoxes::new(scene);
-    let counter = PhaseCounter::start(Phase::ShadowBoundaries, ids.len(), report);
     let boundaries = ids
         .par_iter()
         .map(|&id| {

@@ -227,8 +227,9 @@ pub(crate) fn interpolated([a, b, c, d]: [Rgb; 4], is_triangle: bool, (s, t): (f
 }
 
 /// The coordinates (s, t) of y in a cell, inverting [`Cell::point`]
-/// (Gauss–Newton on the bilinear map; one step is exact for a triangle);
-/// `None` when y lies outside.
+/// (Gauss–Newton on the bilinear map; one step is exact for a triangle
+/// and for a parallelogram, whose map is affine: the square grid's
+/// elements and patches); `None` when y lies outside.
 pub(crate) fn cell_coordinates(cell: &Cell, y: DVec3) -> Option<(f64, f64)> {
     const INSIDE: f64 = 1e-9;
     let [a, b, c, d] = cell.corners;
@@ -237,7 +238,7 @@ pub(crate) fn cell_coordinates(cell: &Cell, y: DVec3) -> Option<(f64, f64)> {
     } else {
         (0.5, 0.5)
     };
-    let steps = if cell.is_triangle { 1 } else { 8 };
+    let steps = if is_affine(cell) { 1 } else { 8 };
     for _ in 0..steps {
         let (du, dv) = if cell.is_triangle {
             (b - a, c - a)
@@ -257,7 +258,7 @@ pub(crate) fn cell_coordinates(cell: &Cell, y: DVec3) -> Option<(f64, f64)> {
         let (ds, dt) = ((vv * ru - uv * rv) / det, (uu * rv - uv * ru) / det);
         s += ds;
         t += dt;
-        // A parallelogram's map is affine: the first step is exact.
+        // Converged.
         if ds.abs().max(dt.abs()) < 1e-12 {
             break;
         }
@@ -268,6 +269,15 @@ pub(crate) fn cell_coordinates(cell: &Cell, y: DVec3) -> Option<(f64, f64)> {
         (-INSIDE..=1.0 + INSIDE).contains(&s) && (-INSIDE..=1.0 + INSIDE).contains(&t)
     };
     inside.then_some((s.clamp(0.0, 1.0), t.clamp(0.0, 1.0)))
+}
+
+/// Whether a cell's map ([`Cell::point`]) is affine: a triangle, or a
+/// quad whose bilinear twist a − b + c − d (the s·t term) vanishes against
+/// its diagonals, a parallelogram.
+fn is_affine(cell: &Cell) -> bool {
+    let [a, b, c, d] = cell.corners;
+    let size = (c - a).length_squared().max((d - b).length_squared());
+    cell.is_triangle || (a - b + c - d).length_squared() <= 1e-24 * size
 }
 
 /// The point of a convex cell nearest y: y's foot on the cell's plane if
@@ -562,10 +572,27 @@ mod tests {
             DVec3::new(3.0, 0.0, 0.0),
             DVec3::new(1.0, 2.0, 0.0),
         );
-        for (cell, s, t) in [(quad, 0.3, 0.8), (tri, 0.2, 0.5)] {
+        // A slanted parallelogram in space: its map is affine, one step;
+        // the trapezoid above is not.
+        let (a, u, v) = (
+            DVec3::new(1.0, -2.0, 0.5),
+            DVec3::new(0.3, 0.1, 0.2),
+            DVec3::new(-0.1, 0.25, 0.05),
+        );
+        let parallelogram = Cell::quad(a, a + u, a + u + v, a + v);
+        for (cell, s, t) in [
+            (quad, 0.3, 0.8),
+            (tri, 0.2, 0.5),
+            (parallelogram, 0.9, 0.15),
+        ] {
             let (s2, t2) = cell_coordinates(&cell, cell.point(s, t)).unwrap();
             assert!((s2 - s).abs() < 1e-12 && (t2 - t).abs() < 1e-12);
         }
+        assert!(is_affine(&parallelogram) && is_affine(&tri) && !is_affine(&quad));
+        // Far from the origin, a small parallelogram is still one.
+        let far = DVec3::splat(1000.0);
+        let small = Cell::quad(far, far + u * 0.01, far + (u + v) * 0.01, far + v * 0.01);
+        assert!(is_affine(&small));
         assert!(cell_coordinates(&quad, DVec3::new(5.0, 1.0, 0.0)).is_none());
     }
 

@@ -10,9 +10,9 @@ use std::time::Duration;
 
 use glam::DVec3;
 use isorad::{
-    Camera, Error, Length, Material, Phase, PhaseProgress, ProbeMode, RenderSettings, Rgb, Scene,
-    Settings, Solver, StopReason, ToneMap, Until, load_scene, scene::ProbePoint, write_exr,
-    write_png,
+    Camera, Error, Length, Material, MeshKind, Phase, PhaseProgress, ProbeMode, RenderSettings,
+    Rgb, Scene, Settings, Solver, StopReason, ToneMap, Until, load_scene, scene::ProbePoint,
+    write_exr, write_png,
 };
 
 /// A room built in code, in coordinates and colours that f32 holds exactly
@@ -229,6 +229,22 @@ fn the_phases_outside_the_shots_report_their_progress_in_order() {
     }
     // The reporter changes nothing: the same ambient term without one.
     assert_eq!(solution.radiosity, solver.solution_with_ambient().radiosity);
+
+    // The contour mesher lays out its receivers between the two.
+    let mut contour = preview();
+    contour.mesh.kind = MeshKind::Contour;
+    let reports = Mutex::new(Vec::new());
+    let record = |p: PhaseProgress| reports.lock().unwrap().push(p.phase);
+    Solver::new_with_progress(room_in_code(), contour, &record).unwrap();
+    let mut order = reports.into_inner().unwrap();
+    order.dedup();
+    let expected = [
+        Phase::ClosedRooms,
+        Phase::ShadowBoundaries,
+        Phase::ContourLayouts,
+        Phase::Meshing,
+    ];
+    assert_eq!(order, expected);
 }
 
 #[test]

@@ -45,14 +45,27 @@ fn render_with_no_scene_writes_the_cornell_box() {
         "shots",
         "shadow rays",
         "rays/s",
-        "time: closed rooms",
+    ] {
+        assert!(summary.contains(word), "summary lacks `{word}`: {summary}");
+    }
+    // Each phase's time, in the order the phases ran.
+    let times = summary
+        .lines()
+        .find_map(|line| line.strip_prefix("time: "))
+        .unwrap_or_else(|| panic!("no `time:` line: {summary}"));
+    // "closed rooms 0.0 s" names "closed rooms".
+    let phases: Vec<&str> = times
+        .split(", ")
+        .filter_map(|part| Some(part.strip_suffix(" s")?.rsplit_once(' ')?.0))
+        .collect();
+    let expected = [
+        "closed rooms",
         "shadow boundaries",
         "meshing",
         "solve",
         "ambient term",
-    ] {
-        assert!(summary.contains(word), "summary lacks `{word}`: {summary}");
-    }
+    ];
+    assert_eq!(phases, expected, "{times}");
 }
 
 #[test]

@@ -89,7 +89,7 @@ pub fn solve_with_progress(
             break stop;
         }
         let preview_start = Instant::now();
-        preview(solver)?;
+        bar.suspend(|| preview(solver))?;
         preview_seconds += preview_start.elapsed().as_secs_f64();
     };
     bar.finish_and_clear();
@@ -112,8 +112,10 @@ fn warn_if_nothing_is_lit(solver: &Solver) {
 
 /// Progress bars for the long phases outside the shots (`isorad::phase`):
 /// a building's closed rooms, shadow boundaries and mesh before the first
-/// shot, its ambient term after the last. One bar at a time, none when
-/// quiet; how long each phase took is kept for the summary.
+/// shot, its ambient term after the last. One bar at a time (the solve's
+/// is suspended while a preview's ambient term shows its own), none when
+/// quiet; how long each phase took, from its start to its last unit, is
+/// kept for the summary.
 pub struct PhaseBars {
     quiet: bool,
     state: Mutex<PhaseState>,
@@ -165,7 +167,12 @@ impl PhaseBars {
             state.current = Some((progress.phase, bar, Instant::now()));
         }
         if let Some((_, bar, _)) = &state.current {
-            bar.set_position(progress.done as u64);
+            // Reports from several threads may arrive out of order.
+            bar.set_position(bar.position().max(progress.done as u64));
+        }
+        // The phase's time ends with its last unit.
+        if progress.done >= progress.total {
+            state.close();
         }
     }
 
