@@ -272,12 +272,18 @@ pub(crate) fn cell_coordinates(cell: &Cell, y: DVec3) -> Option<(f64, f64)> {
 }
 
 /// Whether a cell's map ([`Cell::point`]) is affine: a triangle, or a
-/// quad whose bilinear twist a − b + c − d (the s·t term) vanishes against
-/// its diagonals, a parallelogram.
+/// quad whose bilinear twist a − b + c − d (the s·t term) vanishes, to
+/// 10⁻¹² of its diagonals and the rounding of its corners' coordinates: a
+/// parallelogram.
 fn is_affine(cell: &Cell) -> bool {
     let [a, b, c, d] = cell.corners;
-    let size = (c - a).length_squared().max((d - b).length_squared());
-    cell.is_triangle || (a - b + c - d).length_squared() <= 1e-24 * size
+    let size = (c - a).length().max((d - b).length());
+    let magnitude = [a, b, c, d]
+        .map(|p| p.abs().max_element())
+        .into_iter()
+        .fold(0.0, f64::max);
+    let tolerance = 1e-12 * size + 16.0 * f64::EPSILON * magnitude;
+    cell.is_triangle || (a - b + c - d).length() <= tolerance
 }
 
 /// The point of a convex cell nearest y: y's foot on the cell's plane if
