@@ -101,28 +101,32 @@ pub(crate) fn mesh_surfaces_counted(
     let diagonal = scene.diagonal();
     let inset = receiver_inset(scene);
     let boxes = SurfaceBoxes::new(scene);
-    let meshed: Vec<MeshedSurface> = (0..scene.surfaces.len())
-        .into_par_iter()
-        .map(|k| {
-            let id = SurfaceId::new(k);
-            let guides = guides(id);
-            let tolerance = CONTACT_TOLERANCE * guides.contact_scale.unwrap_or(diagonal);
-            let meshed = mesh_surface(scene, &boxes, (id, &guides), (tolerance, inset), settings);
-            counter.add(1);
-            meshed
-        })
-        .collect();
     let mut mesh = Mesh::default();
     let mut touched = Vec::new();
     let mut covering = Vec::new();
-    for (k, surface) in meshed.into_iter().enumerate() {
-        let id = SurfaceId::new(k);
-        mesh.append(surface.mesh);
-        if surface.touched {
-            touched.push((id, surface.tolerance));
-        }
-        if !surface.covering.is_empty() {
-            covering.push((id, surface.covering));
+    // A batch of surfaces at a time, so that the surfaces' own meshes
+    // never all wait beside the whole.
+    let ids: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
+    for batch in ids.chunks(MESHING_BATCH) {
+        let meshed: Vec<MeshedSurface> = batch
+            .par_iter()
+            .map(|&id| {
+                let guides = guides(id);
+                let tolerance = CONTACT_TOLERANCE * guides.contact_scale.unwrap_or(diagonal);
+                let scales = (tolerance, inset);
+                let meshed = mesh_surface(scene, &boxes, (id, &guides), scales, settings);
+                counter.add(1);
+                meshed
+            })
+            .collect();
+        for (&id, surface) in batch.iter().zip(meshed) {
+            mesh.append(surface.mesh);
+            if surface.touched {
+                touched.push((id, surface.tolerance));
+            }
+            if !surface.covering.is_empty() {
+                covering.push((id, surface.covering));
+            }
         }
     }
     if !touched.is_empty() {
@@ -133,6 +137,9 @@ pub(crate) fn mesh_surfaces_counted(
     counter.finish();
     mesh
 }
+
+/// Surfaces meshed in parallel before their meshes join the whole.
+const MESHING_BATCH: usize = 1024;
 
 /// One surface's mesh, before the hidden parts are dropped, and what the
 /// whole mesh's passes need of its contacts.

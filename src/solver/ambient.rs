@@ -95,8 +95,8 @@ const MISS: u32 = u32::MAX;
 const CONVERGENCE: f64 = 1e-6;
 const MAX_ITERATIONS: usize = 1000;
 
-/// Rays [`VertexRays::landing_elements`] sorts at a time: 16 MiB of keys.
-const LOCATE_BLOCK: usize = 1 << 20;
+/// Rays [`VertexRays::landing_elements`] sorts at a time: 4 MiB of keys.
+const LOCATE_BLOCK: usize = 1 << 18;
 
 /// Sorted rays one thread locates at a time, keeping its hint.
 const LOCATE_CHUNK: usize = 4096;
