@@ -59,7 +59,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::element_index::ElementIndex;
+use super::element_index::{ElementIndex, padded_box};
 use super::unshot::{cell_coordinates, interpolated};
 use super::zones::{cosine_direction, cosine_direction_at};
 use crate::lighting::SampleStream;
@@ -611,14 +611,7 @@ impl PatchLocator {
             let polygon = patch.cell.polygon();
             let cell = polygon.iter().map(|&q| frame.to_plane(q));
             by_surface[patch.surface.index()].push((p as u32, cell.collect()));
-            let lo = polygon.iter().copied().fold(DVec3::INFINITY, DVec3::min);
-            let hi = polygon
-                .iter()
-                .copied()
-                .fold(DVec3::NEG_INFINITY, DVec3::max);
-            // Padded, as the point tested lies on the surface's plane.
-            let pad = (hi - lo).max_element() * 1e-9;
-            boxes[patch.surface.index()].push((lo - pad, hi + pad));
+            boxes[patch.surface.index()].push(padded_box(&polygon));
         }
         let index = boxes
             .par_iter()

@@ -21,6 +21,18 @@ pub(crate) struct ElementIndex {
     members: Vec<u32>,
 }
 
+/// The bounding box of a cell's corners, padded by 10⁻⁹ of its size: a
+/// point on the cell's plane that rounding sets a hair off still falls in.
+pub(crate) fn padded_box(corners: &[DVec3]) -> (DVec3, DVec3) {
+    let min = corners.iter().copied().fold(DVec3::INFINITY, DVec3::min);
+    let max = corners
+        .iter()
+        .copied()
+        .fold(DVec3::NEG_INFINITY, DVec3::max);
+    let pad = (max - min).max_element() * 1e-9;
+    (min - pad, max + pad)
+}
+
 impl ElementIndex {
     /// The index of elements with bounding boxes `boxes` (min, max), on a
     /// plane facing `normal`.

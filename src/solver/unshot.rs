@@ -11,7 +11,7 @@
 
 use glam::DVec3;
 
-use super::element_index::ElementIndex;
+use super::element_index::{ElementIndex, padded_box};
 use super::indexed_update::par_update_at;
 use crate::mesh::{Cell, Element, Mesh, Patch};
 use crate::scene::Rgb;
@@ -174,17 +174,11 @@ struct FieldElement {
 
 impl FieldElement {
     fn new(cell: Cell, corners: [Rgb; 4]) -> FieldElement {
-        let polygon = cell.polygon();
-        let min = polygon.iter().copied().fold(DVec3::INFINITY, DVec3::min);
-        let max = polygon
-            .iter()
-            .copied()
-            .fold(DVec3::NEG_INFINITY, DVec3::max);
-        let pad = (max - min).max_element() * 1e-9;
+        let (min, max) = padded_box(&cell.polygon());
         FieldElement {
             cell,
-            min: min - pad,
-            max: max + pad,
+            min,
+            max,
             corners,
         }
     }
