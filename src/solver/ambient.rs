@@ -611,7 +611,7 @@ impl PatchLocator {
             let polygon = patch.cell.polygon();
             let cell = polygon.iter().map(|&q| frame.to_plane(q));
             by_surface[patch.surface.index()].push((p as u32, cell.collect()));
-            boxes[patch.surface.index()].push(padded_box(&polygon));
+            boxes[patch.surface.index()].push(padded_box(polygon));
         }
         let index = boxes
             .par_iter()

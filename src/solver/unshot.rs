@@ -174,7 +174,7 @@ struct FieldElement {
 
 impl FieldElement {
     fn new(cell: Cell, corners: [Rgb; 4]) -> FieldElement {
-        let (min, max) = padded_box(&cell.polygon());
+        let (min, max) = padded_box(cell.polygon());
         FieldElement {
             cell,
             min,
