@@ -134,6 +134,7 @@ pub(crate) fn mesh_surfaces_counted(
     }
     mesh.inset_boundary_receivers(inset);
     gather_beside_covering_outlines(&mut mesh, scene, &covering, settings.max_edge);
+    mesh.shrink_to_fit();
     counter.finish();
     mesh
 }

@@ -186,6 +186,16 @@ impl Mesh {
         }));
     }
 
+    /// Gives back the room its lists grew into beyond what they hold: a
+    /// list that doubles as it grows holds up to twice its contents, and a
+    /// building's mesh is most of its solve's memory.
+    pub fn shrink_to_fit(&mut self) {
+        self.vertices.shrink_to_fit();
+        self.elements.shrink_to_fit();
+        self.patches.shrink_to_fit();
+        self.edge_midpoints.shrink_to_fit();
+    }
+
     /// Removes the elements for which `remove` holds, then patches left
     /// empty and vertices no element uses, re-indexing the rest.
     pub fn remove_elements(&mut self, remove: impl Fn(usize, &Element) -> bool) {
