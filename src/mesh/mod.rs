@@ -3,6 +3,7 @@
 //! The mesh knows nothing of light.
 
 mod assembly;
+mod boundary_inset;
 pub(crate) mod budget;
 mod constrained;
 mod contacts;
