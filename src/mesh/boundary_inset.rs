@@ -15,6 +15,7 @@ use std::collections::HashMap;
 use std::ops::Range;
 
 use super::topology::{Element, Mesh};
+use crate::scene::SurfaceId;
 
 /// (1 − 1/√3)/2: the lower two-point Gauss–Legendre abscissa on [0, 1].
 const GAUSS_ABSCISSA: f64 = 0.211_324_865_405_187_1;
@@ -36,6 +37,12 @@ impl Mesh {
     /// to element centres instead would point into the hole at a reflex
     /// corner, such as the floor around a block's corner.)
     pub fn inset_boundary_receivers(&mut self, distance: f64) {
+        self.inset_boundary_receivers_by(&|_| distance);
+    }
+
+    /// [`Mesh::inset_boundary_receivers`] with each surface's own
+    /// `distance(surface)`: a building's rooms each by their own size.
+    pub fn inset_boundary_receivers_by(&mut self, distance: &(dyn Fn(SurfaceId) -> f64 + Sync)) {
         let moves: Vec<Vec<VertexMove>> = self
             .elements_by_surface()
             .par_iter()
@@ -49,7 +56,7 @@ impl Mesh {
         }
         for ((vertex, direction), gauss) in self.vertices.iter_mut().zip(inward).zip(gauss) {
             vertex.receiver_position =
-                vertex.position + direction.normalize_or_zero() * distance + gauss;
+                vertex.position + direction.normalize_or_zero() * distance(vertex.surface) + gauss;
         }
     }
 
@@ -218,7 +225,6 @@ fn boundary_edges(elements: &[&Element]) -> Vec<u8> {
 mod tests {
     use super::*;
     use crate::mesh::Cell;
-    use crate::scene::SurfaceId;
 
     /// A unit quad at x offset `x` of surface `surface`, in a patch of its own.
     fn add_quad(mesh: &mut Mesh, surface: usize, x: f64) {

@@ -33,6 +33,7 @@ pub use surface::{PlaneFrame, Surface};
 pub use surface_boxes::SurfaceBoxes;
 pub use surface_id::SurfaceId;
 pub(crate) use triangulate::triangulate_polygon;
+pub(crate) use visibility::surface_offset_for;
 pub use visibility::{ShadowCache, Visibility};
 
 use std::path::{Path, PathBuf};

@@ -26,6 +26,13 @@ const SHAFT_WIDENING: f32 = 1e-6;
 /// [`Visibility::surface_offset`]).
 const SURFACE_OFFSET: f64 = 2e-6;
 
+/// The distance segment ends are lifted off their surfaces in a scene of
+/// diagonal `diagonal` ([`Visibility::surface_offset`]).
+#[must_use]
+pub(crate) fn surface_offset_for(diagonal: f64) -> f64 {
+    SURFACE_OFFSET * diagonal.max(f64::MIN_POSITIVE)
+}
+
 /// Answers "is the open segment between two points unblocked?" for a scene.
 ///
 /// Every surface is triangulated into an 8-wide compressed BVH (Ylitie et al.
@@ -129,7 +136,7 @@ impl Visibility {
             triangle_surfaces,
             centre,
             scale,
-            surface_offset: SURFACE_OFFSET * (max - min).length().max(f64::MIN_POSITIVE),
+            surface_offset: surface_offset_for((max - min).length()),
             diagonal: (max - min).length(),
         }
     }

@@ -86,6 +86,10 @@ pub struct Solver {
     surface_lossless: Vec<bool>,
     /// What meshing found (empty when the caller brought the mesh).
     analysis: MeshAnalysis,
+    /// How far each surface's boundary vertices gather inside it, by
+    /// surface index (empty when the caller brought the mesh: the scene's
+    /// inset, `mesh::receiver_inset`).
+    receiver_insets: Vec<f64>,
     settings: SolverSettings,
     /// Radiosity B per vertex (emission included), W/m².
     radiosity: Vec<Rgb>,
@@ -205,13 +209,17 @@ impl Solver {
         let counter = PhaseCounter::start(Phase::ClosedRooms, 1, report);
         let zones = Zones::new(&scene, &visibility);
         counter.finish();
-        let SceneMesh { mesh, analysis } =
-            mesh_scene_in_zones(&scene, &visibility, &settings.mesh, Some(&zones), report);
+        let SceneMesh {
+            mesh,
+            analysis,
+            receiver_insets,
+        } = mesh_scene_in_zones(&scene, &visibility, &settings.mesh, Some(&zones), report);
         let refiner = (settings.mesh.kind == MeshKind::Adaptive)
             .then(|| Refiner::new(&mesh, settings.mesh.refinement.clone()));
         let parts = (mesh, visibility, analysis, Some(zones));
         let mut solver = Self::with_parts(scene, parts, settings.solver);
         solver.refiner = refiner;
+        solver.receiver_insets = receiver_insets;
         Ok(solver)
     }
 
@@ -322,6 +330,7 @@ impl Solver {
             zones,
             surface_lossless,
             analysis,
+            receiver_insets: Vec::new(),
             settings,
             irradiance: vec![Rgb::ZERO; radiosity.len()],
             radiosity,
@@ -1231,6 +1240,7 @@ impl Solver {
             luminaires_shot: self.luminaire_shot.clone(),
             radiosity,
             irradiance,
+            receiver_insets: &self.receiver_insets,
             zones: self
                 .zones
                 .as_ref()

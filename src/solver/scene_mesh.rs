@@ -46,6 +46,11 @@ pub struct SceneMesh {
     pub mesh: Mesh,
     /// What the analysis found (empty for square meshing).
     pub analysis: MeshAnalysis,
+    /// How far each surface's boundary vertices gather inside it, by
+    /// surface index: a ten-thousandth of its room's diagonal
+    /// (`Mesh::inset_boundary_receivers_by`); probes on a surface gather as
+    /// far inside.
+    pub receiver_insets: Vec<f64>,
 }
 
 /// Meshes a scene as `settings` asks: for [`MeshKind::Contour`], every
@@ -96,8 +101,12 @@ pub(crate) fn mesh_scene_in_zones(
             boundaries: boundaries[surface.index()].clone(),
             contact_scale: contact_scales[surface.index()],
         };
-        let mesh = mesh_surfaces_counted(scene, &square, &guides, report);
-        return SceneMesh { mesh, analysis };
+        let (mesh, receiver_insets) = mesh_surfaces_counted(scene, &square, &guides, report);
+        return SceneMesh {
+            mesh,
+            analysis,
+            receiver_insets,
+        };
     }
     let counter = PhaseCounter::start(Phase::ContourLayouts, scene.surfaces.len(), report);
     analysis.receivers = match zones {
@@ -163,8 +172,12 @@ pub(crate) fn mesh_scene_in_zones(
         boundaries: boundaries[surface.index()].clone(),
         contact_scale: contact_scales[surface.index()],
     };
-    let mesh = mesh_surfaces_counted(scene, &square, &guides, report);
-    SceneMesh { mesh, analysis }
+    let (mesh, receiver_insets) = mesh_surfaces_counted(scene, &square, &guides, report);
+    SceneMesh {
+        mesh,
+        analysis,
+        receiver_insets,
+    }
 }
 
 /// The diagonal of each surface's zone (`None` without zones): the length

@@ -168,6 +168,9 @@ pub struct Solution<'a> {
     /// The closed zone of every surface, when the solver found more than
     /// one: an image taken from inside a closed room draws that room alone.
     pub(crate) zones: Option<&'a super::zones::ZoneLabels>,
+    /// How far each surface's boundary vertices gather inside it, by
+    /// surface index; empty for the scene's inset everywhere.
+    pub(crate) receiver_insets: &'a [f64],
 }
 
 impl Solution<'_> {
@@ -375,7 +378,7 @@ impl Solution<'_> {
         // around it: 0 not yet cast, 1 none possible, 2 blocked, 3 unblocked.
         let mut vertex_witnesses = vec![0u8; self.mesh.vertices.len()];
         let offset = self.visibility.surface_offset();
-        let inset = receiver_inset(self.scene);
+        let inset_of = self.receiver_inset_of();
         let mut vertex_witness = |v: u32| {
             let slot = &mut vertex_witnesses[v as usize];
             if *slot == 0 {
@@ -383,7 +386,8 @@ impl Solution<'_> {
                 // The corner itself, a hair inside its surface: not where a
                 // thin surface's vertex gathers, at its Gauss point.
                 let y = vertex.position
-                    + (vertex.receiver_position - vertex.position).clamp_length_max(inset);
+                    + (vertex.receiver_position - vertex.position)
+                        .clamp_length_max(inset_of(vertex.surface));
                 let source_normal = self.scene.surface(vertex.surface).normal();
                 let d = y - x;
                 *slot = if normal.dot(d) > 0.0 && source_normal.dot(d) < 0.0 {
@@ -454,12 +458,23 @@ impl Solution<'_> {
         sources
     }
 
+    /// How far each surface's boundary vertices gather inside it: its
+    /// room's inset, or the scene's (found once, when first asked) for a
+    /// mesh the caller brought.
+    fn receiver_inset_of(&self) -> impl Fn(SurfaceId) -> f64 + '_ {
+        let scene_inset = std::cell::OnceCell::new();
+        move |surface: SurfaceId| {
+            let own = self.receiver_insets.get(surface.index()).copied();
+            own.unwrap_or_else(|| *scene_inset.get_or_init(|| receiver_inset(self.scene)))
+        }
+    }
+
     /// Where a probe on a surface gathers: the point itself, moved inside its
     /// polygon when it is on (or within the inset of) the polygon's edge, as
     /// mesh vertices are.
     fn gather_point(&self, position: DVec3, surface: SurfaceId) -> DVec3 {
         let s = self.scene.surface(surface);
-        let inset = receiver_inset(self.scene);
+        let inset = self.receiver_inset_of()(surface);
         let plane_vertices = s.plane_vertices();
         let p = s.frame().to_plane(position);
         let on_plane = s.frame().to_world(p);

@@ -1156,3 +1156,66 @@ fn a_rooms_contacts_do_not_widen_with_the_building() {
     assert!((building_room - alone_room).abs() < 0.05, "{building_room}");
     assert!((building_back - alone_back).abs() < 1e-9, "{building_back}");
 }
+
+/// A closed room far from the rest of a large scene gathers at its
+/// boundaries as it does alone: its boundary vertices move a
+/// ten-thousandth of its own diagonal inside their surfaces, not of the
+/// scene's (at 100 m, 10 mm: half a shelf's edge), and the
+/// contact tolerance and elements are its own. The room's vertices are the
+/// first of both meshes, in the same order. (The block's bottom, pressed
+/// on the floor, lies in the open zone that spans the scene, and receives
+/// nothing: it is left out.)
+#[test]
+fn a_room_far_from_the_rest_gathers_at_its_boundaries_as_alone() {
+    let scene = |far: bool| {
+        let mut b = SceneBuilder::default();
+        let wall = b.material("wall", 0.5, 0.0);
+        let lamp = b.material("lamp", 0.0, 10.0);
+        room_with_block(&mut b, wall, "near", DVec3::ZERO);
+        b.polygon_facing(
+            "lamp",
+            lamp,
+            [(1.7, 1.7), (2.3, 1.7), (2.3, 2.3), (1.7, 2.3)]
+                .map(|(x, z)| DVec3::new(x, 2.99, z))
+                .to_vec(),
+            DVec3::new(2.0, 0.0, 2.0),
+        );
+        if far {
+            room_with_block(&mut b, wall, "far", DVec3::new(100.0, 0.0, 0.0));
+        }
+        b.scene
+    };
+    let receivers = |far: bool| {
+        let mut settings = isorad::Settings::default();
+        settings.mesh.max_edge = isorad::Length::Absolute(0.5);
+        settings.mesh.patch_max_edge = isorad::Length::Absolute(1.0);
+        let solver = isorad::Solver::new(scene(far), settings).unwrap();
+        let mesh = solver.mesh();
+        let faces_down = |v: &isorad::mesh::MeshVertex| {
+            solver.scene().surface(v.surface).normal().y < -0.5 && v.position.y < 1e-9
+        };
+        mesh.vertices
+            .iter()
+            .filter(|v| v.position.x < 50.0 && !faces_down(v))
+            .map(|v| (v.position, v.receiver_position - v.position))
+            .collect::<Vec<_>>()
+    };
+    let (alone, with_far) = (receivers(false), receivers(true));
+    assert_eq!(alone.len(), with_far.len());
+    let moved = alone.iter().filter(|(_, m)| m.length() > 0.0).count();
+    assert!(moved > 100, "{moved} boundary vertices");
+    for ((p, a), (q, b)) in alone.iter().zip(&with_far) {
+        assert_eq!(p, q);
+        assert!(
+            (*a - *b).length() < 1e-9,
+            "{p}: {a} alone, {b} with the far room"
+        );
+    }
+    // Along an edge, a ten-thousandth of the room's 6.4 m diagonal.
+    let inset = alone
+        .iter()
+        .map(|(_, m)| m.length())
+        .filter(|&d| d > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    assert!((6.3e-4..6.5e-4).contains(&inset), "{inset}");
+}
