@@ -107,26 +107,27 @@ impl Solver {
     /// Shoots until a criterion of `until` is met, calling `progress` after
     /// every shot. Criteria are checked between shots, so a cancelled or
     /// timed-out run leaves a consistent solution (one shot is typically a
-    /// few milliseconds).
+    /// few milliseconds). The buffers a shot works in are given back when
+    /// the run stops, before an image's ambient term needs the memory.
     pub fn run_until(&mut self, until: &Until, mut progress: impl FnMut(&Progress)) -> StopReason {
         let start = Instant::now();
         let tolerance = until.tolerance.unwrap_or(self.settings().tolerance);
         let total_shots = until.total_shots.unwrap_or(self.settings().max_shots);
-        loop {
+        let reason = loop {
             if until.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                return StopReason::Cancelled;
+                break StopReason::Cancelled;
             }
             if self.convergence_fraction() <= tolerance && !self.emission_pending() {
-                return StopReason::Converged;
+                break StopReason::Converged;
             }
             if self.shots() >= total_shots {
-                return StopReason::ShotLimit;
+                break StopReason::ShotLimit;
             }
             if until.time_budget.is_some_and(|b| start.elapsed() >= b) {
-                return StopReason::TimeBudget;
+                break StopReason::TimeBudget;
             }
             if !self.step() {
-                return StopReason::NothingToShoot;
+                break StopReason::NothingToShoot;
             }
             progress(&Progress {
                 unshot_fraction: self.unshot_fraction(),
@@ -135,7 +136,9 @@ impl Solver {
                 rays: self.rays(),
                 elapsed: start.elapsed(),
             });
-        }
+        };
+        self.release_shot_buffers();
+        reason
     }
 
     /// Shoots until the settings' tolerance or shot limit is reached.
