@@ -302,6 +302,25 @@ fn run_until_stops_on_shots_time_and_nothing_left() {
     assert_eq!((stop, solver.shots()), (StopReason::ShotLimit, 30));
 }
 
+/// A run that stops gives back its shot buffers; resumed, it makes them
+/// again and shoots exactly the light one run would.
+#[test]
+fn a_run_stopped_and_resumed_shoots_the_light_of_one_run() {
+    let until = |shots: usize| Until::default().tolerance(0.0).total_shots(shots);
+    let mut resumed = Solver::new(room_in_code(), preview()).unwrap();
+    resumed.run_until(&until(3), |_| {});
+    resumed.run_until(&until(12), |_| {});
+    let mut whole = Solver::new(room_in_code(), preview()).unwrap();
+    whole.run_until(&until(12), |_| {});
+    assert_eq!(resumed.shots(), whole.shots());
+    for (a, b) in resumed.radiosity().iter().zip(whole.radiosity()) {
+        assert!(
+            (*a - *b).abs().max_element() <= 1e-12 * b.max_element().max(1.0),
+            "{a:?} {b:?}"
+        );
+    }
+}
+
 #[test]
 fn surface_totals_close_the_energy_ledger() {
     let mut solver = Solver::new(room_in_code(), preview()).unwrap();
