@@ -28,7 +28,8 @@ pub(crate) const CONTACT_TOLERANCE: f64 = 1e-3;
 const RECEIVER_INSET: f64 = 1e-4;
 
 /// The most a boundary vertex is moved inside, as a fraction of that
-/// diagonal.
+/// diagonal, unless two ray offsets of the scene are more (a cupboard's
+/// inside in a building).
 const MAX_RECEIVER_INSET: f64 = 1e-3;
 
 /// The least a boundary vertex is moved inside, in shadow rays' surface
@@ -56,9 +57,13 @@ pub fn receiver_inset(scene: &Scene) -> f64 {
 /// ([`SurfaceGuides::contact_scale`]): at a ten-thousandth of 190 m, a
 /// building of 624 offices moved its boundary vertices 19 mm inside, past
 /// the middle of a shelf's 2 cm front edge and a book's spine, and one
-/// office beside a quad 150 m away rendered 2.0 % per pixel from the office
-/// alone, with lines along the wall–ceiling edge and the shelves'; at its
-/// room's 0.83 mm, 1.4 %, the lines gone.
+/// office beside a quad 150 m away rendered 2.04 % per pixel from the
+/// office alone, with lines along the wall–ceiling edge and the shelves';
+/// at its room's 0.83 mm (and reflected shots' shafts with a rim as wide,
+/// `solver/shaft_culling.rs`), 1.40 %, the lines gone: what is left is the
+/// ambient term's noise. The projection offset stays the whole scene's
+/// largest, as it was: one bent face anywhere moves every room's boundary
+/// vertices as far, up to a thousandth of the room's diagonal.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ReceiverInset {
     /// Twice the largest projection offset of the scene's faces.
@@ -83,7 +88,7 @@ impl ReceiverInset {
 
     /// The inset in a room of diagonal `room` (`None`: the scene's).
     pub(crate) fn within(&self, room: Option<f64>) -> f64 {
-        let scale = room.unwrap_or(self.diagonal).min(self.diagonal);
+        let scale = room.unwrap_or(self.diagonal).min(self.diagonal).max(0.0);
         let least = INSET_IN_RAY_OFFSETS * surface_offset_for(self.diagonal);
         self.projection
             .clamp(RECEIVER_INSET * scale, MAX_RECEIVER_INSET * scale)
@@ -109,9 +114,10 @@ pub struct SurfaceGuides {
     /// Lines that element edges follow: the shadow boundaries the lights
     /// cast on the surface (see `lighting::shadow_boundaries`).
     pub boundaries: Vec<[DVec2; 2]>,
-    /// The length the contact tolerance is a thousandth of: the diagonal
-    /// of the surface's room (its closed zone), or, where `None`, of the
-    /// whole scene. A building's
+    /// The length the contact tolerance is a thousandth of, and the
+    /// boundary vertices' inset a ten-thousandth ([`receiver_inset`]): the
+    /// diagonal of the surface's room (its closed zone), or, where `None`,
+    /// of the whole scene. A building's
     /// rooms are then meshed as each would be alone: at a thousandth of a
     /// floor's diagonal, 65 mm for 64 offices, the books' millimetre slots
     /// and their 2 cm from the wall counted as contacts.

@@ -36,6 +36,10 @@ impl Mesh {
     /// to the left of each edge, along normal × edge. (Averaging directions
     /// to element centres instead would point into the hole at a reflex
     /// corner, such as the floor around a block's corner.)
+    ///
+    /// Surfaces are read apart: an edge two surfaces' elements share
+    /// (which [`Mesh::validate`] refuses: a vertex belongs to one surface)
+    /// is a boundary edge of each.
     pub fn inset_boundary_receivers(&mut self, distance: f64) {
         self.inset_boundary_receivers_by(&|_| distance);
     }
@@ -207,7 +211,9 @@ fn boundary_edges(elements: &[&Element]) -> Vec<u8> {
             (0..c.len()).map(move |k| {
                 let (a, b) = (c[k], c[(k + 1) % c.len()]);
                 let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
-                (key, (i as u32) << 2 | k as u32)
+                // Element i's edge k, in one u32 (a surface of 2³⁰
+                // elements would take 16 GiB of the mesh's alone).
+                (key, ((i as u32) << 2) | k as u32)
             })
         })
         .collect();

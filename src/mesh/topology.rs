@@ -186,9 +186,11 @@ impl Mesh {
         }));
     }
 
-    /// Gives back the room its lists grew into beyond what they hold: a
-    /// list that doubles as it grows holds up to twice its contents, and a
-    /// building's mesh is most of its solve's memory.
+    /// Gives back the room its vertex, element, patch and midpoint lists
+    /// grew into beyond what they hold: a list that doubles as it grows
+    /// holds up to twice its contents, and a building's mesh is most of its
+    /// solve's memory (each patch's short list of elements is left as it
+    /// is).
     pub fn shrink_to_fit(&mut self) {
         self.vertices.shrink_to_fit();
         self.elements.shrink_to_fit();

@@ -24,7 +24,7 @@ use super::unshot::{FieldScale, PatchField, UnshotCorners};
 use super::unshot_by_zone::UnshotByZone;
 use super::visibility_memory::{Recall, VisibilityMemory};
 use super::zones::{ZoneLabels, ZoneMembers, Zones};
-use crate::mesh::{Cell, ElementHierarchy, Mesh};
+use crate::mesh::{Cell, ElementHierarchy, Mesh, receiver_inset};
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Rgb, Scene, ShadowCache, SurfaceId, Visibility};
 
@@ -87,8 +87,9 @@ pub struct Solver {
     /// What meshing found (empty when the caller brought the mesh).
     analysis: MeshAnalysis,
     /// How far each surface's boundary vertices gather inside it, by
-    /// surface index (empty when the caller brought the mesh: the scene's
-    /// inset, `mesh::receiver_inset`).
+    /// surface index: a ten-thousandth of its room's diagonal when the
+    /// solver meshed the scene, the scene's (`mesh::receiver_inset`) when
+    /// the caller brought the mesh.
     receiver_insets: Vec<f64>,
     settings: SolverSettings,
     /// Radiosity B per vertex (emission included), W/m².
@@ -224,7 +225,13 @@ impl Solver {
     }
 
     /// A solver for `scene` on a mesh the caller made (with [`crate::mesh::mesh_square`]
-    /// or [`crate::solver::mesh_scene`], say), nothing yet shot.
+    /// or [`crate::solver::mesh_scene`], say), nothing yet shot. Probes and
+    /// reflected shots' shafts take the scene's receiver inset
+    /// ([`crate::mesh::receiver_inset`]), as [`crate::mesh::mesh_square`]'s
+    /// boundary vertices do; [`crate::solver::mesh_scene`]'s move each
+    /// room's by a ten-thousandth of the room's diagonal, so in a building
+    /// a probe within the scene's inset of an edge gathers a little
+    /// further in than its vertices.
     pub fn with_mesh(scene: Scene, mesh: Mesh, settings: SolverSettings) -> crate::Result<Self> {
         settings.validate()?;
         scene.validate()?;
@@ -323,6 +330,8 @@ impl Solver {
             }
             None => UnshotByZone::new(mesh.patches.iter().map(|_| 0), 1, counts, weights),
         };
+        // The scene's inset, until `Solver::new` gives each room's.
+        let receiver_insets = vec![receiver_inset(&scene); scene.surfaces.len()];
         Solver {
             scene,
             mesh,
@@ -330,7 +339,7 @@ impl Solver {
             zones,
             surface_lossless,
             analysis,
-            receiver_insets: Vec::new(),
+            receiver_insets,
             settings,
             irradiance: vec![Rgb::ZERO; radiosity.len()],
             radiosity,
@@ -551,7 +560,10 @@ impl Solver {
             // An emitter's shot reaches vertices on its shadow boundaries,
             // where an occluder's edge grazes the emitter's as seen from
             // them: its shafts keep the whole cell.
-            let rim = coarse.is_some();
+            let rim = match coarse {
+                Some(_) => self.receiver_insets[patch.surface.index()],
+                None => 0.0,
+            };
             let (tested, cleared) = self.receiving_boxes.mark_clear(
                 (scene, mesh, visibility),
                 (&shooter, self.settings.sample_density, rim),
@@ -890,9 +902,9 @@ impl Solver {
     }
 
     /// Gives back the buffers a shot works in, kept from shot to shot: a
-    /// shot's irradiance per vertex, its power per element and an emitter's
-    /// factors per vertex, 62 bytes a vertex that hold nothing between
-    /// shots. Once a run stops, the ambient term's memory would stand on
+    /// shot's irradiance per vertex (24 bytes), its power per element (24,
+    /// about 1.25 elements a vertex) and an emitter's factors per vertex
+    /// (8), 62 bytes a vertex that hold nothing between shots. Once a run stops, the ambient term's memory would stand on
     /// theirs (a gigabyte in a building of 17 million vertices); the next
     /// shot makes them again.
     pub(crate) fn release_shot_buffers(&mut self) {

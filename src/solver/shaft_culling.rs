@@ -16,8 +16,9 @@
 //! [`ELEMENT_RAYS`]: an emitter's shot, whose vertices cast 64 each.
 //!
 //! The irradiance is the rays' own but for one thing: a reflected shot's
-//! shafts leave out a rim of the shooter as wide as the receivers' inset
-//! ([`SHOOTER_RIM`]), so that a wall meeting a ceiling patch at its edge
+//! shafts leave out a rim of the shooter as wide as its surface's
+//! receivers' inset (a ten-thousandth of its room's diagonal,
+//! `mesh/assembly.rs`), so that a wall meeting a ceiling patch at its edge
 //! does not touch every shaft of it. A ray aimed into that rim and grazing
 //! something there is then taken as unblocked (in the Cornell box, one
 //! vertex of one shot, where the slightly bent ceiling meets a wall).
@@ -35,11 +36,6 @@ use rayon::prelude::*;
 use super::shooter::Shooter;
 use crate::mesh::Mesh;
 use crate::scene::{Scene, SurfaceId, Visibility};
-
-/// The rim of a shooter's box left out of its shafts, as a fraction of the
-/// scene's diagonal: the distance boundary vertices gather inside their
-/// surface (`mesh/assembly.rs`).
-const SHOOTER_RIM: f64 = 1e-4;
 
 /// A patch is tested only when its vertices would cast at least this many
 /// shadow rays to the shooter in all (vertices times samples per vertex).
@@ -137,13 +133,13 @@ impl ReceivingBoxes {
     /// `visibility` reaches into (but the shooter's and the patch's own
     /// surfaces'), and, where a patch's shaft is blocked but its elements
     /// would each cast [`ELEMENT_RAYS`] rays or more (an emitter's shot),
-    /// those of its elements whose own shafts are clear. `leave_rim` leaves
-    /// a thin rim of the shooter out of the shafts (see the code). Returns
+    /// those of its elements whose own shafts are clear. A rim of the
+    /// shooter `rim` wide is left out of the shafts (see the code). Returns
     /// how many shafts were tested and how many of them were clear.
     pub(crate) fn mark_clear(
         &self,
         (scene, mesh, visibility): (&Scene, &Mesh, &Visibility),
-        (shooter, density, leave_rim): (&Shooter, f64, bool),
+        (shooter, density, rim): (&Shooter, f64, f64),
         patches: Option<&[u32]>,
         clear: &mut ClearVertices,
     ) -> (usize, usize) {
@@ -152,18 +148,13 @@ impl ReceivingBoxes {
         let lift = |(min, max): (DVec3, DVec3), normal: DVec3| {
             (min + normal * offset, max + normal * offset)
         };
-        // With `leave_rim`, the shooter's box less a rim as wide as the
-        // receivers' inset, so that a wall meeting the shooter at its edge,
+        // The shooter's box less a rim as wide as its receivers' inset (or
+        // none), so that a wall meeting the shooter at its edge,
         // which no ray to it crosses, does not touch the shaft. Rays aimed
         // at that rim are answered by the shaft as if they were inside; a
         // triangle would have to reach into the rim's sliver of the hull
         // alone to tell, as an occluder does whose edge lines up with the
         // shooter's as seen from a vertex on a shadow boundary.
-        let rim = if leave_rim {
-            SHOOTER_RIM * visibility.diagonal()
-        } else {
-            0.0
-        };
         let source = {
             let (min, max) = bounds(shooter.cell.polygon().iter().copied());
             let wide = (max - min).cmpgt(DVec3::splat(2.0 * rim));

@@ -169,7 +169,7 @@ pub struct Solution<'a> {
     /// one: an image taken from inside a closed room draws that room alone.
     pub(crate) zones: Option<&'a super::zones::ZoneLabels>,
     /// How far each surface's boundary vertices gather inside it, by
-    /// surface index; empty for the scene's inset everywhere.
+    /// surface index (the scene's inset past its end).
     pub(crate) receiver_insets: &'a [f64],
 }
 
@@ -378,7 +378,6 @@ impl Solution<'_> {
         // around it: 0 not yet cast, 1 none possible, 2 blocked, 3 unblocked.
         let mut vertex_witnesses = vec![0u8; self.mesh.vertices.len()];
         let offset = self.visibility.surface_offset();
-        let inset_of = self.receiver_inset_of();
         let mut vertex_witness = |v: u32| {
             let slot = &mut vertex_witnesses[v as usize];
             if *slot == 0 {
@@ -387,7 +386,7 @@ impl Solution<'_> {
                 // thin surface's vertex gathers, at its Gauss point.
                 let y = vertex.position
                     + (vertex.receiver_position - vertex.position)
-                        .clamp_length_max(inset_of(vertex.surface));
+                        .clamp_length_max(self.receiver_inset(vertex.surface));
                 let source_normal = self.scene.surface(vertex.surface).normal();
                 let d = y - x;
                 *slot = if normal.dot(d) > 0.0 && source_normal.dot(d) < 0.0 {
@@ -458,15 +457,11 @@ impl Solution<'_> {
         sources
     }
 
-    /// How far each surface's boundary vertices gather inside it: its
-    /// room's inset, or the scene's (found once, when first asked) for a
-    /// mesh the caller brought.
-    fn receiver_inset_of(&self) -> impl Fn(SurfaceId) -> f64 + '_ {
-        let scene_inset = std::cell::OnceCell::new();
-        move |surface: SurfaceId| {
-            let own = self.receiver_insets.get(surface.index()).copied();
-            own.unwrap_or_else(|| *scene_inset.get_or_init(|| receiver_inset(self.scene)))
-        }
+    /// How far `surface`'s boundary vertices gather inside it: its room's
+    /// inset, or the scene's for a mesh the caller brought.
+    fn receiver_inset(&self, surface: SurfaceId) -> f64 {
+        let own = self.receiver_insets.get(surface.index()).copied();
+        own.unwrap_or_else(|| receiver_inset(self.scene))
     }
 
     /// Where a probe on a surface gathers: the point itself, moved inside its
@@ -474,7 +469,7 @@ impl Solution<'_> {
     /// mesh vertices are.
     fn gather_point(&self, position: DVec3, surface: SurfaceId) -> DVec3 {
         let s = self.scene.surface(surface);
-        let inset = self.receiver_inset_of()(surface);
+        let inset = self.receiver_inset(surface);
         let plane_vertices = s.plane_vertices();
         let p = s.frame().to_plane(position);
         let on_plane = s.frame().to_world(p);

@@ -39,9 +39,12 @@ pub(crate) struct UnshotCorners {
 /// An element's four corners' ΔB, each channel rounded to `f32`.
 type PackedCorners = [[f32; 3]; 4];
 
-/// Rounds corners to their stored form.
+/// Rounds corners to their stored form, beyond f32's range to its largest
+/// value (an emitter of 10³⁹ W/m² would otherwise store infinity, and its
+/// shot's scale 0 · ∞).
 fn packed(corners: [Rgb; 4]) -> PackedCorners {
-    corners.map(Rgb::to_f32_array)
+    let limit = f64::from(f32::MAX);
+    corners.map(|c| c.to_array().map(|w| w.clamp(-limit, limit) as f32))
 }
 
 /// Corners in their stored form, widened back.
