@@ -321,14 +321,7 @@ fn shadow_boundaries_stay_in_the_room_the_light_reaches() {
     for (room, offset) in [("a", DVec3::ZERO), ("b", DVec3::new(5.0, 0.0, 0.0))] {
         room_with_block(&mut b, wall, room, offset);
     }
-    b.polygon_facing(
-        "lamp",
-        lamp,
-        [(1.7, 1.7), (2.3, 1.7), (2.3, 2.3), (1.7, 2.3)]
-            .map(|(x, z)| DVec3::new(x, 2.99, z))
-            .to_vec(),
-        DVec3::new(2.0, 0.0, 2.0),
-    );
+    ceiling_lamp(&mut b, lamp, DVec3::ZERO);
     let scene = b.scene;
     let visibility = isorad::scene::Visibility::new(&scene);
     let lights = isorad::lighting::luminaires(&scene);

@@ -401,14 +401,7 @@ fn two_closed_rooms() -> Scene {
     let lamp = b.material("lamp", 0.0, 10.0);
     for (room, offset) in [("a", DVec3::ZERO), ("b", DVec3::new(5.0, 0.0, 0.0))] {
         room_with_block(&mut b, wall, room, offset);
-        b.polygon_facing(
-            "lamp",
-            lamp,
-            [(1.7, 1.7), (2.3, 1.7), (2.3, 2.3), (1.7, 2.3)]
-                .map(|(x, z)| offset + DVec3::new(x, 2.99, z))
-                .to_vec(),
-            offset + DVec3::new(2.0, 0.0, 2.0),
-        );
+        ceiling_lamp(&mut b, lamp, offset);
     }
     b.scene
 }
@@ -1172,14 +1165,7 @@ fn a_room_far_from_the_rest_gathers_at_its_boundaries_as_alone() {
         let wall = b.material("wall", 0.5, 0.0);
         let lamp = b.material("lamp", 0.0, 10.0);
         room_with_block(&mut b, wall, "near", DVec3::ZERO);
-        b.polygon_facing(
-            "lamp",
-            lamp,
-            [(1.7, 1.7), (2.3, 1.7), (2.3, 2.3), (1.7, 2.3)]
-                .map(|(x, z)| DVec3::new(x, 2.99, z))
-                .to_vec(),
-            DVec3::new(2.0, 0.0, 2.0),
-        );
+        ceiling_lamp(&mut b, lamp, DVec3::ZERO);
         if far {
             room_with_block(&mut b, wall, "far", DVec3::new(100.0, 0.0, 0.0));
         }

@@ -197,6 +197,19 @@ pub fn room_with_block(b: &mut SceneBuilder, wall: usize, room: &str, offset: DV
     }
 }
 
+/// A 0.6 m square lamp of material `lamp` 1 cm under the ceiling of the
+/// room [`room_with_block`] makes at `offset`, facing the block.
+pub fn ceiling_lamp(b: &mut SceneBuilder, lamp: usize, offset: DVec3) {
+    b.polygon_facing(
+        "lamp",
+        lamp,
+        [(1.7, 1.7), (2.3, 1.7), (2.3, 2.3), (1.7, 2.3)]
+            .map(|(x, z)| offset + DVec3::new(x, 2.99, z))
+            .to_vec(),
+        offset + DVec3::new(2.0, 0.0, 2.0),
+    );
+}
+
 /// What a solve with or without the closed-zone cull found.
 pub struct ZonedSolve {
     pub zones: usize,
