@@ -561,7 +561,11 @@ impl Solver {
             // where an occluder's edge grazes the emitter's as seen from
             // them: its shafts keep the whole cell.
             let rim = match coarse {
-                Some(_) => self.receiver_insets[patch.surface.index()],
+                Some(_) => self
+                    .receiver_insets
+                    .get(patch.surface.index())
+                    .copied()
+                    .unwrap_or(0.0),
                 None => 0.0,
             };
             let (tested, cleared) = self.receiving_boxes.mark_clear(
@@ -904,9 +908,10 @@ impl Solver {
     /// Gives back the buffers a shot works in, kept from shot to shot: a
     /// shot's irradiance per vertex (24 bytes), its power per element (24,
     /// about 1.25 elements a vertex) and an emitter's factors per vertex
-    /// (8), 62 bytes a vertex that hold nothing between shots. Once a run stops, the ambient term's memory would stand on
-    /// theirs (a gigabyte in a building of 17 million vertices); the next
-    /// shot makes them again.
+    /// (8), 62 bytes a vertex that hold nothing between shots. Once a run
+    /// stops, the ambient term's memory would stand on theirs (a gigabyte
+    /// in a building of 17 million vertices); the next shot makes them
+    /// again.
     pub(crate) fn release_shot_buffers(&mut self) {
         self.incident = Vec::new();
         self.element_powers = Vec::new();
