@@ -1154,8 +1154,10 @@ fn a_rooms_contacts_do_not_widen_with_the_building() {
 /// boundaries as it does alone: its boundary vertices move a
 /// ten-thousandth of its own diagonal inside their surfaces, not of the
 /// scene's (at 100 m, 10 mm: half a shelf's edge), and the
-/// contact tolerance and elements are its own. The room's vertices are the
-/// first of both meshes, in the same order. (The block's bottom, pressed
+/// contact tolerance and elements are its own, and a probe at a wall's foot
+/// reads exactly what it reads alone (0.5 % more at the scene's inset,
+/// from another point). The room's vertices are the first of both meshes,
+/// in the same order. (The block's bottom, pressed
 /// on the floor, lies in the open zone that spans the scene, and receives
 /// nothing: it is left out.)
 #[test]
@@ -1186,6 +1188,33 @@ fn a_room_far_from_the_rest_gathers_at_its_boundaries_as_alone() {
             .map(|v| (v.position, v.receiver_position - v.position))
             .collect::<Vec<_>>()
     };
+    // A probe at a wall's foot gathers the same way: from the same point,
+    // moved the room's inset off the wall, with the same shadow rays.
+    let probe = |far: bool| {
+        let mut settings = isorad::Settings::default();
+        settings.mesh.max_edge = isorad::Length::Absolute(0.5);
+        settings.mesh.patch_max_edge = isorad::Length::Absolute(1.0);
+        settings.solver.tolerance = 0.2;
+        let mut solver = isorad::Solver::new(scene(far), settings).unwrap();
+        solver.run();
+        let foot = isorad::scene::ProbePoint {
+            position: DVec3::new(0.0, 0.0, 1.0),
+            normal: Some(DVec3::Y),
+            line: 1,
+        };
+        let solution = solver.solution();
+        solution
+            .probe(&foot, isorad::ProbeMode::Gather)
+            .unwrap()
+            .irradiance
+            .element_sum()
+    };
+    let (probe_alone, probe_far) = (probe(false), probe(true));
+    println!("probe at the wall's foot: {probe_alone} alone, {probe_far} with the far room");
+    assert!(
+        (probe_far - probe_alone).abs() < 1e-6 * probe_alone,
+        "{probe_alone} alone, {probe_far} with the far room"
+    );
     let (alone, with_far) = (receivers(false), receivers(true));
     assert_eq!(alone.len(), with_far.len());
     let moved = alone.iter().filter(|(_, m)| m.length() > 0.0).count();
