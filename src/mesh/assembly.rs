@@ -115,7 +115,7 @@ pub struct SurfaceGuides {
     /// cast on the surface (see `lighting::shadow_boundaries`).
     pub boundaries: Vec<[DVec2; 2]>,
     /// The length the contact tolerance is a thousandth of, and the
-    /// boundary vertices' inset a ten-thousandth ([`receiver_inset`]): the
+    /// boundary vertices' inset a ten-thousandth (`ReceiverInset`): the
     /// diagonal of the surface's room (its closed zone), or, where `None`,
     /// of the whole scene. A building's
     /// rooms are then meshed as each would be alone: at a thousandth of a

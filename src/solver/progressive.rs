@@ -227,7 +227,7 @@ impl Solver {
     /// A solver for `scene` on a mesh the caller made (with [`crate::mesh::mesh_square`]
     /// or [`crate::solver::mesh_scene`], say), nothing yet shot. Probes and
     /// reflected shots' shafts take the scene's receiver inset
-    /// ([`crate::mesh::receiver_inset`]), as [`crate::mesh::mesh_square`]'s
+    /// (`mesh::receiver_inset`), as [`crate::mesh::mesh_square`]'s
     /// boundary vertices do; [`crate::solver::mesh_scene`]'s move each
     /// room's by a ten-thousandth of the room's diagonal, so in a building
     /// a probe within the scene's inset of an edge gathers a little
