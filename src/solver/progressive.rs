@@ -1248,15 +1248,15 @@ impl Solver {
             return self.solution();
         }
         let ambient = self.ambient_irradiance(report);
-        let irradiance = self
-            .irradiance
-            .iter()
-            .zip(&ambient)
-            .map(|(h, g)| *h + *g)
-            .collect();
         let radiosity = (0..self.radiosity.len())
             .map(|v| self.radiosity[v] + self.reflectance(v) * ambient[v])
             .collect();
+        // H_v + G_v written over G_v: one list a vertex fewer at the
+        // image's peak (24 bytes a vertex).
+        let mut irradiance = ambient;
+        for (g, h) in irradiance.iter_mut().zip(&self.irradiance) {
+            *g = *h + *g;
+        }
         self.solution_from(radiosity, irradiance)
     }
 
