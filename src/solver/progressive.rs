@@ -1680,6 +1680,25 @@ mod tests {
     /// each room's rays stay in it: the second room, lit twice as
     /// brightly, gets twice the first's light within the rays' noise.
     #[test]
+    fn a_run_gives_back_its_shot_buffers_when_it_stops() {
+        let mut settings = Settings::default();
+        settings.mesh.max_edge = crate::Length::Absolute(0.5);
+        let mut solver = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
+        assert!(solver.step());
+        let held = |s: &Solver| {
+            let capacities = [s.incident.capacity(), s.element_powers.capacity()];
+            capacities
+                .into_iter()
+                .chain([s.emitter_factors.capacity()])
+                .sum::<usize>()
+        };
+        assert!(held(&solver) > 0, "a shot keeps its buffers for the next");
+        let until = crate::Until::default().total_shots(3);
+        solver.run_until(&until, |_| {});
+        assert_eq!((solver.shots(), held(&solver)), (3, 0));
+    }
+
+    #[test]
     fn rooms_kept_or_cast_again_give_the_same_ambient_term() {
         let mut settings = Settings::default();
         settings.mesh.max_edge = crate::Length::Absolute(0.5);
