@@ -158,10 +158,15 @@ impl LandingElement {
 }
 
 /// The patch each of the patches' cached rays hits, [`PATCH_RAYS`] per
-/// patch, patch after patch: cast once, read by every image.
+/// patch, patch after patch: cast once, read by every image. Only the
+/// patches an image needs are cast (the rooms it shows, see
+/// [`crate::Solver::solution_with_ambient_seen_from`]); the others hold
+/// misses until one does.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PatchRays {
     hits: Vec<u32>,
+    /// Whether each patch's rays are cast.
+    cast: Vec<bool>,
 }
 
 /// The rays of a list of vertices (a closed room's, or all): the patch
@@ -225,26 +230,35 @@ pub(crate) struct AmbientEstimate {
 }
 
 impl PatchRays {
-    /// Whether `mesh`'s patches' rays are cast.
-    pub(crate) fn is_cast(&self, mesh: &Mesh) -> bool {
-        self.hits.len() == mesh.patches.len() * PATCH_RAYS
+    /// Those of `patches` whose rays are not cast yet (all of them when
+    /// `mesh`'s patches are not those the rays were cast for).
+    pub(crate) fn uncast(&self, mesh: &Mesh, patches: &[u32]) -> Vec<u32> {
+        if self.cast.len() != mesh.patches.len() {
+            return patches.to_vec();
+        }
+        let cast = |p: u32| self.cast.get(p as usize).copied().unwrap_or(true);
+        patches.iter().copied().filter(|&p| !cast(p)).collect()
     }
 
-    /// Casts every patch's rays: from stratified points on its elements,
-    /// cosine-weighted. A ray from surface `s` traverses
-    /// `visibility_of(s)`: the BVH of its closed zone's bounds, or the
-    /// scene's.
+    /// Casts the rays of `patches` (ascending): from stratified points on
+    /// each one's elements, cosine-weighted. A ray from surface `s`
+    /// traverses `visibility_of(s)`: the BVH of its closed zone's bounds,
+    /// or the scene's.
     pub(crate) fn cast<'v>(
         &mut self,
-        scene: &Scene,
-        mesh: &Mesh,
+        (scene, mesh): (&Scene, &Mesh),
+        patches: &[u32],
         locator: &PatchLocator,
         visibility_of: &(dyn Fn(SurfaceId) -> &'v Visibility + Sync),
     ) {
+        if self.cast.len() != mesh.patches.len() {
+            self.hits = vec![MISS; mesh.patches.len() * PATCH_RAYS];
+            self.cast = vec![false; mesh.patches.len()];
+        }
         // A patch without elements (all hidden) casts only misses.
-        self.hits = (0..mesh.patches.len())
-            .into_par_iter()
-            .flat_map_iter(|p| (0..PATCH_RAYS).map(move |k| (p, k)))
+        let hits: Vec<u32> = patches
+            .par_iter()
+            .flat_map_iter(|&p| (0..PATCH_RAYS).map(move |k| (p as usize, k)))
             .map(|(p, k)| {
                 let patch = &mesh.patches[p];
                 let normal = scene.surface(patch.surface).normal();
@@ -258,29 +272,46 @@ impl PatchRays {
                 })
             })
             .collect();
+        for (&p, rays) in patches.iter().zip(hits.chunks_exact(PATCH_RAYS)) {
+            let p = p as usize;
+            self.hits[p * PATCH_RAYS..(p + 1) * PATCH_RAYS].copy_from_slice(rays);
+            self.cast[p] = true;
+        }
     }
 
     /// The fixed point A_p = ρ_p ⟨ΔB_h + A_h⟩_p, by Jacobi iteration, for
     /// unshot radiosity `unshot` and reflectance `reflectance` per patch;
     /// the mean of a `lossless` patch's rays as
-    /// [`VertexRays::irradiance`] takes it. Zero before the rays are cast.
+    /// [`VertexRays::irradiance`] takes it. Found on the patches whose rays
+    /// are cast and `within` (ascending; all, by `None`); zero elsewhere.
     #[must_use]
     pub(crate) fn residual(
         &self,
-        unshot: &[Rgb],
-        reflectance: &[Rgb],
-        lossless: &[bool],
+        (unshot, reflectance, lossless): (&[Rgb], &[Rgb], &[bool]),
+        within: Option<&[u32]>,
     ) -> Vec<Rgb> {
         let patches = unshot.len();
-        if self.hits.len() != patches * PATCH_RAYS {
-            return vec![Rgb::ZERO; patches];
-        }
-        let scale = unshot.iter().map(|b| b.max_element()).fold(0.0, f64::max);
         let mut residual = vec![Rgb::ZERO; patches];
+        if self.cast.len() != patches {
+            return residual;
+        }
+        let listed: Vec<u32> = match within {
+            Some(within) => within.to_vec(),
+            None => (0..patches as u32).collect(),
+        };
+        let listed: Vec<usize> = listed
+            .into_iter()
+            .map(|p| p as usize)
+            .filter(|&p| self.cast.get(p).copied().unwrap_or(false))
+            .collect();
+        let scale = listed
+            .iter()
+            .map(|&p| unshot[p].max_element())
+            .fold(0.0, f64::max);
         for _ in 0..MAX_ITERATIONS {
-            let next: Vec<Rgb> = (0..patches)
-                .into_par_iter()
-                .map(|p| {
+            let next: Vec<Rgb> = listed
+                .par_iter()
+                .map(|&p| {
                     let hits = &self.hits[p * PATCH_RAYS..(p + 1) * PATCH_RAYS];
                     let seen = hits
                         .iter()
@@ -290,12 +321,11 @@ impl PatchRays {
                     reflectance[p] * seen / rays_counted(hits, lossless[p])
                 })
                 .collect();
-            let change = next
-                .iter()
-                .zip(&residual)
-                .map(|(a, b)| (*a - *b).abs().max_element())
-                .fold(0.0, f64::max);
-            residual = next;
+            let mut change = 0.0_f64;
+            for (&p, value) in listed.iter().zip(next) {
+                change = change.max((value - residual[p]).abs().max_element());
+                residual[p] = value;
+            }
             if change <= CONVERGENCE * scale {
                 break;
             }
@@ -685,7 +715,8 @@ mod tests {
 
     /// Patches' rays, `PATCH_RAYS` hits after another.
     fn patch_rays(hits: Vec<u32>) -> PatchRays {
-        PatchRays { hits }
+        let cast = vec![true; hits.len() / PATCH_RAYS];
+        PatchRays { hits, cast }
     }
 
     /// Two patches that see only each other (every ray of each hits the
@@ -696,7 +727,7 @@ mod tests {
         let rays = patch_rays([vec![1; PATCH_RAYS], vec![0; PATCH_RAYS]].concat());
         let unshot = [Rgb::splat(2.0), Rgb::splat(2.0)];
         let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];
-        let residual = rays.residual(&unshot, &reflectance, &[false; 2]);
+        let residual = rays.residual((&unshot, &reflectance, &[false; 2]), None);
         for a in residual {
             // ρ ΔB / (1 − ρ) = 0.5 · 2 / 0.5.
             assert!((a.g - 2.0).abs() < 1e-5, "{a:?}");
@@ -897,13 +928,13 @@ mod tests {
         let rays = patch_rays([half, vec![MISS; PATCH_RAYS]].concat());
         let unshot = [Rgb::ZERO, Rgb::splat(4.0)];
         let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];
-        let residual = rays.residual(&unshot, &reflectance, &[false; 2]);
+        let residual = rays.residual((&unshot, &reflectance, &[false; 2]), None);
         assert!((residual[0].r - 1.0).abs() < 1e-12, "{residual:?}");
         assert_eq!(residual[1], Rgb::ZERO);
         // In a zone that keeps its light, the misses are left out of the
         // mean (half the rays land: just enough); a patch none of whose
         // rays land still sees nothing.
-        let residual = rays.residual(&unshot, &reflectance, &[true; 2]);
+        let residual = rays.residual((&unshot, &reflectance, &[true; 2]), None);
         assert!((residual[0].r - 2.0).abs() < 1e-12, "{residual:?}");
         assert_eq!(residual[1], Rgb::ZERO);
         // Fewer than half landing: inside an object, the mean over all.
@@ -911,7 +942,7 @@ mod tests {
             .map(|k| if k % 4 == 0 { 1 } else { MISS })
             .collect();
         let rays = patch_rays([few, vec![MISS; PATCH_RAYS]].concat());
-        let residual = rays.residual(&unshot, &reflectance, &[true; 2]);
+        let residual = rays.residual((&unshot, &reflectance, &[true; 2]), None);
         assert!((residual[0].r - 0.5).abs() < 1e-12, "{residual:?}");
     }
 }

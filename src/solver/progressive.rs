@@ -26,7 +26,7 @@ use super::visibility_memory::{Recall, VisibilityMemory};
 use super::zones::{ZoneLabels, ZoneMembers, Zones};
 use crate::mesh::{Cell, ElementHierarchy, Mesh, receiver_inset};
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
-use crate::scene::{Rgb, Scene, ShadowCache, SurfaceId, Visibility};
+use crate::scene::{Camera, Rgb, Scene, ShadowCache, SurfaceId, Visibility};
 
 /// The least and the most a reflected shot's element powers in a closed zone
 /// are scaled by to land whole (see [`Solver::landing_scale`]): the
@@ -1018,19 +1018,42 @@ impl Solver {
     /// The ambient irradiance G_v of every vertex: the light the unshot
     /// radiosity will still give, gathered along rays (see
     /// `solver/ambient.rs`), room by room (`solver/ambient_rooms.rs`),
-    /// reporting its progress to `report`.
-    fn ambient_irradiance(&self, report: PhaseReporter) -> Vec<Rgb> {
+    /// reporting its progress to `report`; only in zone `only`'s
+    /// vertices where given (0 at the others).
+    fn ambient_irradiance(&self, only: Option<usize>, report: PhaseReporter) -> Vec<Rgb> {
         let keep = AmbientCache::keeps(self.mesh.vertices.len());
-        self.ambient_irradiance_keeping(keep, report)
+        self.ambient_irradiance_keeping(keep, only, report)
     }
 
     /// [`Solver::ambient_irradiance`], the rooms' rays kept for the next
     /// image or, unless `keep`, cast room by room and dropped.
-    fn ambient_irradiance_keeping(&self, keep: bool, report: PhaseReporter) -> Vec<Rgb> {
-        let vertices = self.mesh.vertices.len();
+    fn ambient_irradiance_keeping(
+        &self,
+        keep: bool,
+        only: Option<usize>,
+        report: PhaseReporter,
+    ) -> Vec<Rgb> {
+        let zones = self.zones.as_ref().map(|(zones, _)| zones);
+        let mut rooms = match zones {
+            Some(zones) => Room::all(&self.mesh, zones.count(), &|s| zones.of(s)),
+            None => vec![Room::whole(&self.mesh)],
+        };
+        // The rooms not asked for, whose kept rays stay kept.
+        let mut others = Vec::new();
+        if let (Some(zone), Some(zones)) = (only, zones) {
+            let zone_of = |room: &Room| {
+                let v = room.vertices.first().map(|&v| v as usize);
+                v.and_then(|v| self.mesh.vertices.get(v))
+                    .map(|vertex| zones.of(vertex.surface))
+            };
+            (rooms, others) = rooms
+                .into_iter()
+                .partition(|room| zone_of(room) == Some(zone));
+        }
         // Half a room's vertices count once their rays are cast (or kept),
         // the other half once their light is gathered.
-        let counter = PhaseCounter::start(Phase::AmbientTerm, vertices, report);
+        let total = rooms.iter().map(|room| room.vertices.len()).sum();
+        let counter = PhaseCounter::start(Phase::AmbientTerm, total, report);
         let halves = |room: &Room| {
             let n = room.vertices.len();
             (n / 2, n - n / 2)
@@ -1042,7 +1065,6 @@ impl Solver {
         // A zone's rays traverse the BVH of what lies within its bounds,
         // as its shots' do: a ray that leaves them (through a seam) lands
         // on no front of its zone either way.
-        let zones = self.zones.as_ref().map(|(zones, _)| zones);
         let visibility_of = |surface: SurfaceId| {
             zones
                 .and_then(|zones| zones.visibility(zones.of(surface)))
@@ -1051,16 +1073,30 @@ impl Solver {
         // Where rays land, found only when some are cast.
         let locator = std::cell::OnceCell::new();
         let locator = || locator.get_or_init(|| PatchLocator::new(&self.scene, &self.mesh));
-        if !cache.patches.is_cast(&self.mesh) {
+        // The rooms' patches: the whole mesh's, or those of the rooms
+        // asked for (a ray that leaks out of them reads the patch it lands
+        // on without its further bounces).
+        let within = only.is_some().then(|| {
+            let mut patches: Vec<u32> = rooms.iter().flat_map(|r| r.patches.clone()).collect();
+            patches.sort_unstable();
+            patches
+        });
+        let all_patches;
+        let patches = match &within {
+            Some(listed) => listed,
+            None => {
+                all_patches = (0..self.mesh.patches.len() as u32).collect::<Vec<u32>>();
+                &all_patches
+            }
+        };
+        let uncast = cache.patches.uncast(&self.mesh, patches);
+        if !uncast.is_empty() {
+            let parts = (&self.scene, &self.mesh);
             cache
                 .patches
-                .cast(&self.scene, &self.mesh, locator(), &visibility_of);
+                .cast(parts, &uncast, locator(), &visibility_of);
         }
-        let (residual, patch_value) = self.patch_residual(&cache.patches);
-        let rooms = match zones {
-            Some(zones) => Room::all(&self.mesh, zones.count(), &|s| zones.of(s)),
-            None => vec![Room::whole(&self.mesh)],
-        };
+        let (residual, patch_value) = self.patch_residual(&cache.patches, within.as_deref());
         let cast = |room: &Room| {
             let rays = VertexRays::cast(
                 &self.scene,
@@ -1076,21 +1112,26 @@ impl Solver {
         // (an adaptive mesh adds vertices to the rooms it refines).
         let mut kept = std::mem::take(&mut cache.rooms);
         if keep {
+            let mut reuse = |room: &Room| {
+                let same = kept
+                    .iter()
+                    .position(|rays| rays.vertices() == room.vertices);
+                same.map(|k| {
+                    counter.add(halves(room).0);
+                    kept.swap_remove(k)
+                })
+            };
             cache.rooms = rooms
                 .iter()
-                .enumerate()
-                .map(|(r, room)| match kept.get_mut(r) {
-                    Some(rays) if rays.vertices() == room.vertices => {
-                        counter.add(halves(room).0);
-                        std::mem::take(rays)
-                    }
-                    _ => cast(room),
-                })
+                .map(|room| reuse(room).unwrap_or_else(|| cast(room)))
                 .collect();
+            // After the rooms' own, in any order: looked up by vertices.
+            kept.retain(|rays| others.iter().any(|room| rays.vertices() == room.vertices));
+            cache.rooms.append(&mut kept);
         }
         kept.clear();
         let mut local = LocalIndex::new(&self.mesh);
-        let mut ambient = vec![Rgb::ZERO; vertices];
+        let mut ambient = vec![Rgb::ZERO; self.mesh.vertices.len()];
         for (r, room) in rooms.iter().enumerate() {
             let cast_now;
             let rays = match cache.rooms.get(r) {
@@ -1115,8 +1156,9 @@ impl Solver {
     /// Each patch's residual A_h, the unshot light's further bounces at
     /// patch resolution ([`PatchRays::residual`], zero until `rays` are
     /// cast), and ΔB_h + A_h, what a vertex ray reads where it lands on
-    /// no element of its room.
-    fn patch_residual(&self, rays: &PatchRays) -> (Vec<Rgb>, Vec<Rgb>) {
+    /// no element of its room. The residual is found on the patches
+    /// `within` (all, by `None`).
+    fn patch_residual(&self, rays: &PatchRays, within: Option<&[u32]>) -> (Vec<Rgb>, Vec<Rgb>) {
         let (reflectance, lossless): (Vec<Rgb>, Vec<bool>) = self
             .mesh
             .patches
@@ -1127,7 +1169,7 @@ impl Solver {
                 (reflectance, self.surface_lossless[p.surface.index()])
             })
             .unzip();
-        let residual = rays.residual(&self.unshot, &reflectance, &lossless);
+        let residual = rays.residual((&self.unshot, &reflectance, &lossless), within);
         let patch_value = self
             .unshot
             .iter()
@@ -1244,10 +1286,40 @@ impl Solver {
     /// unshot (there is no ambient term).
     #[must_use]
     pub fn solution_with_ambient_progress(&self, report: PhaseReporter) -> Solution<'_> {
+        self.solution_with_ambient_in(None, report)
+    }
+
+    /// The solution an image from `camera` needs: where the camera stands
+    /// inside a closed room (a zone that keeps its light, whose walls hide
+    /// the rest: [`Solution::triangles_seen_from`]), the ambient term is
+    /// made for that room's vertices alone, and the other rooms hold the
+    /// light shot so far; elsewhere it is
+    /// [`Solver::solution_with_ambient_progress`]. A view from one office
+    /// of a building then costs that office's term (a second, where the
+    /// building's is minutes); probes, calculation grids, exports and
+    /// views from other rooms take the whole solution.
+    #[must_use]
+    pub fn solution_with_ambient_seen_from(
+        &self,
+        camera: &Camera,
+        report: PhaseReporter,
+    ) -> Solution<'_> {
+        let room = self.zones.as_ref().and_then(|(zones, _)| {
+            let labels = zones.labels();
+            (labels.count() > 1)
+                .then(|| labels.enclosing(&self.scene, &self.visibility, camera.position))
+                .flatten()
+        });
+        self.solution_with_ambient_in(room, report)
+    }
+
+    /// The solution with the ambient term made in zone `only`'s vertices,
+    /// or in all by `None`.
+    fn solution_with_ambient_in(&self, only: Option<usize>, report: PhaseReporter) -> Solution<'_> {
         if self.unshot.iter().all(|b| *b == Rgb::ZERO) {
             return self.solution();
         }
-        let ambient = self.ambient_irradiance(report);
+        let ambient = self.ambient_irradiance(only, report);
         let radiosity = (0..self.radiosity.len())
             .map(|v| self.radiosity[v] + self.reflectance(v) * ambient[v])
             .collect();
@@ -1707,9 +1779,9 @@ mod tests {
         // Both lamps' shots: half the rooms' light is still unshot.
         solver.step();
         solver.step();
-        let streamed = solver.ambient_irradiance_keeping(false, &silent);
-        let kept = solver.ambient_irradiance_keeping(true, &silent);
-        let again = solver.ambient_irradiance_keeping(true, &silent);
+        let streamed = solver.ambient_irradiance_keeping(false, None, &silent);
+        let kept = solver.ambient_irradiance_keeping(true, None, &silent);
+        let again = solver.ambient_irradiance_keeping(true, None, &silent);
         assert!(streamed == kept, "kept and streamed rays differ");
         assert!(kept == again, "the kept rays changed");
         // Σ A G over the elements of the room from x0 to x0 + 4.
@@ -1726,6 +1798,39 @@ mod tests {
         assert!(a > 0.0 && (2.0 * a - b).abs() < 0.01 * b, "{a} against {b}");
     }
 
+    /// A term made in one room between two made in all keeps the other
+    /// rooms' rays and changes nothing: the rays found again by their
+    /// vertices, the patches' rays cast for the one room kept with the
+    /// rest.
+    #[test]
+    fn one_rooms_term_keeps_the_other_rooms_rays() {
+        let mut settings = Settings::default();
+        settings.mesh.max_edge = crate::Length::Absolute(0.5);
+        let mut solver = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
+        solver.step();
+        solver.step();
+        let zones = solver.zones.as_ref().map(|(z, _)| z.labels().clone());
+        let zones = zones.expect("closed zones");
+        let zone_of = |v: usize| zones.of(solver.mesh.vertices[v].surface);
+        let room = zone_of(0);
+        let one = solver.ambient_irradiance_keeping(true, Some(room), &silent);
+        let rays = |s: &Solver| s.ambient_rays.lock().map(|c| c.rooms.len()).unwrap_or(0);
+        assert_eq!(rays(&solver), 1, "one room's rays cast");
+        let all = solver.ambient_irradiance_keeping(true, None, &silent);
+        let kept = rays(&solver);
+        let one_again = solver.ambient_irradiance_keeping(true, Some(room), &silent);
+        assert_eq!(rays(&solver), kept, "the other rooms' rays dropped");
+        let all_again = solver.ambient_irradiance_keeping(true, None, &silent);
+        assert!(all == all_again && one == one_again);
+        for (v, g) in one.iter().enumerate() {
+            if zone_of(v) == room {
+                assert!((*g - all[v]).abs().max_element() <= 1e-9 * all[v].max_element());
+            } else {
+                assert_eq!(*g, Rgb::ZERO);
+            }
+        }
+    }
+
     /// An adaptive mesh's rooms keep the rays of the rooms whose vertices
     /// stay as they were and cast those of the rooms refinement grows: the
     /// term is what rays all cast afresh give.
@@ -1736,7 +1841,7 @@ mod tests {
         settings.mesh.kind = MeshKind::Adaptive;
         let mut solver = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
         let before = solver.mesh.vertices.len();
-        let _ = solver.ambient_irradiance_keeping(true, &silent);
+        let _ = solver.ambient_irradiance_keeping(true, None, &silent);
         for _ in 0..4 {
             solver.step();
         }
@@ -1744,8 +1849,8 @@ mod tests {
             solver.mesh.vertices.len() > before,
             "{before} vertices, none added"
         );
-        let kept = solver.ambient_irradiance_keeping(true, &silent);
-        let streamed = solver.ambient_irradiance_keeping(false, &silent);
+        let kept = solver.ambient_irradiance_keeping(true, None, &silent);
+        let streamed = solver.ambient_irradiance_keeping(false, None, &silent);
         assert!(
             kept == streamed,
             "kept and streamed rays differ after refinement"

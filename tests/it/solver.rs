@@ -1234,3 +1234,72 @@ fn a_room_far_from_the_rest_gathers_at_its_boundaries_as_alone() {
         .fold(f64::INFINITY, f64::min);
     assert!((6.3e-4..6.5e-4).contains(&inset), "{inset}");
 }
+
+/// A view from inside one of two closed rooms needs the ambient term of
+/// that room alone: its vertices get the light the whole term gives them,
+/// the other room's keep the light shot so far, and its image is the
+/// whole solution's. A camera in neither room gets the whole term.
+#[test]
+fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
+    let mut b = SceneBuilder::default();
+    let wall = b.material("wall", 0.5, 0.0);
+    let lamp = b.material("lamp", 0.0, 10.0);
+    for offset in [DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0)] {
+        room_with_block(&mut b, wall, &format!("{}", offset.x), offset);
+        ceiling_lamp(&mut b, lamp, offset);
+    }
+    let mut settings = isorad::Settings::default();
+    settings.mesh.max_edge = isorad::Length::Absolute(0.5);
+    settings.mesh.patch_max_edge = isorad::Length::Absolute(1.0);
+    let mut solver = isorad::Solver::new(b.scene, settings).unwrap();
+    solver.run();
+    let camera = |position: DVec3| isorad::Camera {
+        position,
+        look_at: DVec3::new(2.0, 0.25, 2.0),
+        up: DVec3::Y,
+        vfov_deg: 60.0,
+        width: 48,
+        height: 32,
+    };
+    let inside = camera(DVec3::new(0.5, 2.0, 0.5));
+    let whole = solver.solution_with_ambient();
+    let shot = solver.solution();
+    let seen = solver.solution_with_ambient_seen_from(&inside, &|_| {});
+    let mut gained = 0;
+    for (v, vertex) in solver.mesh().vertices.iter().enumerate() {
+        let (value, expected) = (seen.radiosity[v], whole.radiosity[v]);
+        if vertex.position.x < 5.0 {
+            let scale = expected.max_element().max(1e-12);
+            assert!(
+                (value - expected).abs().max_element() <= 1e-9 * scale,
+                "vertex {v} in the room seen: {value:?}, the whole term {expected:?}"
+            );
+            gained += usize::from(value.element_sum() > 1.001 * shot.radiosity[v].element_sum());
+        } else {
+            assert_eq!(value, shot.radiosity[v], "vertex {v} in the other room");
+            assert_eq!(seen.irradiance[v], shot.irradiance[v]);
+        }
+    }
+    let room_vertices = solver.mesh().vertices.len() / 2;
+    assert!(
+        gained > room_vertices / 2,
+        "{gained} of the room's vertices lit by the term"
+    );
+    let settings = isorad::RenderSettings::default();
+    let (image, expected) = (
+        seen.render(&inside, &settings),
+        whole.render(&inside, &settings),
+    );
+    for (a, b) in image.pixels().iter().zip(expected.pixels()) {
+        for c in 0..3 {
+            assert!(
+                (a[c] - b[c]).abs() <= 1e-6 * b[c].max(1e-9),
+                "{a:?} against {b:?}"
+            );
+        }
+    }
+    // From outside both rooms, the whole term.
+    let outside = camera(DVec3::new(5.0, 1.5, -3.0));
+    let seen = solver.solution_with_ambient_seen_from(&outside, &|_| {});
+    assert_eq!(seen.radiosity, whole.radiosity);
+}

@@ -6,7 +6,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
-use isorad::{Phase, PhaseProgress, Progress, Solution, Solver, StopReason, Until};
+use isorad::{Camera, Phase, PhaseProgress, Progress, Solution, Solver, StopReason, Until};
 
 /// Set by Ctrl-C: the solve stops between two shots and the solution so far
 /// is written.
@@ -179,6 +179,15 @@ impl PhaseBars {
     /// The solver's solution with its ambient term, behind a bar.
     pub fn solution_with_ambient<'a>(&self, solver: &'a Solver) -> Solution<'a> {
         let solution = solver.solution_with_ambient_progress(&|p| self.report(p));
+        self.finish();
+        solution
+    }
+
+    /// The solution that images from `camera` need, behind a bar: the
+    /// ambient term of the closed room it stands in alone
+    /// ([`Solver::solution_with_ambient_seen_from`]).
+    pub fn solution_seen_from<'a>(&self, solver: &'a Solver, camera: &Camera) -> Solution<'a> {
+        let solution = solver.solution_with_ambient_seen_from(camera, &|p| self.report(p));
         self.finish();
         solution
     }

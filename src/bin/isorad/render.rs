@@ -115,11 +115,16 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         &until,
         args.solve.quiet,
         args.preview_every,
-        |solver| write_images(&phases.solution_with_ambient(solver)).map(|_| ()),
+        |solver| write_images(&phases.solution_seen_from(solver, &camera)).map(|_| ()),
     )?;
     // The images, exports and false colour read one solution: the ambient
-    // term is gathered once.
-    let solution = phases.solution_with_ambient(&solver);
+    // term is gathered once, in the room the camera stands in unless the
+    // whole mesh is exported.
+    let solution = if args.export.is_empty() {
+        phases.solution_seen_from(&solver, &camera)
+    } else {
+        phases.solution_with_ambient(&solver)
+    };
     let exposure = write_images(&solution)?;
     // Exports (final only, not at previews) take the PNG's exposure.
     for path in &args.export {
