@@ -77,7 +77,10 @@
 //!    per-surface totals ([`Solution::surface_totals`]), and the shaded
 //!    triangles for a viewer of your own ([`Solution::triangles`]).
 //! 5. **Look.** [`Solution::render`] rasterizes into an [`Image`] of linear
-//!    radiance that you own; [`write_exr`] and [`write_png`] write it (to a
+//!    radiance that you own (for one view of a building,
+//!    [`Solver::solution_with_ambient_seen_from`] makes the ambient term
+//!    only in the closed room the camera stands in); [`write_exr`] and
+//!    [`write_png`] write it (to a
 //!    temporary file, then renamed). Beside them, [`export_solution`] (or
 //!    [`export::export_glb`] and [`export::export_ply`]) writes the solved
 //!    mesh with its light baked into the vertices, for a viewer or another

@@ -164,10 +164,15 @@ impl LandingElement {
 /// misses until one does.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PatchRays {
+    /// The cast patches' rays, [`PATCH_RAYS`] at a time in the order cast.
     hits: Vec<u32>,
-    /// Whether each patch's rays are cast.
-    cast: Vec<bool>,
+    /// Where each patch's rays start in `hits`, over [`PATCH_RAYS`], or
+    /// [`NOT_CAST`]: 4 bytes a patch, and 256 more for each cast one.
+    slot: Vec<u32>,
 }
+
+/// A patch whose rays are not cast.
+const NOT_CAST: u32 = u32::MAX;
 
 /// The rays of a list of vertices (a closed room's, or all): the patch
 /// each hits and where it lands on it, [`VERTEX_RAYS`] per vertex, vertex
@@ -233,11 +238,17 @@ impl PatchRays {
     /// Those of `patches` whose rays are not cast yet (all of them when
     /// `mesh`'s patches are not those the rays were cast for).
     pub(crate) fn uncast(&self, mesh: &Mesh, patches: &[u32]) -> Vec<u32> {
-        if self.cast.len() != mesh.patches.len() {
+        if self.slot.len() != mesh.patches.len() {
             return patches.to_vec();
         }
-        let cast = |p: u32| self.cast.get(p as usize).copied().unwrap_or(true);
+        let cast = |p: u32| self.slot.get(p as usize).is_none_or(|&k| k != NOT_CAST);
         patches.iter().copied().filter(|&p| !cast(p)).collect()
+    }
+
+    /// Patch p's rays, if cast.
+    fn of(&self, p: usize) -> Option<&[u32]> {
+        let k = *self.slot.get(p).filter(|&&k| k != NOT_CAST)? as usize;
+        self.hits.get(k * PATCH_RAYS..(k + 1) * PATCH_RAYS)
     }
 
     /// Casts the rays of `patches` (ascending): from stratified points on
@@ -251,9 +262,9 @@ impl PatchRays {
         locator: &PatchLocator,
         visibility_of: &(dyn Fn(SurfaceId) -> &'v Visibility + Sync),
     ) {
-        if self.cast.len() != mesh.patches.len() {
-            self.hits = vec![MISS; mesh.patches.len() * PATCH_RAYS];
-            self.cast = vec![false; mesh.patches.len()];
+        if self.slot.len() != mesh.patches.len() {
+            self.hits = Vec::new();
+            self.slot = vec![NOT_CAST; mesh.patches.len()];
         }
         // A patch without elements (all hidden) casts only misses.
         let hits: Vec<u32> = patches
@@ -272,11 +283,11 @@ impl PatchRays {
                 })
             })
             .collect();
-        for (&p, rays) in patches.iter().zip(hits.chunks_exact(PATCH_RAYS)) {
-            let p = p as usize;
-            self.hits[p * PATCH_RAYS..(p + 1) * PATCH_RAYS].copy_from_slice(rays);
-            self.cast[p] = true;
+        let first = self.hits.len() / PATCH_RAYS;
+        for (k, &p) in patches.iter().enumerate() {
+            self.slot[p as usize] = (first + k) as u32;
         }
+        self.hits.extend(hits);
     }
 
     /// The fixed point A_p = ρ_p ⟨ΔB_h + A_h⟩_p, by Jacobi iteration, for
@@ -292,27 +303,26 @@ impl PatchRays {
     ) -> Vec<Rgb> {
         let patches = unshot.len();
         let mut residual = vec![Rgb::ZERO; patches];
-        if self.cast.len() != patches {
+        if self.slot.len() != patches {
             return residual;
         }
         let listed: Vec<u32> = match within {
             Some(within) => within.to_vec(),
             None => (0..patches as u32).collect(),
         };
-        let listed: Vec<usize> = listed
+        let listed: Vec<(usize, &[u32])> = listed
             .into_iter()
             .map(|p| p as usize)
-            .filter(|&p| self.cast.get(p).copied().unwrap_or(false))
+            .filter_map(|p| Some((p, self.of(p)?)))
             .collect();
         let scale = listed
             .iter()
-            .map(|&p| unshot[p].max_element())
+            .map(|&(p, _)| unshot[p].max_element())
             .fold(0.0, f64::max);
         for _ in 0..MAX_ITERATIONS {
             let next: Vec<Rgb> = listed
                 .par_iter()
-                .map(|&p| {
-                    let hits = &self.hits[p * PATCH_RAYS..(p + 1) * PATCH_RAYS];
+                .map(|&(p, hits)| {
                     let seen = hits
                         .iter()
                         .filter(|&&h| h != MISS)
@@ -322,7 +332,7 @@ impl PatchRays {
                 })
                 .collect();
             let mut change = 0.0_f64;
-            for (&p, value) in listed.iter().zip(next) {
+            for (&(p, _), value) in listed.iter().zip(next) {
                 change = change.max((value - residual[p]).abs().max_element());
                 residual[p] = value;
             }
@@ -633,10 +643,16 @@ pub(crate) struct PatchLocator {
 const INDEXED_PATCHES: usize = 8;
 
 impl PatchLocator {
-    pub(crate) fn new(scene: &Scene, mesh: &Mesh) -> PatchLocator {
+    /// The locator of `mesh`'s patches `patches` (all, by `None`): a ray
+    /// that lands on any other misses.
+    pub(crate) fn new(scene: &Scene, mesh: &Mesh, patches: Option<&[u32]>) -> PatchLocator {
         let mut by_surface = vec![Vec::new(); scene.surfaces.len()];
         let mut boxes = vec![Vec::new(); scene.surfaces.len()];
-        for (p, patch) in mesh.patches.iter().enumerate() {
+        let listed: Box<dyn Iterator<Item = usize>> = match patches {
+            Some(patches) => Box::new(patches.iter().map(|&p| p as usize)),
+            None => Box::new(0..mesh.patches.len()),
+        };
+        for (p, patch) in listed.filter_map(|p| Some((p, mesh.patches.get(p)?))) {
             let frame = scene.surface(patch.surface).frame();
             let polygon = patch.cell.polygon();
             let cell = polygon.iter().map(|&q| frame.to_plane(q));
@@ -715,8 +731,8 @@ mod tests {
 
     /// Patches' rays, `PATCH_RAYS` hits after another.
     fn patch_rays(hits: Vec<u32>) -> PatchRays {
-        let cast = vec![true; hits.len() / PATCH_RAYS];
-        PatchRays { hits, cast }
+        let slot = (0..(hits.len() / PATCH_RAYS) as u32).collect();
+        PatchRays { hits, slot }
     }
 
     /// Two patches that see only each other (every ray of each hits the
@@ -885,7 +901,7 @@ mod tests {
             patch_max_edge: 0.5,
         };
         let mesh = crate::mesh::mesh_square(&scene, &settings);
-        let locator = PatchLocator::new(&scene, &mesh);
+        let locator = PatchLocator::new(&scene, &mesh, None);
         assert!(mesh.patches.len() > 4 * INDEXED_PATCHES);
         assert!(locator.index[id.index()].is_some());
         let frame = scene.surface(id).frame();

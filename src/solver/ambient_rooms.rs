@@ -87,7 +87,24 @@ impl Room {
     /// The whole mesh as one room.
     #[must_use]
     pub(crate) fn whole(mesh: &Mesh) -> Room {
-        Room::all(mesh, 1, &|_| 0).pop().unwrap_or_default()
+        Room::picked(mesh, &|_| true)
+    }
+
+    /// The room of the surfaces `in_room` picks, without listing any other.
+    #[must_use]
+    pub(crate) fn picked(mesh: &Mesh, in_room: &dyn Fn(SurfaceId) -> bool) -> Room {
+        let members = |surfaces: &mut dyn Iterator<Item = SurfaceId>| -> Vec<u32> {
+            surfaces
+                .enumerate()
+                .filter(|&(_, s)| in_room(s))
+                .map(|(k, _)| k as u32)
+                .collect()
+        };
+        Room {
+            vertices: members(&mut mesh.vertices.iter().map(|v| v.surface)),
+            elements: members(&mut mesh.elements.iter().map(|e| e.surface)),
+            patches: members(&mut mesh.patches.iter().map(|p| p.surface)),
+        }
     }
 }
 
@@ -211,5 +228,7 @@ mod tests {
             (None, None, None)
         );
         assert_eq!(Room::whole(&mesh).vertices.len(), 8);
+        let picked = Room::picked(&mesh, &|s| s.index() == 1);
+        assert_eq!(picked, rooms[1]);
     }
 }

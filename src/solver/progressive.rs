@@ -1034,22 +1034,7 @@ impl Solver {
         report: PhaseReporter,
     ) -> Vec<Rgb> {
         let zones = self.zones.as_ref().map(|(zones, _)| zones);
-        let mut rooms = match zones {
-            Some(zones) => Room::all(&self.mesh, zones.count(), &|s| zones.of(s)),
-            None => vec![Room::whole(&self.mesh)],
-        };
-        // The rooms not asked for, whose kept rays stay kept.
-        let mut others = Vec::new();
-        if let (Some(zone), Some(zones)) = (only, zones) {
-            let zone_of = |room: &Room| {
-                let v = room.vertices.first().map(|&v| v as usize);
-                v.and_then(|v| self.mesh.vertices.get(v))
-                    .map(|vertex| zones.of(vertex.surface))
-            };
-            (rooms, others) = rooms
-                .into_iter()
-                .partition(|room| zone_of(room) == Some(zone));
-        }
+        let (rooms, others) = self.ambient_rooms(only, keep);
         // Half a room's vertices count once their rays are cast (or kept),
         // the other half once their light is gathered.
         let total = rooms.iter().map(|room| room.vertices.len()).sum();
@@ -1070,26 +1055,25 @@ impl Solver {
                 .and_then(|zones| zones.visibility(zones.of(surface)))
                 .unwrap_or(&self.visibility)
         };
-        // Where rays land, found only when some are cast.
-        let locator = std::cell::OnceCell::new();
-        let locator = || locator.get_or_init(|| PatchLocator::new(&self.scene, &self.mesh));
         // The rooms' patches: the whole mesh's, or those of the rooms
-        // asked for (a ray that leaks out of them reads the patch it lands
-        // on without its further bounces).
+        // asked for (a ray that leaks out of them lands nowhere).
         let within = only.is_some().then(|| {
             let mut patches: Vec<u32> = rooms.iter().flat_map(|r| r.patches.clone()).collect();
             patches.sort_unstable();
             patches
         });
-        let all_patches;
-        let patches = match &within {
-            Some(listed) => listed,
+        // Where rays land, found only when some are cast.
+        let locator = std::cell::OnceCell::new();
+        let locator = || {
+            locator.get_or_init(|| PatchLocator::new(&self.scene, &self.mesh, within.as_deref()))
+        };
+        let uncast = match &within {
+            Some(listed) => cache.patches.uncast(&self.mesh, listed),
             None => {
-                all_patches = (0..self.mesh.patches.len() as u32).collect::<Vec<u32>>();
-                &all_patches
+                let all: Vec<u32> = (0..self.mesh.patches.len() as u32).collect();
+                cache.patches.uncast(&self.mesh, &all)
             }
         };
-        let uncast = cache.patches.uncast(&self.mesh, patches);
         if !uncast.is_empty() {
             let parts = (&self.scene, &self.mesh);
             cache
@@ -1151,6 +1135,32 @@ impl Solver {
         }
         counter.finish();
         ambient
+    }
+
+    /// The rooms whose ambient term is made (the mesh's closed zones and
+    /// the rest, see [`Room::all`]; only zone `only`'s where given), and,
+    /// if `listing_others`, the others.
+    fn ambient_rooms(&self, only: Option<usize>, listing_others: bool) -> (Vec<Room>, Vec<Room>) {
+        let Some((zones, _)) = &self.zones else {
+            return (vec![Room::whole(&self.mesh)], Vec::new());
+        };
+        if let Some(zone) = only.filter(|_| !listing_others) {
+            let room = Room::picked(&self.mesh, &|s| zones.of(s) == zone);
+            let rooms = (!room.vertices.is_empty()).then_some(room);
+            return (rooms.into_iter().collect(), Vec::new());
+        }
+        let rooms = Room::all(&self.mesh, zones.count(), &|s| zones.of(s));
+        let Some(zone) = only else {
+            return (rooms, Vec::new());
+        };
+        let zone_of = |room: &Room| {
+            let v = room.vertices.first().map(|&v| v as usize);
+            v.and_then(|v| self.mesh.vertices.get(v))
+                .map(|vertex| zones.of(vertex.surface))
+        };
+        rooms
+            .into_iter()
+            .partition(|room| zone_of(room) == Some(zone))
     }
 
     /// Each patch's residual A_h, the unshot light's further bounces at
