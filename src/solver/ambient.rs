@@ -158,10 +158,10 @@ impl LandingElement {
 }
 
 /// The patch each of the patches' cached rays hits, [`PATCH_RAYS`] per
-/// patch: cast once, read by every image. Only the patches an image needs
-/// are cast (the room it shows, see
-/// [`crate::Solver::solution_with_ambient_seen_from`]), the others when
-/// an image needs them.
+/// patch, patch after patch: cast once, read by every image. Only the
+/// patches an image needs are cast (the rooms it shows, see
+/// [`crate::Solver::solution_with_ambient_seen_from`]); the others hold
+/// misses until one does.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PatchRays {
     /// The cast patches' rays, [`PATCH_RAYS`] at a time in the order cast.
@@ -635,8 +635,7 @@ fn point_on_elements(mesh: &Mesh, p: usize, k: usize, stream: &mut SampleStream)
 /// patches there rather than all.
 pub(crate) struct PatchLocator {
     by_surface: Vec<Vec<(u32, Vec<DVec2>)>>,
-    /// Boxed: 8 bytes a surface without one (most of a building's).
-    index: Vec<Option<Box<ElementIndex>>>,
+    index: Vec<Option<ElementIndex>>,
     reach: f64,
 }
 
@@ -665,7 +664,7 @@ impl PatchLocator {
             .enumerate()
             .map(|(s, boxes)| {
                 let normal = scene.surfaces[s].normal();
-                (boxes.len() > INDEXED_PATCHES).then(|| Box::new(ElementIndex::new(boxes, normal)))
+                (boxes.len() > INDEXED_PATCHES).then(|| ElementIndex::new(boxes, normal))
             })
             .collect();
         PatchLocator {

@@ -25,70 +25,31 @@ use crate::scene::Rgb;
 /// shape of the light over the patch; a shot scales its strata to the total
 /// (see [`PatchField::sampled`]).
 ///
-/// The corners are kept in 28 bytes an element, where `f64` took 96 and
-/// `f32` 48: the element's largest magnitude as an `f32`, and each of its
-/// twelve values as a signed fraction of it in 1/32,767ths (a block
-/// floating point). With one element per vertex or more, this array was
-/// the largest of a building's solve (57 of the 222 MB of heap at the peak
-/// of 16 cluttered offices, by heaptrack, in `f64`). The corners only
-/// shape the field: a shot scales its strata to the patch's total, kept in
-/// `f64` ([`FieldScale`]), so their rounding, at most 1.5 · 10⁻⁵ of the
-/// element's largest value, moves no power; it blurs only corners
-/// hundreds of times dimmer than their element's brightest, across a
-/// shadow's edge, by a few tenths of a percent of their own value.
+/// The corners are kept as `f32`, 48 bytes an element where `f64` took
+/// 96: with one element per vertex or more, this array was the largest of
+/// a building's solve (57 of the 222 MB of heap at the peak of 16 cluttered
+/// offices, by heaptrack). The corners only shape the field: a shot scales
+/// its strata to the patch's total, kept in `f64` ([`FieldScale`]), so their
+/// rounding, 6 · 10⁻⁸ of each value, moves no power.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct UnshotCorners {
     corners: Vec<PackedCorners>,
 }
 
-/// An element's four corners' ΔB: each channel as a signed fraction of
-/// `scale`, the largest magnitude among them, in [`FRACTION_STEPS`]ths.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct PackedCorners {
-    scale: f32,
-    fractions: [[i16; 3]; 4],
-}
+/// An element's four corners' ΔB, each channel rounded to `f32`.
+type PackedCorners = [[f32; 3]; 4];
 
-/// Steps of a stored fraction from 0 to the element's largest magnitude.
-const FRACTION_STEPS: f64 = i16::MAX as f64;
-
-/// Rounds corners to their stored form. Beyond f32's range the scale
-/// stops at its largest value (an emitter of 10³⁹ W/m² would otherwise
-/// store infinity, and its shot's scale 0 · ∞); a value that is not a
-/// number is stored as 0.
+/// Rounds corners to their stored form, beyond f32's range to its largest
+/// value (an emitter of 10³⁹ W/m² would otherwise store infinity, and its
+/// shot's scale 0 · ∞).
 fn packed(corners: [Rgb; 4]) -> PackedCorners {
-    let values = corners.map(Rgb::to_array);
-    let largest = values
-        .iter()
-        .flatten()
-        .filter(|w| w.is_finite())
-        .fold(0.0_f64, |m, w| m.max(w.abs()));
-    let scale = largest.min(f64::from(f32::MAX)) as f32;
-    if scale <= 0.0 {
-        return PackedCorners::default();
-    }
-    // Fractions of the scale as stored, which may round below `largest`.
-    let steps = FRACTION_STEPS / f64::from(scale);
-    let fraction = |w: f64| {
-        let w = if w.is_nan() { 0.0 } else { w };
-        (w * steps).round().clamp(-FRACTION_STEPS, FRACTION_STEPS) as i16
-    };
-    PackedCorners {
-        scale,
-        fractions: values.map(|c| c.map(fraction)),
-    }
+    let limit = f64::from(f32::MAX);
+    corners.map(|c| c.to_array().map(|w| w.clamp(-limit, limit) as f32))
 }
 
 /// Corners in their stored form, widened back.
 fn unpacked(corners: &PackedCorners) -> [Rgb; 4] {
-    let step = f64::from(corners.scale) / FRACTION_STEPS;
-    corners.fractions.map(|[r, g, b]| {
-        Rgb::new(
-            f64::from(r) * step,
-            f64::from(g) * step,
-            f64::from(b) * step,
-        )
-    })
+    corners.map(|[r, g, b]| Rgb::new(f64::from(r), f64::from(g), f64::from(b)))
 }
 
 impl UnshotCorners {
@@ -622,34 +583,6 @@ mod tests {
             .map(|key| gather_once(shooter, visibility, at, key))
             .sum();
         total / trials as f64
-    }
-
-    /// Stored corners come back within 1/32,767 of their element's largest
-    /// magnitude, signs and zeros kept, and values f32 cannot hold stop at
-    /// its largest: never infinity, never NaN.
-    #[test]
-    fn stored_corners_keep_their_element_to_its_largest_value() {
-        let corners = [
-            Rgb::new(3.0, 2.5, 0.0),
-            Rgb::new(-0.4, 1e-3, 2.0),
-            Rgb::new(1e-9, 3.0, 2.9),
-            Rgb::ZERO,
-        ];
-        let back = unpacked(&packed(corners));
-        for (a, b) in corners.iter().zip(&back) {
-            for (x, y) in a.to_array().into_iter().zip(b.to_array()) {
-                assert!((x - y).abs() <= 3.0 / FRACTION_STEPS, "{x} stored as {y}");
-                assert!(x == 0.0 || y == 0.0 || x.signum() == y.signum(), "{x}, {y}");
-            }
-        }
-        assert_eq!(back[3], Rgb::ZERO);
-        assert_eq!(unpacked(&packed([Rgb::ZERO; 4])), [Rgb::ZERO; 4]);
-        assert_eq!(std::mem::size_of::<PackedCorners>(), 28);
-        let huge = unpacked(&packed([Rgb::new(1e39, f64::NAN, -1e40); 4]));
-        for w in huge.iter().flat_map(|c| c.to_array()) {
-            assert!(w.is_finite() && w.abs() <= f64::from(f32::MAX), "{w}");
-        }
-        assert_eq!(huge[0].g, 0.0);
     }
 
     #[test]
