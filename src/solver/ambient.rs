@@ -158,10 +158,11 @@ impl LandingElement {
 }
 
 /// The patch each of the patches' cached rays hits, [`PATCH_RAYS`] per
-/// patch, patch after patch: cast once, read by every image. Only the
-/// patches an image needs are cast (the rooms it shows, see
-/// [`crate::Solver::solution_with_ambient_seen_from`]); the others hold
-/// misses until one does.
+/// patch: cast once, read by every image. Only the patches an image needs
+/// are cast (the room it shows, see
+/// [`crate::Solver::solution_with_ambient_seen_from`]), the others when
+/// an image needs them; a patch's rays are the same whichever image
+/// casts them.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PatchRays {
     /// The cast patches' rays, [`PATCH_RAYS`] at a time in the order cast.
@@ -643,16 +644,13 @@ pub(crate) struct PatchLocator {
 const INDEXED_PATCHES: usize = 8;
 
 impl PatchLocator {
-    /// The locator of `mesh`'s patches `patches` (all, by `None`): a ray
-    /// that lands on any other misses.
-    pub(crate) fn new(scene: &Scene, mesh: &Mesh, patches: Option<&[u32]>) -> PatchLocator {
+    /// The locator of every patch of `mesh`. Always all of them, also for
+    /// one room's term: the rays it casts are kept for later images,
+    /// which must not depend on which room was drawn first.
+    pub(crate) fn new(scene: &Scene, mesh: &Mesh) -> PatchLocator {
         let mut by_surface = vec![Vec::new(); scene.surfaces.len()];
         let mut boxes = vec![Vec::new(); scene.surfaces.len()];
-        let listed: Box<dyn Iterator<Item = usize>> = match patches {
-            Some(patches) => Box::new(patches.iter().map(|&p| p as usize)),
-            None => Box::new(0..mesh.patches.len()),
-        };
-        for (p, patch) in listed.filter_map(|p| Some((p, mesh.patches.get(p)?))) {
+        for (p, patch) in mesh.patches.iter().enumerate() {
             let frame = scene.surface(patch.surface).frame();
             let polygon = patch.cell.polygon();
             let cell = polygon.iter().map(|&q| frame.to_plane(q));
@@ -901,7 +899,7 @@ mod tests {
             patch_max_edge: 0.5,
         };
         let mesh = crate::mesh::mesh_square(&scene, &settings);
-        let locator = PatchLocator::new(&scene, &mesh, None);
+        let locator = PatchLocator::new(&scene, &mesh);
         assert!(mesh.patches.len() > 4 * INDEXED_PATCHES);
         assert!(locator.index[id.index()].is_some());
         let frame = scene.surface(id).frame();

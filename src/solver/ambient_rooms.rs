@@ -20,7 +20,10 @@
 //! The rare ray that leaks out of a closed room through a seam (a zone
 //! stays closed while under 1/256 of the rays that find it leave,
 //! `zones.rs`) reads the patch it lands on at patch resolution, its
-//! unshot radiosity and the light it will still reflect (`ambient.rs`).
+//! unshot radiosity and the light it will still reflect (`ambient.rs`);
+//! in one room's term, made for a view from inside it
+//! ([`crate::Solver::solution_with_ambient_seen_from`]), its unshot
+//! radiosity alone.
 
 use super::ambient::{PatchRays, VERTEX_RAYS, VertexRays};
 use crate::mesh::Mesh;
@@ -38,8 +41,9 @@ pub(crate) const KEPT_VERTEX_RAYS: usize = 1 << 24;
 #[derive(Clone, Debug, Default)]
 pub(crate) struct AmbientCache {
     pub(crate) patches: PatchRays,
-    /// Each room's vertex rays, in the rooms' order (none while the mesh
-    /// is too large to keep them).
+    /// Each kept room's vertex rays, the last image's rooms first, in its
+    /// order, then the other rooms', found again by their vertex lists
+    /// (none while the mesh is too large to keep them).
     pub(crate) rooms: Vec<VertexRays>,
 }
 

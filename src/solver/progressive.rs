@@ -1056,7 +1056,8 @@ impl Solver {
                 .unwrap_or(&self.visibility)
         };
         // The rooms' patches: the whole mesh's, or those of the rooms
-        // asked for (a ray that leaks out of them lands nowhere).
+        // asked for (a ray that leaks out of them reads the unshot light
+        // where it lands, without its further bounces).
         let within = only.is_some().then(|| {
             let mut patches: Vec<u32> = rooms.iter().flat_map(|r| r.patches.clone()).collect();
             patches.sort_unstable();
@@ -1064,9 +1065,7 @@ impl Solver {
         });
         // Where rays land, found only when some are cast.
         let locator = std::cell::OnceCell::new();
-        let locator = || {
-            locator.get_or_init(|| PatchLocator::new(&self.scene, &self.mesh, within.as_deref()))
-        };
+        let locator = || locator.get_or_init(|| PatchLocator::new(&self.scene, &self.mesh));
         let uncast = match &within {
             Some(listed) => cache.patches.uncast(&self.mesh, listed),
             None => {
@@ -1816,7 +1815,7 @@ mod tests {
     fn one_rooms_term_keeps_the_other_rooms_rays() {
         let mut settings = Settings::default();
         settings.mesh.max_edge = crate::Length::Absolute(0.5);
-        let mut solver = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
+        let mut solver = Solver::new(two_closed_rooms(), settings.clone()).expect("a valid scene");
         solver.step();
         solver.step();
         let zones = solver.zones.as_ref().map(|(z, _)| z.labels().clone());
@@ -1834,11 +1833,18 @@ mod tests {
         assert!(all == all_again && one == one_again);
         for (v, g) in one.iter().enumerate() {
             if zone_of(v) == room {
-                assert!((*g - all[v]).abs().max_element() <= 1e-9 * all[v].max_element());
+                assert!((*g - all[v]).abs().max_element() <= 1e-6 * all[v].max_element());
             } else {
                 assert_eq!(*g, Rgb::ZERO);
             }
         }
+        // The whole term is the one a solver that never drew one room
+        // makes, streamed or kept: the rays do not depend on the order.
+        let mut fresh = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
+        fresh.step();
+        fresh.step();
+        assert!(all == fresh.ambient_irradiance_keeping(false, None, &silent));
+        assert!(all == fresh.ambient_irradiance_keeping(true, None, &silent));
     }
 
     /// An adaptive mesh's rooms keep the rays of the rooms whose vertices

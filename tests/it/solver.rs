@@ -1236,9 +1236,10 @@ fn a_room_far_from_the_rest_gathers_at_its_boundaries_as_alone() {
 }
 
 /// A view from inside one of two closed rooms needs the ambient term of
-/// that room alone: its vertices get the light the whole term gives them,
-/// the other room's keep the light shot so far, and its image is the
-/// whole solution's. A camera in neither room gets the whole term.
+/// that room alone: its vertices get the light the whole term gives them
+/// (to the term's iteration's tolerance, a millionth), the other room's
+/// keep the light shot so far, and its image is the whole solution's. A
+/// camera in neither room gets the whole term.
 #[test]
 fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
     let mut b = SceneBuilder::default();
@@ -1271,7 +1272,7 @@ fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
         if vertex.position.x < 5.0 {
             let scale = expected.max_element().max(1e-12);
             assert!(
-                (value - expected).abs().max_element() <= 1e-9 * scale,
+                (value - expected).abs().max_element() <= 1e-6 * scale,
                 "vertex {v} in the room seen: {value:?}, the whole term {expected:?}"
             );
             gained += usize::from(value.element_sum() > 1.001 * shot.radiosity[v].element_sum());
