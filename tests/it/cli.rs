@@ -565,3 +565,64 @@ fn render_writes_false_colour_views_of_luminance_and_illuminance() {
     assert!(!out.status.success());
     assert!(stderr(&out).contains("--falsecolor false.jpg: the picture is written as .png"));
 }
+
+/// Two closed rooms side by side, each lit by a lamp under its ceiling,
+/// as an OBJ with its MTL, and a scene file whose camera stands in the
+/// first: the image's ambient term is that room's alone, and an export,
+/// which makes the whole term, leaves the image as it was.
+#[test]
+fn a_view_inside_a_room_renders_the_same_with_or_without_an_export() {
+    use glam::DVec3;
+    let dir = tempfile::tempdir().unwrap();
+    let mut obj = String::from("mtllib rooms.mtl\n");
+    let mut count = 0;
+    let mut face = |obj: &mut String, material: &str, quad: &[DVec3]| {
+        obj.push_str(&format!("usemtl {material}\n"));
+        for p in quad {
+            obj.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
+        }
+        let ids: Vec<String> = (1..=quad.len()).map(|k| (count + k).to_string()).collect();
+        obj.push_str(&format!("f {}\n", ids.join(" ")));
+        count += quad.len();
+    };
+    for x in [0.0, 10.0] {
+        let offset = DVec3::new(x, 0.0, 0.0);
+        for quad in crate::support::box_faces(DVec3::new(4.0, 3.0, 4.0)) {
+            let quad: Vec<DVec3> = quad.into_iter().map(|p| p + offset).collect();
+            face(&mut obj, "wall", &quad);
+        }
+        // Counter-clockwise seen from below: the lamp faces down.
+        let lamp = [(1.7, 1.7), (2.3, 1.7), (2.3, 2.3), (1.7, 2.3)]
+            .map(|(px, pz)| offset + DVec3::new(px, 2.99, pz));
+        face(&mut obj, "lamp", &lamp);
+    }
+    std::fs::write(dir.path().join("rooms.obj"), obj).unwrap();
+    let mtl = "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n";
+    std::fs::write(dir.path().join("rooms.mtl"), mtl).unwrap();
+    let camera = "[camera]\nposition = [0.5, 2.0, 0.5]\nlook_at = [2.0, 0.5, 2.0]\n";
+    let scene = format!("obj = \"rooms.obj\"\n{camera}up = [0.0, 1.0, 0.0]\nvfov_deg = 60.0\n");
+    std::fs::write(dir.path().join("rooms.toml"), scene).unwrap();
+    let render = |name: &str, export: &[&str]| {
+        let exr = format!("{name}.exr");
+        let png = format!("{name}.png");
+        let mut args = vec!["render", "rooms.toml", "-o", &exr, "--png", &png, "-q"];
+        args.extend(["--width", "40", "--height", "30", "--max-edge", "0.5"]);
+        args.extend(export);
+        let out = isorad(dir.path(), &args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        isorad::render::read_exr(&dir.path().join(&exr)).unwrap()
+    };
+    let view = render("view", &[]);
+    let exported = render("exported", &["--export", "rooms.glb"]);
+    assert!(dir.path().join("rooms.glb").exists());
+    let lit = view.pixels().iter().filter(|p| p[1] > 0.0).count();
+    assert!(lit > view.pixels().len() / 2, "{lit} pixels lit");
+    for (a, b) in view.pixels().iter().zip(exported.pixels()) {
+        for c in 0..3 {
+            assert!(
+                (a[c] - b[c]).abs() <= 1e-5 * b[c].max(1e-6),
+                "{a:?} against {b:?}"
+            );
+        }
+    }
+}
