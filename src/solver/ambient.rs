@@ -236,14 +236,18 @@ pub(crate) struct AmbientEstimate {
 }
 
 impl PatchRays {
-    /// Those of `patches` whose rays are not cast yet (all of them when
-    /// `mesh`'s patches are not those the rays were cast for).
-    pub(crate) fn uncast(&self, mesh: &Mesh, patches: &[u32]) -> Vec<u32> {
-        if self.slot.len() != mesh.patches.len() {
-            return patches.to_vec();
+    /// Those of `patches` (all of `mesh`'s, by `None`) whose rays are not
+    /// cast yet: every one when `mesh`'s patches are not those the rays
+    /// were cast for.
+    pub(crate) fn uncast(&self, mesh: &Mesh, patches: Option<&[u32]>) -> Vec<u32> {
+        let fresh = self.slot.len() != mesh.patches.len();
+        let cast = |p: u32| !fresh && self.slot.get(p as usize).is_none_or(|&k| k != NOT_CAST);
+        match patches {
+            Some(patches) => patches.iter().copied().filter(|&p| !cast(p)).collect(),
+            None => (0..mesh.patches.len() as u32)
+                .filter(|&p| !cast(p))
+                .collect(),
         }
-        let cast = |p: u32| self.slot.get(p as usize).is_none_or(|&k| k != NOT_CAST);
-        patches.iter().copied().filter(|&p| !cast(p)).collect()
     }
 
     /// Patch p's rays, if cast.

@@ -1059,20 +1059,17 @@ impl Solver {
         // asked for (a ray that leaks out of them reads the unshot light
         // where it lands, without its further bounces).
         let within = only.is_some().then(|| {
-            let mut patches: Vec<u32> = rooms.iter().flat_map(|r| r.patches.clone()).collect();
+            let mut patches: Vec<u32> = rooms
+                .iter()
+                .flat_map(|r| r.patches.iter().copied())
+                .collect();
             patches.sort_unstable();
             patches
         });
         // Where rays land, found only when some are cast.
         let locator = std::cell::OnceCell::new();
         let locator = || locator.get_or_init(|| PatchLocator::new(&self.scene, &self.mesh));
-        let uncast = match &within {
-            Some(listed) => cache.patches.uncast(&self.mesh, listed),
-            None => {
-                let all: Vec<u32> = (0..self.mesh.patches.len() as u32).collect();
-                cache.patches.uncast(&self.mesh, &all)
-            }
-        };
+        let uncast = cache.patches.uncast(&self.mesh, within.as_deref());
         if !uncast.is_empty() {
             let parts = (&self.scene, &self.mesh);
             cache
