@@ -22,8 +22,8 @@ use crate::error::{Error, Result};
 use crate::fs::{io_error, write_atomically};
 use crate::lighting::luminaires;
 use crate::photometry::LUMENS_PER_WATT;
-use crate::scene::{PlaneFrame, ProbePoint, Rgb, Scene, SurfaceId, polygon_contains};
-use crate::solver::{ProbeMode, Solution};
+use crate::scene::{PlaneFrame, ProbePoint, Rgb, Scene, SurfaceId, Visibility, polygon_contains};
+use crate::solver::{ProbeMode, ReadingPlace, Solution};
 
 /// The most points a grid may have: a million (a metre-wide grid at
 /// one-millimetre spacing), far beyond what a standard asks for.
@@ -270,14 +270,7 @@ impl CalculationGrid {
                 let Some((position, surface)) = *point else {
                     return f64::NAN;
                 };
-                // On the surface itself, the test runs a hair above it: a point
-                // under a cabinet standing there is inside the cabinet.
-                let lift = if self.height > 0.0 {
-                    0.0
-                } else {
-                    10.0 * solution.visibility.surface_offset()
-                };
-                if inside_an_object(solution, position + normal * lift, &self.frame) {
+                if self.is_inside_an_object(position, (solution.scene, solution.visibility)) {
                     return f64::NAN;
                 }
                 let irradiance = if self.height > 0.0 {
@@ -437,6 +430,42 @@ impl CalculationGrid {
         }
     }
 
+    /// Where the grid's points read the solution, for
+    /// [`crate::Solver::solution_with_ambient_for`]: on the surface (height
+    /// 0), the front of the surface under each point; above it, each point
+    /// in space. Points inside an object, which read nothing
+    /// ([`CalculationGrid::illuminance`]), are left out.
+    #[must_use]
+    pub fn reading_places(&self, scene: &Scene, visibility: &Visibility) -> Vec<ReadingPlace> {
+        self.points
+            .par_iter()
+            .filter_map(|point| {
+                let (position, surface) = (*point)?;
+                if self.is_inside_an_object(position, (scene, visibility)) {
+                    return None;
+                }
+                Some(if self.height > 0.0 {
+                    ReadingPlace::InSpace(position)
+                } else {
+                    ReadingPlace::OnSurface(surface)
+                })
+            })
+            .collect()
+    }
+
+    /// Whether grid point `position` lies inside an object
+    /// ([`inside_an_object`]); on the surface itself (height 0), the test
+    /// runs a hair above it: a point under a cabinet standing there is
+    /// inside the cabinet.
+    fn is_inside_an_object(&self, position: DVec3, parts: (&Scene, &Visibility)) -> bool {
+        let lift = if self.height > 0.0 {
+            0.0
+        } else {
+            10.0 * parts.1.surface_offset()
+        };
+        inside_an_object(parts, position + self.frame.normal * lift, &self.frame)
+    }
+
     /// Plane coordinates of point `index` (row-major).
     #[must_use]
     pub fn plane_point(&self, index: usize) -> DVec2 {
@@ -454,8 +483,12 @@ impl CalculationGrid {
 /// surface, where the two tie. A point under a table top sees the top's
 /// back above it but the room's walls sideways, so it is not inside; a
 /// point in open air whose rays escape is not either.
-fn inside_an_object(solution: &Solution<'_>, x: DVec3, frame: &PlaneFrame) -> bool {
-    let reach = 2.0 * solution.scene.diagonal();
+fn inside_an_object(
+    (scene, visibility): (&Scene, &Visibility),
+    x: DVec3,
+    frame: &PlaneFrame,
+) -> bool {
+    let reach = 2.0 * scene.diagonal();
     let (n, u, v) = (frame.normal, frame.u, frame.v);
     // Each ray leans a little off its axis, so that a grid point over a
     // quad's diagonal (where a symmetric grid often falls) does not send it
@@ -470,12 +503,9 @@ fn inside_an_object(solution: &Solution<'_>, x: DVec3, frame: &PlaneFrame) -> bo
     .into_iter()
     .map(DVec3::normalize)
     .all(|direction| {
-        solution
-            .visibility
+        visibility
             .closest_hit(x, direction, reach, SurfaceId::NONE)
-            .is_some_and(|(surface, _)| {
-                solution.scene.surface(surface).normal().dot(direction) > 0.0
-            })
+            .is_some_and(|(surface, _)| scene.surface(surface).normal().dot(direction) > 0.0)
     })
 }
 

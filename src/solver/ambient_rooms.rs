@@ -25,9 +25,14 @@
 //! ([`crate::Solver::solution_with_ambient_seen_from`]), its unshot
 //! radiosity alone.
 
+use glam::DVec3;
+use rayon::prelude::*;
+
 use super::ambient::{PatchRays, VERTEX_RAYS, VertexRays};
+use super::solution::locate_probe;
+use super::zones::ZoneLabels;
 use crate::mesh::Mesh;
-use crate::scene::SurfaceId;
+use crate::scene::{ProbePoint, Scene, SurfaceId, Visibility};
 
 /// The most vertex rays kept from one image to the next: 2²⁴, about
 /// 175,000 vertices' (96 MiB). A larger mesh's rooms cast theirs for each
@@ -65,25 +70,35 @@ pub(crate) struct Room {
 }
 
 impl Room {
-    /// The mesh's rooms, by `room_of(surface)` (below `count`): each
-    /// room's members, in the order of the rooms' indices; rooms without
-    /// a vertex are left out.
+    /// The mesh's rooms, by `room_of(surface)` (below `count`; `None`: in
+    /// no room listed): each room's members, in the order of the rooms'
+    /// indices; rooms without a vertex are left out. What lies in no room
+    /// listed is not copied, so one room of a building costs a pass over
+    /// the mesh and its own members.
     #[must_use]
     pub(crate) fn all(
         mesh: &Mesh,
         count: usize,
-        room_of: &dyn Fn(SurfaceId) -> usize,
+        room_of: &dyn Fn(SurfaceId) -> Option<usize>,
     ) -> Vec<Room> {
         let mut rooms = vec![Room::default(); count.max(1)];
-        for (v, vertex) in mesh.vertices.iter().enumerate() {
-            rooms[room_of(vertex.surface)].vertices.push(v as u32);
-        }
-        for (e, element) in mesh.elements.iter().enumerate() {
-            rooms[room_of(element.surface)].elements.push(e as u32);
-        }
-        for (p, patch) in mesh.patches.iter().enumerate() {
-            rooms[room_of(patch.surface)].patches.push(p as u32);
-        }
+        let mut list = |surfaces: &mut dyn Iterator<Item = SurfaceId>,
+                        members: fn(&mut Room) -> &mut Vec<u32>| {
+            for (k, surface) in surfaces.enumerate() {
+                if let Some(room) = room_of(surface).and_then(|r| rooms.get_mut(r)) {
+                    members(room).push(k as u32);
+                }
+            }
+        };
+        list(&mut mesh.vertices.iter().map(|v| v.surface), |r| {
+            &mut r.vertices
+        });
+        list(&mut mesh.elements.iter().map(|e| e.surface), |r| {
+            &mut r.elements
+        });
+        list(&mut mesh.patches.iter().map(|p| p.surface), |r| {
+            &mut r.patches
+        });
         rooms.retain(|room| !room.vertices.is_empty());
         rooms
     }
@@ -91,25 +106,58 @@ impl Room {
     /// The whole mesh as one room.
     #[must_use]
     pub(crate) fn whole(mesh: &Mesh) -> Room {
-        Room::picked(mesh, &|_| true)
+        Room::all(mesh, 1, &|_| Some(0)).pop().unwrap_or_default()
     }
+}
 
-    /// The room of the surfaces `in_room` picks, without listing any other.
+/// Where a reading of a solution is taken, for choosing the rooms whose
+/// ambient term it needs ([`crate::Solver::solution_with_ambient_for`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ReadingPlace {
+    /// A point on the front of a surface (a probe, a calculation grid's
+    /// point on a floor): it sees what that front sees, which in a closed
+    /// zone is the zone's own surfaces.
+    OnSurface(SurfaceId),
+    /// A point in space (a camera, a work plane's point): it sees the
+    /// closed zone that encloses it, the one on whose surfaces' fronts 64
+    /// rays from it, spread over the sphere, all land.
+    InSpace(DVec3),
+}
+
+impl ReadingPlace {
+    /// The place a probe reads: the front of the surface `point` lies on
+    /// (as [`crate::Solution::probe`] finds it), or `None` on no surface.
     #[must_use]
-    pub(crate) fn picked(mesh: &Mesh, in_room: &dyn Fn(SurfaceId) -> bool) -> Room {
-        let members = |surfaces: &mut dyn Iterator<Item = SurfaceId>| -> Vec<u32> {
-            surfaces
-                .enumerate()
-                .filter(|&(_, s)| in_room(s))
-                .map(|(k, _)| k as u32)
-                .collect()
-        };
-        Room {
-            vertices: members(&mut mesh.vertices.iter().map(|v| v.surface)),
-            elements: members(&mut mesh.elements.iter().map(|e| e.surface)),
-            patches: members(&mut mesh.patches.iter().map(|p| p.surface)),
-        }
+    pub fn of_probe(scene: &Scene, point: &ProbePoint) -> Option<ReadingPlace> {
+        locate_probe(scene, point).map(ReadingPlace::OnSurface)
     }
+}
+
+/// The closed zones that readings at `places` see, ascending: each
+/// surface's zone, and the zone enclosing each point in space. `None`
+/// (they need the whole solution) when a place lies in no closed zone: on
+/// a surface of the open zone, or at a point from which some ray leaves
+/// the scene, lands on a back or in another zone
+/// ([`ZoneLabels::enclosing`], 64 rays a point, the points in parallel).
+#[must_use]
+pub(crate) fn zones_read(
+    labels: &ZoneLabels,
+    (scene, visibility): (&Scene, &Visibility),
+    places: &[ReadingPlace],
+) -> Option<Vec<usize>> {
+    let mut zones: Vec<usize> = places
+        .par_iter()
+        .map(|place| match *place {
+            ReadingPlace::OnSurface(surface) => {
+                let zone = labels.of(surface);
+                labels.is_lossless(zone).then_some(zone)
+            }
+            ReadingPlace::InSpace(point) => labels.enclosing(scene, visibility, point),
+        })
+        .collect::<Option<_>>()?;
+    zones.sort_unstable();
+    zones.dedup();
+    Some(zones)
 }
 
 /// Each vertex's, element's and patch's index in the room being worked on
@@ -183,7 +231,6 @@ impl LocalIndex {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::DVec3;
 
     /// Two unit quads on surfaces 0 and 1, one patch each.
     fn two_quads() -> Mesh {
@@ -211,7 +258,7 @@ mod tests {
     #[test]
     fn rooms_list_their_members_and_the_index_forgets_them() {
         let mesh = two_quads();
-        let rooms = Room::all(&mesh, 3, &|s| 2 * s.index());
+        let rooms = Room::all(&mesh, 3, &|s| Some(2 * s.index()));
         // Room 1 holds nothing and is left out.
         assert_eq!(rooms.len(), 2);
         assert_eq!(rooms[1].vertices, vec![4, 5, 6, 7]);
@@ -232,7 +279,8 @@ mod tests {
             (None, None, None)
         );
         assert_eq!(Room::whole(&mesh).vertices.len(), 8);
-        let picked = Room::picked(&mesh, &|s| s.index() == 1);
-        assert_eq!(picked, rooms[1]);
+        // A room listed alone: the other surfaces' members are in none.
+        let picked = Room::all(&mesh, 1, &|s| (s.index() == 1).then_some(0));
+        assert_eq!(picked, vec![rooms[1].clone()]);
     }
 }

@@ -221,7 +221,7 @@ mod tests {
             let corners: Vec<u32> = element.corners().iter().map(|&v| v + offset).collect();
             mesh.add_element(&corners, patch);
         }
-        let rooms = Room::all(&mesh, 2, &|s| s.index());
+        let rooms = Room::all(&mesh, 2, &|s| Some(s.index()));
         let mut local = LocalIndex::new(&mesh);
         local.enter(&rooms[1]);
         let around = Neighbourhood::new(&mesh, &rooms[1], &local);

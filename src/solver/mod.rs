@@ -28,6 +28,7 @@ mod unshot_by_zone;
 mod visibility_memory;
 mod zones;
 
+pub use ambient_rooms::ReadingPlace;
 pub use energy_balance::EnergyBalance;
 pub use mesh_settings::{Length, MeshKind, MeshSettings};
 pub use progressive::Solver;

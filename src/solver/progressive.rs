@@ -6,7 +6,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::ambient::{AmbientEstimate, LandingElement, PatchLocator, PatchRays, VertexRays};
-use super::ambient_rooms::{AmbientCache, LocalIndex, Room};
+use super::ambient_rooms::{AmbientCache, LocalIndex, ReadingPlace, Room, zones_read};
 use super::ambient_smoothing;
 use super::ambient_sweeps::{self, UnshotLight};
 use super::element_power;
@@ -1020,7 +1020,7 @@ impl Solver {
     /// `solver/ambient.rs`), room by room (`solver/ambient_rooms.rs`),
     /// reporting its progress to `report`; only in zone `only`'s
     /// vertices where given (0 at the others).
-    fn ambient_irradiance(&self, only: Option<usize>, report: PhaseReporter) -> Vec<Rgb> {
+    fn ambient_irradiance(&self, only: Option<&[usize]>, report: PhaseReporter) -> Vec<Rgb> {
         let keep = AmbientCache::keeps(self.mesh.vertices.len());
         self.ambient_irradiance_keeping(keep, only, report)
     }
@@ -1030,7 +1030,7 @@ impl Solver {
     fn ambient_irradiance_keeping(
         &self,
         keep: bool,
-        only: Option<usize>,
+        only: Option<&[usize]>,
         report: PhaseReporter,
     ) -> Vec<Rgb> {
         let zones = self.zones.as_ref().map(|(zones, _)| zones);
@@ -1134,29 +1134,40 @@ impl Solver {
     }
 
     /// The rooms whose ambient term is made (the mesh's closed zones and
-    /// the rest, see [`Room::all`]; only zone `only`'s where given), and,
-    /// if `listing_others`, the others.
-    fn ambient_rooms(&self, only: Option<usize>, listing_others: bool) -> (Vec<Room>, Vec<Room>) {
+    /// the rest, see [`Room::all`]; only the zones `only` lists where
+    /// given), and, if `listing_others`, the others.
+    fn ambient_rooms(
+        &self,
+        only: Option<&[usize]>,
+        listing_others: bool,
+    ) -> (Vec<Room>, Vec<Room>) {
         let Some((zones, _)) = &self.zones else {
             return (vec![Room::whole(&self.mesh)], Vec::new());
         };
-        if let Some(zone) = only.filter(|_| !listing_others) {
-            let room = Room::picked(&self.mesh, &|s| zones.of(s) == zone);
-            let rooms = (!room.vertices.is_empty()).then_some(room);
-            return (rooms.into_iter().collect(), Vec::new());
-        }
-        let rooms = Room::all(&self.mesh, zones.count(), &|s| zones.of(s));
-        let Some(zone) = only else {
-            return (rooms, Vec::new());
+        let count = zones.count();
+        let every = |s: SurfaceId| Some(zones.of(s));
+        let Some(only) = only else {
+            return (Room::all(&self.mesh, count, &every), Vec::new());
         };
+        let mut wanted = vec![false; count];
+        for &zone in only {
+            if let Some(w) = wanted.get_mut(zone) {
+                *w = true;
+            }
+        }
+        let is_wanted = |zone: usize| wanted.get(zone).copied().unwrap_or(false);
+        if !listing_others {
+            let picked = |s: SurfaceId| Some(zones.of(s)).filter(|&z| is_wanted(z));
+            return (Room::all(&self.mesh, count, &picked), Vec::new());
+        }
         let zone_of = |room: &Room| {
             let v = room.vertices.first().map(|&v| v as usize);
             v.and_then(|v| self.mesh.vertices.get(v))
                 .map(|vertex| zones.of(vertex.surface))
         };
-        rooms
+        Room::all(&self.mesh, count, &every)
             .into_iter()
-            .partition(|room| zone_of(room) == Some(zone))
+            .partition(|room| zone_of(room).is_some_and(is_wanted))
     }
 
     /// Each patch's residual A_h, the unshot light's further bounces at
@@ -1302,26 +1313,49 @@ impl Solver {
     /// light shot so far; elsewhere it is
     /// [`Solver::solution_with_ambient_progress`]. A view from one office
     /// of a building then costs that office's term (a second, where the
-    /// building's is minutes); probes, calculation grids, exports and
-    /// views from other rooms take the whole solution.
+    /// building's is minutes). It is
+    /// [`Solver::solution_with_ambient_for`] the camera's position.
     #[must_use]
     pub fn solution_with_ambient_seen_from(
         &self,
         camera: &Camera,
         report: PhaseReporter,
     ) -> Solution<'_> {
-        let room = self.zones.as_ref().and_then(|(zones, _)| {
-            let labels = zones.labels();
-            (labels.count() > 1)
-                .then(|| labels.enclosing(&self.scene, &self.visibility, camera.position))
-                .flatten()
-        });
-        self.solution_with_ambient_in(room, report)
+        self.solution_with_ambient_for(&[ReadingPlace::InSpace(camera.position)], report)
     }
 
-    /// The solution with the ambient term made in zone `only`'s vertices,
-    /// or in all by `None`.
-    fn solution_with_ambient_in(&self, only: Option<usize>, report: PhaseReporter) -> Solution<'_> {
+    /// The solution that readings at `places` need (probes on surfaces,
+    /// a calculation grid's points, a camera): where every place lies in
+    /// a closed room (a zone that keeps its light, so that what is read
+    /// there comes from that room alone), the ambient term is made for
+    /// those rooms' vertices alone, and every other room holds the light
+    /// shot so far. Where any place lies in no closed room, it is the
+    /// whole term ([`Solver::solution_with_ambient_progress`]). A
+    /// calculation grid on one office's work plane then costs that
+    /// office's term, not the building's. Read the returned solution
+    /// only at these places: elsewhere it lacks the light not yet shot.
+    #[must_use]
+    pub fn solution_with_ambient_for(
+        &self,
+        places: &[ReadingPlace],
+        report: PhaseReporter,
+    ) -> Solution<'_> {
+        let rooms = self.zones.as_ref().and_then(|(zones, _)| {
+            let labels = zones.labels();
+            (labels.count() > 1)
+                .then(|| zones_read(labels, (&self.scene, &self.visibility), places))
+                .flatten()
+        });
+        self.solution_with_ambient_in(rooms.as_deref(), report)
+    }
+
+    /// The solution with the ambient term made in the vertices of the
+    /// zones `only` lists, or in all by `None`.
+    fn solution_with_ambient_in(
+        &self,
+        only: Option<&[usize]>,
+        report: PhaseReporter,
+    ) -> Solution<'_> {
         if self.unshot.iter().all(|b| *b == Rgb::ZERO) {
             return self.solution();
         }
@@ -1679,7 +1713,8 @@ fn indices_in_shadow_cache_runs<R: Send + Default>(
 mod tests {
     use super::*;
     use crate::scene::surface::newell_normal;
-    use crate::scene::{Material, Surface};
+    use crate::scene::{Material, ProbePoint, Surface};
+    use crate::solver::ProbeMode;
 
     /// Two closed 4 × 3 × 4 m rooms 5 m apart, each with a lamp under its
     /// ceiling and a block on its floor, every face towards the room; the
@@ -1776,6 +1811,43 @@ mod tests {
         assert_eq!((solver.shots(), held(&solver)), (3, 0));
     }
 
+    /// A gather inside a closed room, on its floor or in its air, tries
+    /// that room's elements alone, and reads what a gather over every
+    /// element of the building reads: the other room's are all hidden.
+    #[test]
+    fn a_gather_in_a_closed_room_reads_what_one_over_every_element_reads() {
+        let mut settings = Settings::default();
+        settings.mesh.max_edge = crate::Length::Absolute(0.5);
+        let mut solver = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
+        solver.run();
+        let zoned = solver.solution_with_ambient();
+        assert!(zoned.zones.is_some());
+        let mut everywhere =
+            solver.solution_from(zoned.radiosity.clone(), zoned.irradiance.clone());
+        everywhere.zones = None;
+        for x in [0.0, 5.0] {
+            let floor = ProbePoint {
+                position: DVec3::new(x + 3.1, 0.0, 0.6),
+                normal: Some(DVec3::Y),
+                line: 1,
+            };
+            let [a, b] = [&zoned, &everywhere].map(|solution| {
+                let probe = solution.probe(&floor, ProbeMode::Gather);
+                probe.expect("a point on the floor").irradiance
+            });
+            assert!(
+                a.g > 0.0 && (a.g - b.g).abs() <= 1e-9 * b.g,
+                "{a:?} against {b:?}"
+            );
+            let air = DVec3::new(x + 0.6, 1.5, 3.2);
+            let [a, b] = [&zoned, &everywhere].map(|s| s.irradiance_in_space(air, DVec3::X).0);
+            assert!(
+                a.g > 0.0 && (a.g - b.g).abs() <= 1e-9 * b.g,
+                "{a:?} against {b:?}"
+            );
+        }
+    }
+
     #[test]
     fn rooms_kept_or_cast_again_give_the_same_ambient_term() {
         let mut settings = Settings::default();
@@ -1819,12 +1891,12 @@ mod tests {
         let zones = zones.expect("closed zones");
         let zone_of = |v: usize| zones.of(solver.mesh.vertices[v].surface);
         let room = zone_of(0);
-        let one = solver.ambient_irradiance_keeping(true, Some(room), &silent);
+        let one = solver.ambient_irradiance_keeping(true, Some(&[room]), &silent);
         let rays = |s: &Solver| s.ambient_rays.lock().map(|c| c.rooms.len()).unwrap_or(0);
         assert_eq!(rays(&solver), 1, "one room's rays cast");
         let all = solver.ambient_irradiance_keeping(true, None, &silent);
         let kept = rays(&solver);
-        let one_again = solver.ambient_irradiance_keeping(true, Some(room), &silent);
+        let one_again = solver.ambient_irradiance_keeping(true, Some(&[room]), &silent);
         assert_eq!(rays(&solver), kept, "the other rooms' rays dropped");
         let all_again = solver.ambient_irradiance_keeping(true, None, &silent);
         assert!(all == all_again && one == one_again);

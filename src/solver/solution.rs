@@ -232,26 +232,9 @@ impl Solution<'_> {
         })
     }
 
-    /// The surface a point lies on: within 10⁻⁴ of the scene's diagonal of
-    /// its plane and inside (or on the edge of) its polygon, facing along
-    /// the point's normal if it has one; the nearest plane wins.
+    /// The surface a point lies on ([`locate_probe`]).
     fn locate(&self, point: &ProbePoint) -> Option<SurfaceId> {
-        let tolerance = 1e-4 * self.scene.diagonal();
-        let mut best: Option<(SurfaceId, f64)> = None;
-        for (id, surface) in self.scene.surfaces_with_ids() {
-            if point.normal.is_some_and(|n| n.dot(surface.normal()) < 0.99) {
-                continue;
-            }
-            let height = surface.frame().height(point.position).abs();
-            if height > tolerance || best.is_some_and(|(_, h)| h <= height) {
-                continue;
-            }
-            let plane_point = surface.frame().to_plane(point.position);
-            if distance_outside_polygon(plane_point, &surface.plane_vertices()) <= tolerance {
-                best = Some((id, height));
-            }
-        }
-        best.map(|(id, _)| id)
+        locate_probe(self.scene, point)
     }
 
     /// The final gather at a point of a surface: every element's mean
@@ -367,10 +350,30 @@ impl Solution<'_> {
         (total, gradient)
     }
 
+    /// The closed zone a gather at `x` on `surface` ([`SurfaceId::NONE`]
+    /// in free space) sees alone, if any: its surface's, or the one that
+    /// encloses the point (`ZoneLabels::enclosing`). A closed zone keeps
+    /// its light, so no other zone's element can send any there, and a
+    /// gather in one office of a building need not try the others'.
+    fn gathered_zone(&self, x: DVec3, surface: SurfaceId) -> Option<usize> {
+        let zones = self.zones?;
+        if surface == SurfaceId::NONE {
+            return zones.enclosing(self.scene, self.visibility, x);
+        }
+        let zone = zones.of(surface);
+        zones.is_lossless(zone).then_some(zone)
+    }
+
     /// The elements a gather at `x` facing `normal` on `surface`
     /// ([`SurfaceId::NONE`] in free space) sees in front of it, each with
-    /// its unoccluded factor and its shadow rays' base strata.
+    /// its unoccluded factor and its shadow rays' base strata; only its
+    /// closed zone's where it lies in one ([`Solution::gathered_zone`]).
     fn gather_sources(&self, x: DVec3, normal: DVec3, surface: SurfaceId) -> Vec<GatherSource<'_>> {
+        let zone = self.gathered_zone(x, surface);
+        let in_zone = |source: SurfaceId| match (zone, self.zones) {
+            (Some(zone), Some(zones)) => zones.of(source) == zone,
+            _ => true,
+        };
         // Jitter keyed by the point: deterministic and independent of the order of probes.
         let key = x.x.to_bits() ^ x.y.to_bits().rotate_left(21) ^ x.z.to_bits().rotate_left(42);
         let mut sources = Vec::new();
@@ -407,7 +410,7 @@ impl Solution<'_> {
             }
         };
         for (index, element) in self.mesh.elements.iter().enumerate() {
-            if element.surface == surface {
+            if element.surface == surface || !in_zone(element.surface) {
                 continue;
             }
             let ids = element.corners();
@@ -612,6 +615,28 @@ fn distance_inside_polygon(p: DVec2, polygon: &[DVec2]) -> f64 {
     } else {
         0.0
     }
+}
+
+/// The surface a probe's point lies on: within 10⁻⁴ of the scene's diagonal of
+/// its plane and inside (or on the edge of) its polygon, facing along
+/// the point's normal if it has one; the nearest plane wins.
+pub(crate) fn locate_probe(scene: &Scene, point: &ProbePoint) -> Option<SurfaceId> {
+    let tolerance = 1e-4 * scene.diagonal();
+    let mut best: Option<(SurfaceId, f64)> = None;
+    for (id, surface) in scene.surfaces_with_ids() {
+        if point.normal.is_some_and(|n| n.dot(surface.normal()) < 0.99) {
+            continue;
+        }
+        let height = surface.frame().height(point.position).abs();
+        if height > tolerance || best.is_some_and(|(_, h)| h <= height) {
+            continue;
+        }
+        let plane_point = surface.frame().to_plane(point.position);
+        if distance_outside_polygon(plane_point, &surface.plane_vertices()) <= tolerance {
+            best = Some((id, height));
+        }
+    }
+    best.map(|(id, _)| id)
 }
 
 #[cfg(test)]

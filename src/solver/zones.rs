@@ -320,28 +320,32 @@ impl ZoneLabels {
     }
 
     /// The closed zone a point of space stands in (a camera, a
-    /// luminaire): the zone that keeps all its light
-    /// ([`ZoneLabels::is_lossless`]) on whose surfaces' fronts every one of
+    /// luminaire, a work plane's point): the zone that keeps all its light
+    /// ([`ZoneLabels::is_lossless`]) on whose surfaces every one of
     /// [`ENCLOSURE_RAYS`] rays from `point`, spread over the sphere,
-    /// lands. None where any ray leaves the scene, lands on a back, or on
-    /// another zone.
+    /// lands, at least one on a front. A ray may land on the back of one
+    /// of the zone's surfaces (a cable tray seen from below, the far side
+    /// of a shelf's board that ends where the ray grazes it): backs are
+    /// black, so no light comes that way, and the point still sees the
+    /// zone alone. None where any ray leaves the scene or lands on another
+    /// zone, or every ray on a back (the point lies inside an object, or
+    /// outside the building).
     #[must_use]
     pub fn enclosing(&self, scene: &Scene, visibility: &Visibility, point: DVec3) -> Option<usize> {
         let reach = 2.0 * visibility.diagonal();
         let mut zone = None;
+        let mut fronts = 0;
         for k in 0..ENCLOSURE_RAYS {
             let direction = sphere_direction(k, ENCLOSURE_RAYS);
             let (surface, _) = visibility.closest_hit(point, direction, reach, SurfaceId::NONE)?;
-            if scene.surface(surface).normal().dot(direction) >= 0.0 {
-                return None;
-            }
             let hit = self.of(surface);
             if !self.is_lossless(hit) || zone.is_some_and(|z| z != hit) {
                 return None;
             }
             zone = Some(hit);
+            fronts += usize::from(scene.surface(surface).normal().dot(direction) < 0.0);
         }
-        zone
+        zone.filter(|_| fronts > 0)
     }
 }
 
@@ -349,11 +353,14 @@ impl ZoneLabels {
 const ENCLOSURE_RAYS: usize = 64;
 
 /// Direction `k` of `count` spread evenly over the unit sphere (a
-/// Fibonacci spiral).
+/// Fibonacci spiral), turned by half a step about its axis so that none
+/// lies in a plane of the axes: a work plane at the height of a desk's
+/// top would otherwise send one ray along the top, through the desk's
+/// near edge and onto the back of its far one.
 fn sphere_direction(k: usize, count: usize) -> DVec3 {
     let z = 1.0 - (2.0 * k as f64 + 1.0) / count as f64;
     let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = k as f64 * std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let phi = (k as f64 + 0.5) * std::f64::consts::PI * (3.0 - 5f64.sqrt());
     DVec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 

@@ -566,18 +566,16 @@ fn render_writes_false_colour_views_of_luminance_and_illuminance() {
     assert!(stderr(&out).contains("--falsecolor false.jpg: the picture is written as .png"));
 }
 
-/// Two closed rooms side by side, each lit by a lamp under its ceiling,
-/// as an OBJ with its MTL, and a scene file whose camera stands in the
-/// first: the image's ambient term is that room's alone, and an export,
-/// which makes the whole term, leaves the image as it was.
-#[test]
-fn a_view_inside_a_room_renders_the_same_with_or_without_an_export() {
+/// Writes two closed rooms side by side (4 × 3 × 4 m, at x = 0 and 10),
+/// each lit by a lamp under its ceiling, as `rooms.obj` with its MTL and a
+/// scene file `rooms.toml` whose camera stands in the first; the floors
+/// are objects `floor_0` and `floor_10`, and elements at most 0.5 m.
+fn write_two_closed_rooms(dir: &Path) {
     use glam::DVec3;
-    let dir = tempfile::tempdir().unwrap();
     let mut obj = String::from("mtllib rooms.mtl\n");
     let mut count = 0;
-    let mut face = |obj: &mut String, material: &str, quad: &[DVec3]| {
-        obj.push_str(&format!("usemtl {material}\n"));
+    let mut face = |obj: &mut String, (name, material): (&str, &str), quad: &[DVec3]| {
+        obj.push_str(&format!("o {name}\nusemtl {material}\n"));
         for p in quad {
             obj.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
         }
@@ -587,26 +585,40 @@ fn a_view_inside_a_room_renders_the_same_with_or_without_an_export() {
     };
     for x in [0.0, 10.0] {
         let offset = DVec3::new(x, 0.0, 0.0);
-        for quad in crate::support::box_faces(DVec3::new(4.0, 3.0, 4.0)) {
+        for (k, quad) in crate::support::box_faces(DVec3::new(4.0, 3.0, 4.0))
+            .into_iter()
+            .enumerate()
+        {
             let quad: Vec<DVec3> = quad.into_iter().map(|p| p + offset).collect();
-            face(&mut obj, "wall", &quad);
+            let name = if k == 2 { "floor" } else { "walls" };
+            face(&mut obj, (&format!("{name}_{x}"), "wall"), &quad);
         }
         // Counter-clockwise seen from below: the lamp faces down.
         let lamp = [(1.7, 1.7), (2.3, 1.7), (2.3, 2.3), (1.7, 2.3)]
             .map(|(px, pz)| offset + DVec3::new(px, 2.99, pz));
-        face(&mut obj, "lamp", &lamp);
+        face(&mut obj, (&format!("lamp_{x}"), "lamp"), &lamp);
     }
-    std::fs::write(dir.path().join("rooms.obj"), obj).unwrap();
+    std::fs::write(dir.join("rooms.obj"), obj).unwrap();
     let mtl = "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n";
-    std::fs::write(dir.path().join("rooms.mtl"), mtl).unwrap();
+    std::fs::write(dir.join("rooms.mtl"), mtl).unwrap();
     let camera = "[camera]\nposition = [0.5, 2.0, 0.5]\nlook_at = [2.0, 0.5, 2.0]\n";
-    let scene = format!("obj = \"rooms.obj\"\n{camera}up = [0.0, 1.0, 0.0]\nvfov_deg = 60.0\n");
-    std::fs::write(dir.path().join("rooms.toml"), scene).unwrap();
+    let camera = format!("{camera}up = [0.0, 1.0, 0.0]\nvfov_deg = 60.0\n");
+    let scene = format!("obj = \"rooms.obj\"\n[mesh]\nmax_edge = 0.5\n{camera}");
+    std::fs::write(dir.join("rooms.toml"), scene).unwrap();
+}
+
+/// Two closed rooms ([`write_two_closed_rooms`]) seen from inside the
+/// first: the image's ambient term is that room's alone, and an export,
+/// which makes the whole term, leaves the image as it was.
+#[test]
+fn a_view_inside_a_room_renders_the_same_with_or_without_an_export() {
+    let dir = tempfile::tempdir().unwrap();
+    write_two_closed_rooms(dir.path());
     let render = |name: &str, export: &[&str]| {
         let exr = format!("{name}.exr");
         let png = format!("{name}.png");
         let mut args = vec!["render", "rooms.toml", "-o", &exr, "--png", &png, "-q"];
-        args.extend(["--width", "40", "--height", "30", "--max-edge", "0.5"]);
+        args.extend(["--width", "40", "--height", "30"]);
         args.extend(export);
         let out = isorad(dir.path(), &args);
         assert!(out.status.success(), "{}", stderr(&out));
@@ -624,5 +636,84 @@ fn a_view_inside_a_room_renders_the_same_with_or_without_an_export() {
                 "{a:?} against {b:?}"
             );
         }
+    }
+}
+
+/// `isorad grid` on the work plane of one of two closed rooms, and
+/// `isorad probe` on its floor, make that room's ambient term alone
+/// ([`write_two_closed_rooms`]), and read what the whole solution, made
+/// by the library, gives them.
+#[test]
+fn a_grid_and_probes_in_one_room_read_what_the_whole_solution_gives() {
+    use isorad::calculation::CalculationGrid;
+    let dir = tempfile::tempdir().unwrap();
+    write_two_closed_rooms(dir.path());
+    let out = isorad(
+        dir.path(),
+        &[
+            "grid",
+            "rooms.toml",
+            "--surface",
+            "floor_0",
+            "--height",
+            "0.8",
+            "--spacing",
+            "0.5",
+            "--csv",
+            "grid.csv",
+            "-q",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    std::fs::write(dir.path().join("points.csv"), "0.7,0,3.1\n3.2,0,0.4\n").unwrap();
+    let out = isorad(
+        dir.path(),
+        &["probe", "rooms.toml", "--points", "points.csv", "-q"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let probed: Vec<f64> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .skip(1)
+        .map(|row| row.split(',').rev().nth(1).unwrap().parse().unwrap())
+        .collect();
+    // The whole solution, by the library, from the same file.
+    let path = dir.path().join("rooms.toml");
+    let loaded = isorad::load_scene(path.to_str().unwrap()).unwrap();
+    let settings = isorad::Settings::from_scene_options(&loaded.options).unwrap();
+    let mut solver = isorad::Solver::new(loaded.scene, settings).unwrap();
+    solver.run();
+    let whole = solver.solution_with_ambient();
+    let shot = solver.solution();
+    let grid = CalculationGrid::on_surface(solver.scene(), "floor_0", 0.8, Some(0.5)).unwrap();
+    let (expected, lacking) = (grid.illuminance(&whole), grid.illuminance(&shot));
+    let csv = std::fs::read_to_string(dir.path().join("grid.csv")).unwrap();
+    let gridded: Vec<f64> = csv
+        .lines()
+        .filter(|row| !row.starts_with('#') && !row.starts_with('x'))
+        .map(|row| row.rsplit(',').next().unwrap().parse().unwrap())
+        .collect();
+    let expected: Vec<(f64, f64)> = expected
+        .into_iter()
+        .zip(lacking)
+        .filter(|(lux, _)| !lux.is_nan())
+        .collect();
+    assert_eq!(gridded.len(), expected.len());
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-5 * b.abs();
+    for (&lux, &(whole, shot)) in gridded.iter().zip(&expected) {
+        assert!(close(lux, whole), "{lux} lx, the whole solution {whole} lx");
+        assert!(
+            whole > 1.01 * shot,
+            "{whole} lx with the term, {shot} lx without"
+        );
+    }
+    let points = isorad::scene::load_probe_points(&dir.path().join("points.csv")).unwrap();
+    assert_eq!(probed.len(), points.len());
+    for (&lux, point) in probed.iter().zip(&points) {
+        let probe = whole.probe(point, isorad::ProbeMode::Gather).unwrap();
+        let expected = isorad::calculation::illuminance_lux(probe.irradiance);
+        assert!(
+            close(lux, expected),
+            "{lux} lx, the whole solution {expected} lx"
+        );
     }
 }

@@ -1304,3 +1304,100 @@ fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
     let seen = solver.solution_with_ambient_seen_from(&outside, &|_| {});
     assert_eq!(seen.radiosity, whole.radiosity);
 }
+
+/// Readings in closed rooms (a probe's surface, a calculation grid's
+/// points on a floor and on the work plane above it) make the ambient
+/// term of those rooms alone: their vertices get the whole term's light,
+/// a room nobody reads keeps the light shot so far, and the probes and
+/// grids read what the whole term gives them. A place in no closed room
+/// asks for the whole term, and no place for none.
+#[test]
+fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
+    use isorad::ReadingPlace;
+    use isorad::calculation::CalculationGrid;
+    let mut b = SceneBuilder::default();
+    let wall = b.material("wall", 0.5, 0.0);
+    let lamp = b.material("lamp", 0.0, 10.0);
+    for room in 0..3 {
+        let offset = DVec3::new(10.0 * f64::from(room), 0.0, 0.0);
+        room_with_block(&mut b, wall, &format!("{room}"), offset);
+        ceiling_lamp(&mut b, lamp, offset);
+    }
+    let mut settings = isorad::Settings::default();
+    settings.mesh.max_edge = isorad::Length::Absolute(0.5);
+    settings.mesh.patch_max_edge = isorad::Length::Absolute(1.0);
+    let mut solver = isorad::Solver::new(b.scene, settings).unwrap();
+    solver.run();
+    let scene = solver.scene();
+    let floor_0 = scene
+        .surfaces_with_ids()
+        .find(|(_, s)| s.name == "floor_0")
+        .map(|(id, _)| id)
+        .unwrap();
+    let whole = solver.solution_with_ambient();
+    let shot = solver.solution();
+    // A probe on room 0's floor, a point in the air of room 2.
+    let places = [
+        ReadingPlace::OnSurface(floor_0),
+        ReadingPlace::InSpace(DVec3::new(20.5, 1.0, 0.5)),
+    ];
+    let read = solver.solution_with_ambient_for(&places, &|_| {});
+    for (v, vertex) in solver.mesh().vertices.iter().enumerate() {
+        let (value, expected) = (read.radiosity[v], whole.radiosity[v]);
+        if (5.0..15.0).contains(&vertex.position.x) {
+            assert_eq!(value, shot.radiosity[v], "vertex {v} in the room not read");
+        } else {
+            let scale = expected.max_element().max(1e-12);
+            assert!(
+                (value - expected).abs().max_element() <= 1e-6 * scale,
+                "vertex {v} in a room read: {value:?}, the whole term {expected:?}"
+            );
+        }
+    }
+    // Readings sum many vertices' values, each within a millionth.
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-5 * b.abs().max(1e-9);
+    let probe = isorad::scene::ProbePoint {
+        position: DVec3::new(0.7, 0.0, 3.1),
+        normal: None,
+        line: 1,
+    };
+    assert_eq!(
+        ReadingPlace::of_probe(scene, &probe),
+        Some(ReadingPlace::OnSurface(floor_0))
+    );
+    let (value, expected) = (
+        read.probe(&probe, isorad::ProbeMode::Gather).unwrap(),
+        whole.probe(&probe, isorad::ProbeMode::Gather).unwrap(),
+    );
+    let lacking = shot.probe(&probe, isorad::ProbeMode::Gather).unwrap();
+    assert!(close(value.irradiance.g, expected.irradiance.g));
+    assert!(expected.irradiance.g > 1.01 * lacking.irradiance.g);
+    // Grids on room 0's floor and work plane read only room 0.
+    for height in [0.0, 0.8] {
+        let grid = CalculationGrid::on_surface(scene, "floor_0", height, Some(0.5)).unwrap();
+        let places = grid.reading_places(scene, solver.visibility());
+        let inside = grid.points.iter().flatten().count();
+        assert!(
+            (inside / 2..=inside).contains(&places.len()),
+            "{} of {inside} places",
+            places.len()
+        );
+        let read = solver.solution_with_ambient_for(&places, &|_| {});
+        let (lux, expected) = (grid.illuminance(&read), grid.illuminance(&whole));
+        for (a, b) in lux.iter().zip(&expected) {
+            assert!(
+                a.is_nan() == b.is_nan() && (a.is_nan() || close(*a, *b)),
+                "{a} lx, whole {b} lx"
+            );
+        }
+        let not_read = |v: &isorad::mesh::MeshVertex| (5.0..15.0).contains(&v.position.x);
+        let room_1 = solver.mesh().vertices.iter().position(not_read).unwrap();
+        assert_eq!(read.radiosity[room_1], shot.radiosity[room_1]);
+    }
+    // A place outside every room asks for the whole term; no place, none.
+    let outside = [places[0], ReadingPlace::InSpace(DVec3::new(5.0, 1.5, -3.0))];
+    let read = solver.solution_with_ambient_for(&outside, &|_| {});
+    assert_eq!(read.radiosity, whole.radiosity);
+    let read = solver.solution_with_ambient_for(&[], &|_| {});
+    assert_eq!(read.radiosity, shot.radiosity);
+}

@@ -60,7 +60,9 @@ pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
                 other => other.into(),
             })?;
     solve_to_tolerance(&mut solver, args.solve.quiet)?;
-    let solution = phases.solution_with_ambient(&solver);
+    // The ambient term of the closed rooms the grid lies in alone.
+    let places = grid.reading_places(solver.scene(), solver.visibility());
+    let solution = phases.solution_for(&solver, &places);
     let lux = grid.illuminance(&solution);
     grid.write_csv(&args.csv, &lux)?;
     for line in grid.header_lines(&lux) {

@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use isorad::{
-    Rgb, calculation::illuminance_lux, photometry::LUMENS_PER_WATT, scene::load_probe_points,
+    ReadingPlace, Rgb, calculation::illuminance_lux, photometry::LUMENS_PER_WATT,
+    scene::load_probe_points,
 };
 use rayon::prelude::*;
 
@@ -34,7 +35,13 @@ pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
         mut solver, phases, ..
     } = prepare(&args.solve)?;
     solve_to_tolerance(&mut solver, args.solve.quiet)?;
-    let solution = phases.solution_with_ambient(&solver);
+    // The ambient term of the closed rooms the probes lie in alone (a
+    // point on no surface fails below, whatever the term).
+    let places: Vec<ReadingPlace> = points
+        .par_iter()
+        .filter_map(|point| ReadingPlace::of_probe(solver.scene(), point))
+        .collect();
+    let solution = phases.solution_for(&solver, &places);
     let mode = args.mode.into();
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     let mut header = String::from(

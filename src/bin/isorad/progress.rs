@@ -6,7 +6,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
-use isorad::{Camera, Phase, PhaseProgress, Progress, Solution, Solver, StopReason, Until};
+use isorad::{Phase, PhaseProgress, Progress, ReadingPlace, Solution, Solver, StopReason, Until};
 
 /// Set by Ctrl-C: the solve stops between two shots and the solution so far
 /// is written.
@@ -183,11 +183,12 @@ impl PhaseBars {
         solution
     }
 
-    /// The solution that images from `camera` need, behind a bar: the
-    /// ambient term of the closed room it stands in alone
-    /// ([`Solver::solution_with_ambient_seen_from`]).
-    pub fn solution_seen_from<'a>(&self, solver: &'a Solver, camera: &Camera) -> Solution<'a> {
-        let solution = solver.solution_with_ambient_seen_from(camera, &|p| self.report(p));
+    /// The solution that readings at `places` need, behind a bar: the
+    /// ambient term of the closed rooms they lie in alone
+    /// ([`Solver::solution_with_ambient_for`]; a camera's position for
+    /// its images).
+    pub fn solution_for<'a>(&self, solver: &'a Solver, places: &[ReadingPlace]) -> Solution<'a> {
+        let solution = solver.solution_with_ambient_for(places, &|p| self.report(p));
         self.finish();
         solution
     }

@@ -8,7 +8,7 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use isorad::{
-    Camera, RenderSettings, Rgb, Scene, Solution, Solver, StopReason, ToneMap, Until,
+    Camera, ReadingPlace, RenderSettings, Rgb, Scene, Solution, Solver, StopReason, ToneMap, Until,
     calculation::{FalseColorScale, write_falsecolor_image},
     export::ExportFormat,
     export_solution,
@@ -109,19 +109,21 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         write_png(&image, &ToneMap { exposure }, &args.png)?;
         Ok(exposure)
     };
+    // The camera reads the solution where it stands.
+    let seen_from = [ReadingPlace::InSpace(camera.position)];
     let until = Until::default().cancelled_by(&INTERRUPTED);
     let (stop, solve_seconds) = solve_with_progress(
         &mut solver,
         &until,
         args.solve.quiet,
         args.preview_every,
-        |solver| write_images(&phases.solution_seen_from(solver, &camera)).map(|_| ()),
+        |solver| write_images(&phases.solution_for(solver, &seen_from)).map(|_| ()),
     )?;
     // The images, exports and false colour read one solution: the ambient
     // term is gathered once, in the room the camera stands in unless the
     // whole mesh is exported.
     let solution = if args.export.is_empty() {
-        phases.solution_seen_from(&solver, &camera)
+        phases.solution_for(&solver, &seen_from)
     } else {
         phases.solution_with_ambient(&solver)
     };
