@@ -75,7 +75,10 @@
 //!    with the ambient term for the light not yet shot) gives a [`Solution`]: values at any point of a
 //!    surface ([`Solution::probe`], by final gather or mesh interpolation),
 //!    per-surface totals ([`Solution::surface_totals`]), and the shaded
-//!    triangles for a viewer of your own ([`Solution::triangles`]).
+//!    triangles for a viewer of your own ([`Solution::triangles`]). In a
+//!    building, [`Solver::solution_with_ambient_for`] makes the ambient
+//!    term only in the closed rooms of the [`ReadingPlace`]s you will
+//!    read (probes' surfaces, a calculation grid's points).
 //! 5. **Look.** [`Solution::render`] rasterizes into an [`Image`] of linear
 //!    radiance that you own (for one view of a building,
 //!    [`Solver::solution_with_ambient_seen_from`] makes the ambient term

@@ -21,9 +21,10 @@
 //! stays closed while under 1/256 of the rays that find it leave,
 //! `zones.rs`) reads the patch it lands on at patch resolution, its
 //! unshot radiosity and the light it will still reflect (`ambient.rs`);
-//! in one room's term, made for a view from inside it
-//! ([`crate::Solver::solution_with_ambient_seen_from`]), its unshot
-//! radiosity alone.
+//! in the term of some rooms alone, made for readings inside them (a
+//! view, probes, a calculation grid: [`ReadingPlace`],
+//! [`crate::Solver::solution_with_ambient_for`]), its unshot radiosity
+//! alone.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -119,8 +120,8 @@ pub enum ReadingPlace {
     /// zone is the zone's own surfaces.
     OnSurface(SurfaceId),
     /// A point in space (a camera, a work plane's point): it sees the
-    /// closed zone that encloses it, the one on whose surfaces' fronts 64
-    /// rays from it, spread over the sphere, all land.
+    /// closed zone that encloses it, the one on whose surfaces 64 rays
+    /// from it, spread over the sphere, all land, at least one on a front.
     InSpace(DVec3),
 }
 
@@ -131,29 +132,39 @@ impl ReadingPlace {
     pub fn of_probe(scene: &Scene, point: &ProbePoint) -> Option<ReadingPlace> {
         locate_probe(scene, point).map(ReadingPlace::OnSurface)
     }
-}
 
-/// The closed zones that readings at `places` see, ascending: each
-/// surface's zone, and the zone enclosing each point in space. `None`
-/// (they need the whole solution) when a place lies in no closed zone: on
-/// a surface of the open zone, or at a point from which some ray leaves
-/// the scene, lands on a back or in another zone
-/// ([`ZoneLabels::enclosing`], 64 rays a point, the points in parallel).
-#[must_use]
-pub(crate) fn zones_read(
-    labels: &ZoneLabels,
-    (scene, visibility): (&Scene, &Visibility),
-    places: &[ReadingPlace],
-) -> Option<Vec<usize>> {
-    let mut zones: Vec<usize> = places
-        .par_iter()
-        .map(|place| match *place {
+    /// The closed zone this place sees alone: its surface's, or the one
+    /// that encloses the point ([`ZoneLabels::enclosing`], 64 rays);
+    /// `None` in the open zone, or where a point's rays leave the scene,
+    /// land in another zone, or all on backs.
+    #[must_use]
+    pub(crate) fn zone(
+        &self,
+        labels: &ZoneLabels,
+        (scene, visibility): (&Scene, &Visibility),
+    ) -> Option<usize> {
+        match *self {
             ReadingPlace::OnSurface(surface) => {
                 let zone = labels.of(surface);
                 labels.is_lossless(zone).then_some(zone)
             }
             ReadingPlace::InSpace(point) => labels.enclosing(scene, visibility, point),
-        })
+        }
+    }
+}
+
+/// The closed zones that readings at `places` see, ascending
+/// ([`ReadingPlace::zone`], the places in parallel); `None` (they need
+/// the whole solution) when any place lies in no closed zone.
+#[must_use]
+pub(crate) fn zones_read(
+    labels: &ZoneLabels,
+    parts: (&Scene, &Visibility),
+    places: &[ReadingPlace],
+) -> Option<Vec<usize>> {
+    let mut zones: Vec<usize> = places
+        .par_iter()
+        .map(|place| place.zone(labels, parts))
         .collect::<Option<_>>()?;
     zones.sort_unstable();
     zones.dedup();

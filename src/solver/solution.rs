@@ -5,6 +5,7 @@ use std::collections::BinaryHeap;
 
 use glam::{DVec2, DVec3};
 
+use super::ambient_rooms::ReadingPlace;
 use super::penumbra::AdaptiveVisibility;
 use crate::error::{Error, Result};
 use crate::lighting::SampleStream;
@@ -351,17 +352,17 @@ impl Solution<'_> {
     }
 
     /// The closed zone a gather at `x` on `surface` ([`SurfaceId::NONE`]
-    /// in free space) sees alone, if any: its surface's, or the one that
-    /// encloses the point (`ZoneLabels::enclosing`). A closed zone keeps
-    /// its light, so no other zone's element can send any there, and a
-    /// gather in one office of a building need not try the others'.
+    /// in free space) sees alone, if any ([`ReadingPlace::zone`]). A
+    /// closed zone keeps its light, so no other zone's element can send
+    /// any there, and a gather in one office of a building need not try
+    /// the others'.
     fn gathered_zone(&self, x: DVec3, surface: SurfaceId) -> Option<usize> {
-        let zones = self.zones?;
-        if surface == SurfaceId::NONE {
-            return zones.enclosing(self.scene, self.visibility, x);
-        }
-        let zone = zones.of(surface);
-        zones.is_lossless(zone).then_some(zone)
+        let place = if surface == SurfaceId::NONE {
+            ReadingPlace::InSpace(x)
+        } else {
+            ReadingPlace::OnSurface(surface)
+        };
+        place.zone(self.zones?, (self.scene, self.visibility))
     }
 
     /// The elements a gather at `x` facing `normal` on `surface`
