@@ -267,7 +267,7 @@ impl CalculationGrid {
         self.points
             .par_iter()
             .map(|point| {
-                let Some((position, surface)) = *point else {
+                let Some((position, _)) = *point else {
                     return f64::NAN;
                 };
                 if self.is_inside_an_object(position, (solution.scene, solution.visibility)) {
@@ -284,11 +284,10 @@ impl CalculationGrid {
                     match solution.probe(&probe, ProbeMode::Gather) {
                         Ok(probe) => probe.irradiance,
                         // The point lies on the surface by construction; a
-                        // gather that cannot place it reads nothing there.
-                        Err(_) => {
-                            debug_assert!(false, "grid point {position} off surface {surface}");
-                            return f64::NAN;
-                        }
+                        // gather that cannot place it, or a solution whose
+                        // ambient term was made for other rooms, reads
+                        // nothing there.
+                        Err(_) => return f64::NAN,
                     }
                 };
                 illuminance_lux(irradiance)

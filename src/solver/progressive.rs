@@ -1333,7 +1333,8 @@ impl Solver {
     /// whole term ([`Solver::solution_with_ambient_progress`]). A
     /// calculation grid on one office's work plane then costs that
     /// office's term, not the building's. Read the returned solution
-    /// only at these places: elsewhere it lacks the light not yet shot.
+    /// only at these places: elsewhere it lacks the light not yet shot,
+    /// and [`Solution::probe`] refuses a point outside its rooms.
     #[must_use]
     pub fn solution_with_ambient_for(
         &self,
@@ -1369,7 +1370,11 @@ impl Solver {
         for (g, h) in irradiance.iter_mut().zip(&self.irradiance) {
             *g = *h + *g;
         }
-        self.solution_from(radiosity, irradiance)
+        let mut solution = self.solution_from(radiosity, irradiance);
+        if solution.zones.is_some() {
+            solution.ambient_zones = only.map(<[usize]>::to_vec);
+        }
+        solution
     }
 
     /// A [`Solution`] of this solver's scene and mesh with the given values.
@@ -1387,6 +1392,7 @@ impl Solver {
                 .as_ref()
                 .map(|(zones, _)| zones.labels())
                 .filter(|labels| labels.count() > 1),
+            ambient_zones: None,
         }
     }
 

@@ -172,6 +172,11 @@ pub struct Solution<'a> {
     /// How far each surface's boundary vertices gather inside it, by
     /// surface index (the scene's inset past its end).
     pub(crate) receiver_insets: &'a [f64],
+    /// The closed zones, ascending, whose ambient term this solution
+    /// holds when it was made for some alone
+    /// ([`crate::Solver::solution_with_ambient_for`]); a probe elsewhere
+    /// would read light that lacks the term, and is refused.
+    pub(crate) ambient_zones: Option<Vec<usize>>,
 }
 
 impl Solution<'_> {
@@ -227,6 +232,21 @@ impl Solution<'_> {
                 }
             ),
         })?;
+        let place = ReadingPlace::OnSurface(surface);
+        if let Some((zones, made)) = self.zones.zip(self.ambient_zones.as_ref())
+            && place
+                .zone(zones, (self.scene, self.visibility))
+                .is_none_or(|zone| made.binary_search(&zone).is_err())
+        {
+            return Err(Error::ProbePoint {
+                path: "points".into(),
+                line: point.line,
+                message: format!(
+                    "({}, {}, {}) lies outside the rooms this solution's ambient term was made for",
+                    point.position.x, point.position.y, point.position.z
+                ),
+            });
+        }
         Ok(match mode {
             ProbeMode::Gather => self.gather(point.position, surface),
             ProbeMode::Mesh => self.interpolate(point.position, surface),

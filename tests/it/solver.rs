@@ -1370,6 +1370,14 @@ fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
         whole.probe(&probe, isorad::ProbeMode::Gather).unwrap(),
     );
     let lacking = shot.probe(&probe, isorad::ProbeMode::Gather).unwrap();
+    // A probe in the room not read is refused, not read without its term.
+    let elsewhere = isorad::scene::ProbePoint {
+        position: DVec3::new(10.7, 0.0, 3.1),
+        ..probe
+    };
+    let refused = read.probe(&elsewhere, isorad::ProbeMode::Gather);
+    assert!(refused.is_err_and(|e| e.to_string().contains("outside the rooms")));
+    assert!(whole.probe(&elsewhere, isorad::ProbeMode::Gather).is_ok());
     assert!(close(value.irradiance.g, expected.irradiance.g));
     assert!(expected.irradiance.g > 1.01 * lacking.irradiance.g);
     // Grids on room 0's floor and work plane read only room 0.
