@@ -260,7 +260,10 @@ impl CalculationGrid {
     /// surface's normal. A point inside an object is NaN (a work plane
     /// through a bookcase, or a floor point under a cabinet standing on it:
     /// five rays from it, up and sideways, all meet a surface's back), as
-    /// it is no place to read light. Points are evaluated in parallel.
+    /// it is no place to read light; so is a point outside the rooms whose
+    /// ambient term `solution` was made for (give it the grid's
+    /// [`CalculationGrid::reading_places`], or the whole term). Points are
+    /// evaluated in parallel.
     #[must_use]
     pub fn illuminance(&self, solution: &Solution<'_>) -> Vec<f64> {
         let normal = self.frame.normal;
@@ -276,12 +279,7 @@ impl CalculationGrid {
                 let irradiance = if self.height > 0.0 {
                     solution.irradiance_in_space(position, normal).0
                 } else {
-                    let probe = ProbePoint {
-                        position,
-                        normal: Some(normal),
-                        line: 0,
-                    };
-                    match solution.probe(&probe, ProbeMode::Gather) {
+                    match solution.probe(&self.probe_point(position), ProbeMode::Gather) {
                         Ok(probe) => probe.irradiance,
                         // The point lies on the surface by construction; a
                         // gather that cannot place it, or a solution whose
@@ -431,25 +429,35 @@ impl CalculationGrid {
 
     /// Where the grid's points read the solution, for
     /// [`crate::Solver::solution_with_ambient_for`]: on the surface (height
-    /// 0), the front of the surface under each point; above it, each point
-    /// in space. Points inside an object, which read nothing
-    /// ([`CalculationGrid::illuminance`]), are left out.
+    /// 0), the front of the surface each point's probe lies on
+    /// ([`ReadingPlace::of_probe`], as [`Solution::probe`] finds it);
+    /// above it, each point in space. Points inside an object, which read
+    /// nothing ([`CalculationGrid::illuminance`]), are left out.
     #[must_use]
     pub fn reading_places(&self, scene: &Scene, visibility: &Visibility) -> Vec<ReadingPlace> {
         self.points
             .par_iter()
             .filter_map(|point| {
-                let (position, surface) = (*point)?;
+                let (position, _) = (*point)?;
                 if self.is_inside_an_object(position, (scene, visibility)) {
                     return None;
                 }
-                Some(if self.height > 0.0 {
-                    ReadingPlace::InSpace(position)
+                if self.height > 0.0 {
+                    Some(ReadingPlace::InSpace(position))
                 } else {
-                    ReadingPlace::OnSurface(surface)
-                })
+                    ReadingPlace::of_probe(scene, &self.probe_point(position))
+                }
             })
             .collect()
+    }
+
+    /// The probe a point of the grid on its surface (height 0) reads.
+    fn probe_point(&self, position: DVec3) -> ProbePoint {
+        ProbePoint {
+            position,
+            normal: Some(self.frame.normal),
+            line: 0,
+        }
     }
 
     /// Whether grid point `position` lies inside an object

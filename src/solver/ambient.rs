@@ -158,11 +158,11 @@ impl LandingElement {
 }
 
 /// The patch each of the patches' cached rays hits, [`PATCH_RAYS`] per
-/// patch: cast once, read by every image. Only the patches an image needs
-/// are cast (the room it shows, see
-/// [`crate::Solver::solution_with_ambient_seen_from`]), the others when
-/// an image needs them; a patch's rays are the same whichever image
-/// casts them.
+/// patch: cast once, read by every image. Only the patches a solution
+/// needs are cast (the rooms its readings lie in, see
+/// [`crate::Solver::solution_with_ambient_for`]), the others when one
+/// needs them; a patch's rays are the same whichever solution casts
+/// them.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PatchRays {
     /// The cast patches' rays, [`PATCH_RAYS`] at a time in the order cast.

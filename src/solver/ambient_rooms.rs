@@ -144,6 +144,8 @@ impl ReadingPlace {
         (scene, visibility): (&Scene, &Visibility),
     ) -> Option<usize> {
         match *self {
+            // A surface not of this scene is in no zone.
+            ReadingPlace::OnSurface(surface) if surface.index() >= scene.surfaces.len() => None,
             ReadingPlace::OnSurface(surface) => {
                 let zone = labels.of(surface);
                 labels.is_lossless(zone).then_some(zone)
@@ -155,13 +157,17 @@ impl ReadingPlace {
 
 /// The closed zones that readings at `places` see, ascending
 /// ([`ReadingPlace::zone`], the places in parallel); `None` (they need
-/// the whole solution) when any place lies in no closed zone.
+/// the whole solution) when any place lies in no closed zone, or when
+/// no place is given.
 #[must_use]
 pub(crate) fn zones_read(
     labels: &ZoneLabels,
     parts: (&Scene, &Visibility),
     places: &[ReadingPlace],
 ) -> Option<Vec<usize>> {
+    if places.is_empty() {
+        return None;
+    }
     let mut zones: Vec<usize> = places
         .par_iter()
         .map(|place| place.zone(labels, parts))

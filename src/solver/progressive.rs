@@ -1314,7 +1314,8 @@ impl Solver {
     /// [`Solver::solution_with_ambient_progress`]. A view from one office
     /// of a building then costs that office's term (a second, where the
     /// building's is minutes). It is
-    /// [`Solver::solution_with_ambient_for`] the camera's position.
+    /// [`Solver::solution_with_ambient_for`] the camera's position, and
+    /// its probes are refused outside the camera's room.
     #[must_use]
     pub fn solution_with_ambient_seen_from(
         &self,
@@ -1329,8 +1330,9 @@ impl Solver {
     /// a closed room (a zone that keeps its light, so that what is read
     /// there comes from that room alone), the ambient term is made for
     /// those rooms' vertices alone, and every other room holds the light
-    /// shot so far. Where any place lies in no closed room, it is the
-    /// whole term ([`Solver::solution_with_ambient_progress`]). A
+    /// shot so far. Where any place lies in no closed room, or no place
+    /// is given, it is the whole term
+    /// ([`Solver::solution_with_ambient_progress`]). A
     /// calculation grid on one office's work plane then costs that
     /// office's term, not the building's. Read the returned solution
     /// only at these places: elsewhere it lacks the light not yet shot,
@@ -1837,6 +1839,13 @@ mod tests {
                 normal: Some(DVec3::Y),
                 line: 1,
             };
+            // Each gather finds its room, the floor's and the air's alike.
+            let air = DVec3::new(x + 0.6, 1.5, 3.2);
+            let room = zoned.gathered_zone(air, SurfaceId::NONE);
+            assert!(room.is_some());
+            let on_floor = zoned.probe(&floor, ProbeMode::Mesh);
+            let surface = on_floor.expect("a point on the floor").surface;
+            assert_eq!(zoned.gathered_zone(floor.position, surface), room);
             let [a, b] = [&zoned, &everywhere].map(|solution| {
                 let probe = solution.probe(&floor, ProbeMode::Gather);
                 probe.expect("a point on the floor").irradiance
@@ -1845,7 +1854,6 @@ mod tests {
                 a.g > 0.0 && (a.g - b.g).abs() <= 1e-9 * b.g,
                 "{a:?} against {b:?}"
             );
-            let air = DVec3::new(x + 0.6, 1.5, 3.2);
             let [a, b] = [&zoned, &everywhere].map(|s| s.irradiance_in_space(air, DVec3::X).0);
             assert!(
                 a.g > 0.0 && (a.g - b.g).abs() <= 1e-9 * b.g,

@@ -215,7 +215,9 @@ impl Solution<'_> {
     /// Reads the solution at a point on a surface.
     ///
     /// Fails with [`Error::ProbePoint`] (naming the point's line) when the
-    /// point lies on no surface, or on none facing along its normal.
+    /// point lies on no surface, or on none facing along its normal, or
+    /// outside the rooms whose ambient term the solution was made for
+    /// ([`Solution::holds_term_at`]).
     pub fn probe(&self, point: &ProbePoint, mode: ProbeMode) -> Result<Probe> {
         let surface = self.locate(point).ok_or_else(|| Error::ProbePoint {
             path: "points".into(),
@@ -232,12 +234,7 @@ impl Solution<'_> {
                 }
             ),
         })?;
-        let place = ReadingPlace::OnSurface(surface);
-        if let Some((zones, made)) = self.zones.zip(self.ambient_zones.as_ref())
-            && place
-                .zone(zones, (self.scene, self.visibility))
-                .is_none_or(|zone| made.binary_search(&zone).is_err())
-        {
+        if !self.holds_term_at(&ReadingPlace::OnSurface(surface)) {
             return Err(Error::ProbePoint {
                 path: "points".into(),
                 line: point.line,
@@ -283,9 +280,14 @@ impl Solution<'_> {
     /// of a work plane above a floor, say) on a small receiver facing the
     /// unit `normal`, W/m², with its standard error per channel: the light of
     /// every element in front of it, as [`Solution::probe`] gathers it on a
-    /// surface, and of every photometric luminaire.
+    /// surface, and of every photometric luminaire. NaN where the
+    /// solution's ambient term was made for other rooms
+    /// ([`Solution::holds_term_at`]).
     #[must_use]
     pub fn irradiance_in_space(&self, x: DVec3, normal: DVec3) -> (Rgb, Rgb) {
+        if !self.holds_term_at(&ReadingPlace::InSpace(x)) {
+            return (Rgb::splat(f64::NAN), Rgb::splat(f64::NAN));
+        }
         let (irradiance, standard_error, _) =
             self.gather_irradiance(x, normal, SurfaceId::NONE, Rgb::ZERO);
         (irradiance, standard_error)
@@ -371,12 +373,27 @@ impl Solution<'_> {
         (total, gradient)
     }
 
+    /// Whether the solution holds the ambient term at `place`: always,
+    /// unless it was made for some rooms' readings alone
+    /// ([`crate::Solver::solution_with_ambient_for`]) and `place` lies in
+    /// none of them. Probes and gathers in space are read only where it
+    /// does; images, exports and totals read every vertex as it is.
+    #[must_use]
+    pub fn holds_term_at(&self, place: &ReadingPlace) -> bool {
+        let Some((zones, made)) = self.zones.zip(self.ambient_zones.as_ref()) else {
+            return true;
+        };
+        place
+            .zone(zones, (self.scene, self.visibility))
+            .is_some_and(|zone| made.binary_search(&zone).is_ok())
+    }
+
     /// The closed zone a gather at `x` on `surface` ([`SurfaceId::NONE`]
     /// in free space) sees alone, if any ([`ReadingPlace::zone`]). A
     /// closed zone keeps its light, so no other zone's element can send
     /// any there, and a gather in one office of a building need not try
     /// the others'.
-    fn gathered_zone(&self, x: DVec3, surface: SurfaceId) -> Option<usize> {
+    pub(crate) fn gathered_zone(&self, x: DVec3, surface: SurfaceId) -> Option<usize> {
         let place = if surface == SurfaceId::NONE {
             ReadingPlace::InSpace(x)
         } else {

@@ -640,9 +640,10 @@ fn a_view_inside_a_room_renders_the_same_with_or_without_an_export() {
 }
 
 /// `isorad grid` on the work plane of one of two closed rooms, and
-/// `isorad probe` on its floor, make that room's ambient term alone
-/// ([`write_two_closed_rooms`]), and read what the whole solution, made
-/// by the library, gives them.
+/// `isorad probe` on its floor ([`write_two_closed_rooms`]), read what
+/// the whole solution, made by the library, gives them: the term they
+/// make is the right room's (that it is that room's alone,
+/// `tests/it/solver.rs` checks).
 #[test]
 fn a_grid_and_probes_in_one_room_read_what_the_whole_solution_gives() {
     use isorad::calculation::CalculationGrid;

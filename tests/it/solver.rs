@@ -1309,8 +1309,9 @@ fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
 /// points on a floor and on the work plane above it) make the ambient
 /// term of those rooms alone: their vertices get the whole term's light,
 /// a room nobody reads keeps the light shot so far, and the probes and
-/// grids read what the whole term gives them. A place in no closed room
-/// asks for the whole term, and no place for none.
+/// grids read what the whole term gives them, and a reading in another
+/// room is refused. A place in no closed room asks for the whole term, as
+/// does no place.
 #[test]
 fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
     use isorad::ReadingPlace;
@@ -1402,10 +1403,17 @@ fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
         let room_1 = solver.mesh().vertices.iter().position(not_read).unwrap();
         assert_eq!(read.radiosity[room_1], shot.radiosity[room_1]);
     }
-    // A place outside every room asks for the whole term; no place, none.
+    // A place outside every room, or on a surface of no room, asks for the
+    // whole term, as does no place.
     let outside = [places[0], ReadingPlace::InSpace(DVec3::new(5.0, 1.5, -3.0))];
-    let read = solver.solution_with_ambient_for(&outside, &|_| {});
-    assert_eq!(read.radiosity, whole.radiosity);
-    let read = solver.solution_with_ambient_for(&[], &|_| {});
-    assert_eq!(read.radiosity, shot.radiosity);
+    let foreign = [places[0], ReadingPlace::OnSurface(isorad::SurfaceId::NONE)];
+    for places in [&outside[..], &foreign[..], &[]] {
+        let read = solver.solution_with_ambient_for(places, &|_| {});
+        assert_eq!(read.radiosity, whole.radiosity);
+    }
+    // A work-plane point in a room not read reads nothing.
+    let read = solver.solution_with_ambient_for(&places[..1], &|_| {});
+    let (value, _) = read.irradiance_in_space(DVec3::new(11.0, 0.8, 1.0), DVec3::Y);
+    assert!(value.g.is_nan());
+    assert!(read.holds_term_at(&ReadingPlace::InSpace(DVec3::new(1.0, 0.8, 1.0))));
 }
