@@ -1235,18 +1235,16 @@ fn a_room_far_from_the_rest_gathers_at_its_boundaries_as_alone() {
     assert!((6.3e-4..6.5e-4).contains(&inset), "{inset}");
 }
 
-/// A view from inside one of two closed rooms needs the ambient term of
-/// that room alone: its vertices get the light the whole term gives them
-/// (to the term's iteration's tolerance, a millionth), the other room's
-/// keep the light shot so far, and its image is the whole solution's. A
-/// camera in neither room gets the whole term.
-#[test]
-fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
+/// `count` closed rooms 10 m apart along x ([`room_with_block`], its
+/// surfaces named by the room's index, each with its [`ceiling_lamp`]),
+/// solved to the default tolerance with 0.5 m elements in 1 m patches.
+fn solved_rooms_in_a_row(count: u32) -> isorad::Solver {
     let mut b = SceneBuilder::default();
     let wall = b.material("wall", 0.5, 0.0);
     let lamp = b.material("lamp", 0.0, 10.0);
-    for offset in [DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0)] {
-        room_with_block(&mut b, wall, &format!("{}", offset.x), offset);
+    for room in 0..count {
+        let offset = DVec3::new(10.0 * f64::from(room), 0.0, 0.0);
+        room_with_block(&mut b, wall, &format!("{room}"), offset);
         ceiling_lamp(&mut b, lamp, offset);
     }
     let mut settings = isorad::Settings::default();
@@ -1254,6 +1252,17 @@ fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
     settings.mesh.patch_max_edge = isorad::Length::Absolute(1.0);
     let mut solver = isorad::Solver::new(b.scene, settings).unwrap();
     solver.run();
+    solver
+}
+
+/// A view from inside one of two closed rooms needs the ambient term of
+/// that room alone: its vertices get the light the whole term gives them
+/// (to the term's iteration's tolerance, a millionth), the other room's
+/// keep the light shot so far, and its image is the whole solution's. A
+/// camera in neither room gets the whole term.
+#[test]
+fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
+    let solver = solved_rooms_in_a_row(2);
     let camera = |position: DVec3| isorad::Camera {
         position,
         look_at: DVec3::new(2.0, 0.25, 2.0),
@@ -1316,19 +1325,7 @@ fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
 fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
     use isorad::ReadingPlace;
     use isorad::calculation::CalculationGrid;
-    let mut b = SceneBuilder::default();
-    let wall = b.material("wall", 0.5, 0.0);
-    let lamp = b.material("lamp", 0.0, 10.0);
-    for room in 0..3 {
-        let offset = DVec3::new(10.0 * f64::from(room), 0.0, 0.0);
-        room_with_block(&mut b, wall, &format!("{room}"), offset);
-        ceiling_lamp(&mut b, lamp, offset);
-    }
-    let mut settings = isorad::Settings::default();
-    settings.mesh.max_edge = isorad::Length::Absolute(0.5);
-    settings.mesh.patch_max_edge = isorad::Length::Absolute(1.0);
-    let mut solver = isorad::Solver::new(b.scene, settings).unwrap();
-    solver.run();
+    let solver = solved_rooms_in_a_row(3);
     let scene = solver.scene();
     let floor_0 = scene
         .surfaces_with_ids()
