@@ -1404,7 +1404,8 @@ fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
     // whole term, as does no place.
     let outside = [places[0], ReadingPlace::InSpace(DVec3::new(5.0, 1.5, -3.0))];
     let foreign = [places[0], ReadingPlace::OnSurface(isorad::SurfaceId::NONE)];
-    for places in [&outside[..], &foreign[..], &[]] {
+    let nowhere = [places[0], ReadingPlace::InSpace(DVec3::NAN)];
+    for places in [&outside[..], &foreign[..], &nowhere[..], &[]] {
         let read = solver.solution_with_ambient_for(places, &|_| {});
         assert_eq!(read.radiosity, whole.radiosity);
     }
@@ -1412,5 +1413,6 @@ fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
     let read = solver.solution_with_ambient_for(&places[..1], &|_| {});
     let (value, _) = read.irradiance_in_space(DVec3::new(11.0, 0.8, 1.0), DVec3::Y);
     assert!(value.g.is_nan());
+    assert!(!read.holds_term_at(&ReadingPlace::InSpace(DVec3::INFINITY)));
     assert!(read.holds_term_at(&ReadingPlace::InSpace(DVec3::new(1.0, 0.8, 1.0))));
 }
