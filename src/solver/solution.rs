@@ -264,8 +264,9 @@ impl Solution<'_> {
         let s = self.scene.surface(surface);
         let material = self.scene.material_of(s);
         let x = self.gather_point(position, surface);
+        let zone = self.gathered_zone(x, surface);
         let (irradiance, standard_error, gradient) =
-            self.gather_irradiance(x, s.normal(), surface, material.reflectance);
+            self.gather_irradiance((x, zone), s.normal(), surface, material.reflectance);
         Probe {
             position,
             surface,
@@ -285,25 +286,29 @@ impl Solution<'_> {
     /// ([`Solution::holds_term_at`]).
     #[must_use]
     pub fn irradiance_in_space(&self, x: DVec3, normal: DVec3) -> (Rgb, Rgb) {
-        if !self.holds_term_at(&ReadingPlace::InSpace(x)) {
+        // The room around the point, found once for the check and the
+        // sources (64 rays).
+        let zone = self.gathered_zone(x, SurfaceId::NONE);
+        if !self.holds_term_in(zone) {
             return (Rgb::splat(f64::NAN), Rgb::splat(f64::NAN));
         }
         let (irradiance, standard_error, _) =
-            self.gather_irradiance(x, normal, SurfaceId::NONE, Rgb::ZERO);
+            self.gather_irradiance((x, zone), normal, SurfaceId::NONE, Rgb::ZERO);
         (irradiance, standard_error)
     }
 
     /// The gather's irradiance at `x` (unit `normal`) on `surface`
-    /// ([`SurfaceId::NONE`] in free space), its standard error, and the
+    /// ([`SurfaceId::NONE`] in free space), in closed zone `zone` if any
+    /// ([`Solution::gathered_zone`]), its standard error, and the
     /// in-plane gradient of ρ H per channel for reflectance `reflectance`.
     fn gather_irradiance(
         &self,
-        x: DVec3,
+        (x, zone): (DVec3, Option<usize>),
         normal: DVec3,
         surface: SurfaceId,
         reflectance: Rgb,
     ) -> (Rgb, Rgb, [DVec3; 3]) {
-        let mut sources = self.gather_sources(x, normal, surface);
+        let mut sources = self.gather_sources((x, zone), normal, surface);
         let visible = refine_penumbrae(&mut sources);
         let mut irradiance = Rgb::ZERO;
         let mut variance = Rgb::ZERO;
@@ -380,12 +385,19 @@ impl Solution<'_> {
     /// does; images, exports and totals read every vertex as it is.
     #[must_use]
     pub fn holds_term_at(&self, place: &ReadingPlace) -> bool {
-        let Some((zones, made)) = self.zones.zip(self.ambient_zones.as_ref()) else {
+        let Some(zones) = self.zones.filter(|_| self.ambient_zones.is_some()) else {
             return true;
         };
-        place
-            .zone(zones, (self.scene, self.visibility))
-            .is_some_and(|zone| made.binary_search(&zone).is_ok())
+        self.holds_term_in(place.zone(zones, (self.scene, self.visibility)))
+    }
+
+    /// [`Solution::holds_term_at`] a place in closed zone `zone` (`None`:
+    /// in none).
+    fn holds_term_in(&self, zone: Option<usize>) -> bool {
+        match (self.zones, &self.ambient_zones) {
+            (Some(_), Some(made)) => zone.is_some_and(|z| made.binary_search(&z).is_ok()),
+            _ => true,
+        }
     }
 
     /// The closed zone a gather at `x` on `surface` ([`SurfaceId::NONE`]
@@ -404,10 +416,14 @@ impl Solution<'_> {
 
     /// The elements a gather at `x` facing `normal` on `surface`
     /// ([`SurfaceId::NONE`] in free space) sees in front of it, each with
-    /// its unoccluded factor and its shadow rays' base strata; only its
-    /// closed zone's where it lies in one ([`Solution::gathered_zone`]).
-    fn gather_sources(&self, x: DVec3, normal: DVec3, surface: SurfaceId) -> Vec<GatherSource<'_>> {
-        let zone = self.gathered_zone(x, surface);
+    /// its unoccluded factor and its shadow rays' base strata; only closed
+    /// zone `zone`'s where it lies in one ([`Solution::gathered_zone`]).
+    fn gather_sources(
+        &self,
+        (x, zone): (DVec3, Option<usize>),
+        normal: DVec3,
+        surface: SurfaceId,
+    ) -> Vec<GatherSource<'_>> {
         let in_zone = |source: SurfaceId| match (zone, self.zones) {
             (Some(zone), Some(zones)) => zones.of(source) == zone,
             _ => true,
