@@ -17,7 +17,7 @@ use super::patch_reception::{PatchReception, ReceptionPlan};
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
-use super::shaft_culling::{ClearVertices, ReceivingBoxes};
+use super::shaft_culling::{ReceiverShafts, ReceivingBoxes};
 use super::shooter::{Gathered, Receiver, Shooter, ShotRadiosity};
 use super::solution::Solution;
 use super::unshot::{FieldScale, PatchField, UnshotCorners};
@@ -159,12 +159,15 @@ pub struct Solver {
     receiving_boxes: ReceivingBoxes,
     /// Per vertex: whether it sees all of the current shooter (kept between
     /// shots so as not to allocate).
-    clear_receivers: ClearVertices,
+    receiver_shafts: ReceiverShafts,
     /// Shafts tested and found clear, over all shots.
     shafts: (u64, u64),
     /// Visibility samples taken without rays: their receivers were known to
     /// see all of the shooter (a clear shaft, or the shooter's last shot).
     known_visible: u64,
+    /// Shadow rays answered by the few triangles in their shaft rather
+    /// than by a traversal of the BVH.
+    listed_rays: u64,
     /// What each vertex saw of each shooter at its last shot.
     visibility_memory: VisibilityMemory,
     /// Vertex views of a shooter recalled from its last shot.
@@ -368,9 +371,10 @@ impl Solver {
             receptions: (0, 0),
             reception_plan_buffer: ReceptionPlan::default(),
             receiving_boxes: ReceivingBoxes::default(),
-            clear_receivers: ClearVertices::default(),
+            receiver_shafts: ReceiverShafts::default(),
             shafts: (0, 0),
             known_visible: 0,
+            listed_rays: 0,
             visibility_memory: VisibilityMemory::default(),
             recalled: 0,
             every_index: (Vec::new(), Vec::new()),
@@ -550,8 +554,9 @@ impl Solver {
             .zip(self.zones.as_ref())
             .and_then(|(zone, (zones, _))| zones.visibility(zone))
             .unwrap_or(&self.visibility);
-        // The receiving patches that see all of the shooter cast no rays.
-        let mut clear = std::mem::take(&mut self.clear_receivers);
+        // The receiving patches that see all of the shooter cast no rays,
+        // and those whose shafts hold a few triangles test those alone.
+        let mut shafts = std::mem::take(&mut self.receiver_shafts);
         if self.settings.cull_shafts {
             self.receiving_boxes.refresh(mesh);
             let receiving_patches = zone
@@ -568,16 +573,16 @@ impl Solver {
                     .unwrap_or(0.0),
                 None => 0.0,
             };
-            let (tested, cleared) = self.receiving_boxes.mark_clear(
+            let (tested, cleared) = self.receiving_boxes.find_occluders(
                 (scene, mesh, visibility),
                 (&shooter, self.settings.sample_density, rim),
                 receiving_patches,
-                &mut clear,
+                &mut shafts,
             );
             self.shafts.0 += tested as u64;
             self.shafts.1 += cleared as u64;
         } else {
-            clear.reset(mesh.vertices.len());
+            shafts.reset(mesh.vertices.len());
         }
         let (density, shot, kernel) = (
             self.settings.sample_density,
@@ -616,7 +621,8 @@ impl Solver {
                 normal: scene.surface(vertex.surface).normal(),
                 surface: vertex.surface,
                 key: index as u64,
-                clear: clear.is_clear(index) || recalled == Recall::Visible,
+                clear: shafts.is_clear(index) || recalled == Recall::Visible,
+                occluders: shafts.occluders_of(index),
             };
             shooter.gather(&receiver, density, shot, kernel, (visibility, cache))
         };
@@ -643,6 +649,9 @@ impl Solver {
         for (&v, g) in vertices.iter().zip(&gathered) {
             self.rays += u64::from(g.rays);
             self.known_visible += u64::from(g.known_visible);
+            if shafts.occluders_of(v as usize).is_some() {
+                self.listed_rays += u64::from(g.rays);
+            }
             self.recalled += u64::from(recall(v as usize) != Recall::Unknown);
             incident[v as usize] = g.irradiance;
         }
@@ -693,7 +702,7 @@ impl Solver {
             self.receptions.1 += count;
             self.reception_plan_buffer = plan;
         }
-        self.clear_receivers = clear;
+        self.receiver_shafts = shafts;
     }
 
     /// Which vertices of the receiving zone (`zone`, or the whole scene)
@@ -1447,6 +1456,15 @@ impl Solver {
         (self.shafts.0, self.shafts.1, self.known_visible)
     }
 
+    /// How many of the shadow rays so far ([`Solver::rays`]) were answered
+    /// by the few triangles that reach into their shaft, tested one by
+    /// one, rather than by a traversal of the BVH (an emitter's shot;
+    /// `solver/shaft_culling.rs`).
+    #[must_use]
+    pub fn listed_rays(&self) -> u64 {
+        self.listed_rays
+    }
+
     /// How many times a vertex took a reflected shot's visibility from what
     /// it saw of the same patch's last shot, all or none of it, without
     /// rays ([`SolverSettings::remember_visibility`]).
@@ -1618,6 +1636,7 @@ impl Solver {
                 surface: vertex.surface,
                 key: u64::from(v),
                 clear: false,
+                occluders: None,
             };
             let mut irradiance = Rgb::ZERO;
             let mut rays = 0;

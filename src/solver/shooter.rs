@@ -120,7 +120,7 @@ pub(crate) fn sampled_cell((u, v): (f64, f64), sub: usize) -> usize {
 
 /// A receiving point: where it gathers, its normal, and a key for its jitter.
 #[derive(Clone, Copy, Debug)]
-pub struct Receiver {
+pub struct Receiver<'a> {
     /// Position (already moved off the surface's boundary, if on it).
     pub position: DVec3,
     /// Unit normal of the front.
@@ -134,6 +134,10 @@ pub struct Receiver {
     /// shooter's last shot reached it (`solver/visibility_memory.rs`), so
     /// its samples need no rays.
     pub clear: bool,
+    /// The only triangles of the shot's `Visibility` that can block its
+    /// rays to the shooter, when its shaft holds few
+    /// (`solver/shaft_culling.rs`): its rays test those alone.
+    pub occluders: Option<&'a [u32]>,
 }
 
 /// The irradiance from a shooter and the number of shadow rays it took.
@@ -586,12 +590,16 @@ impl Shooter {
         (visibility, cache): (&Visibility, &mut ShadowCache),
     ) -> bool {
         let offset = visibility.surface_offset();
-        visibility.is_unblocked_cached(
+        let (from, to) = (
             receiver.position + receiver.normal * offset,
             target + self.normal * offset,
-            [receiver.surface, self.surface],
-            cache,
-        )
+        );
+        match receiver.occluders {
+            Some(occluders) => visibility.is_unblocked_among(from, to, occluders),
+            None => {
+                visibility.is_unblocked_cached(from, to, [receiver.surface, self.surface], cache)
+            }
+        }
     }
 
     /// A stratum's unoccluded factor and the point to test visibility

@@ -559,6 +559,7 @@ mod tests {
             surface,
             key,
             clear: false,
+            occluders: None,
         };
         shooter
             .gather(

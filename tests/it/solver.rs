@@ -463,7 +463,9 @@ fn closed_rooms_exchange_no_rays() {
 /// Shaft culling answers the shadow rays of receiving patches that see
 /// all of a shooter without casting them: the built-in Cornell box solves
 /// to the same light with a third fewer rays, and every sample a clear
-/// shaft answered is one ray fewer. The light differs only where a
+/// shaft answered is one ray fewer. The light's rays whose shafts hold a
+/// few triangles test those alone, and answer as the BVH does. The light
+/// differs only where a
 /// reflected shot's ray aimed within 10⁻⁴ of the diagonal of the shooter's
 /// edge, a rim its shafts leave out, would have grazed a blocker (one
 /// vertex of one shot in the Cornell box, where the slightly bent ceiling
@@ -480,16 +482,17 @@ fn shaft_culling_saves_rays_not_light() {
         solver.run();
         let (_, _, unblocked) = solver.shaft_culling();
         (
-            solver.rays(),
+            (solver.rays(), solver.listed_rays()),
             unblocked,
             solver.radiosity().to_vec(),
             solver.shots(),
         )
     };
-    let (culled, unblocked, light, shots) = solve(true);
-    let (all, none, all_light, all_shots) = solve(false);
-    println!("Cornell box: {culled} rays with shaft culling, {all} without");
-    assert_eq!(none, 0);
+    let ((culled, listed), unblocked, light, shots) = solve(true);
+    let ((all, none_listed), none, all_light, all_shots) = solve(false);
+    println!("Cornell box: {culled} rays with shaft culling ({listed} listed), {all} without");
+    assert_eq!((none, none_listed), (0, 0));
+    assert!(listed * 10 > culled, "{listed} of {culled} rays listed");
     assert_eq!(shots, all_shots);
     assert!(
         (culled as f64) < 0.7 * all as f64,
@@ -501,6 +504,46 @@ fn shaft_culling_saves_rays_not_light() {
     assert!(
         (culled + unblocked).abs_diff(all) * 100_000 < all,
         "{culled} rays and {unblocked} clear samples against {all} rays"
+    );
+    let differences = relative_differences(&light, &all_light);
+    let worst = differences.iter().copied().fold(0.0, f64::max);
+    let mean = differences.iter().sum::<f64>() / differences.len() as f64;
+    println!("relative differences: worst {worst:.2e}, mean {mean:.2e}");
+    assert!(worst < 1e-3 && mean < 1e-6, "worst {worst}, mean {mean}");
+}
+
+/// Under `scenes/table`'s lamp, the vertices whose shafts hold a few
+/// triangles (the table's top and legs; a quarter of the samples) test
+/// their rays against those alone: the light, the table's shadow
+/// included, is what every ray's traversal of the BVH gives, and the
+/// samples are as many. (Testing only each list's first triangle moves
+/// the light by orders of magnitude.)
+#[test]
+fn rays_tested_against_their_shafts_triangles_cast_the_same_shadows() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let path = root.join("scenes/table/table.toml");
+    let solve = |cull: bool| {
+        let mut settings = isorad::Settings::default();
+        settings.solver.cull_shafts = cull;
+        settings.solver.remember_visibility = false;
+        let scene = isorad::load_scene(path.to_str().unwrap()).unwrap().scene;
+        let mut solver = isorad::Solver::new(scene, settings).unwrap();
+        // The lamp's shot alone: its shadows are the ones meshed and sampled.
+        solver.step();
+        let (_, _, unblocked) = solver.shaft_culling();
+        (
+            solver.rays() + unblocked,
+            solver.listed_rays(),
+            solver.radiosity().to_vec(),
+        )
+    };
+    let (samples, listed, light) = solve(true);
+    let (all_samples, _, all_light) = solve(false);
+    println!("table: {listed} of {samples} samples listed");
+    assert_eq!(samples, all_samples);
+    assert!(
+        listed * 10 > samples,
+        "{listed} of {samples} samples listed"
     );
     let differences = relative_differences(&light, &all_light);
     let worst = differences.iter().copied().fold(0.0, f64::max);

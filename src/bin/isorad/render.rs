@@ -239,8 +239,9 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
     let recalled = solver.recalled_views();
     if shafts > 0 || recalled > 0 {
         eprintln!(
-            "known visibility: {clear} of {shafts} shafts clear, {recalled} vertices' views of a shooter recalled from its last shot; {unblocked} visibility samples taken without a ray ({:.1} % of all)",
-            100.0 * unblocked as f64 / (unblocked + rays).max(1) as f64
+            "known visibility: {clear} of {shafts} shafts clear, {recalled} vertices' views of a shooter recalled from its last shot; {unblocked} visibility samples taken without a ray ({:.1} % of all), {} rays tested against their shafts' few triangles",
+            100.0 * unblocked as f64 / (unblocked + rays).max(1) as f64,
+            solver.listed_rays()
         );
     }
     eprintln!("{}", emitted_flux(scene));
