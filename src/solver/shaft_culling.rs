@@ -7,7 +7,8 @@
 //! and the box of the patch's receiving points (Haines & Wallace 1991;
 //! `Visibility::is_shaft_clear`). Where none does, every shadow ray from
 //! those points to the shooter is unblocked, and the shot is gathered at
-//! them with the same samples and factors but no rays. A vertex on the
+//! them with the same samples and factors but no rays (an emitter's, a
+//! uniform shooter, with Lambert's exact factor: `Shooter::gather`). A vertex on the
 //! border of two patches is clear when either patch is, since its
 //! receiving point lies in both boxes.
 //!

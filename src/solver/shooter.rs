@@ -237,6 +237,24 @@ impl Shooter {
             return Gathered::default();
         }
         let side = self.side_at((centre - x).length(), density);
+        // A receiver that sees all of a uniform shooter (an emitter) needs
+        // no samples: its irradiance is W times Lambert's exact factor,
+        // which the strata's sum only estimates where they are far (their
+        // disc terms; near ones already sum to it). On the 16 cluttered
+        // offices of `bench/generate_building.py`, whose lamps' shots see
+        // 44 % of their samples clear, the solve went from 3.5 to 3.0 s
+        // and the golden scenes' images moved by 0.004 points or less.
+        if receiver.clear
+            && kernel != FormFactorKernel::Wallace
+            && let ShotRadiosity::Uniform(radiosity) = self.radiosity
+        {
+            let factor = polygon_form_factor(x, n, self.cell.polygon()).max(0.0);
+            return Gathered {
+                irradiance: radiosity * factor,
+                known_visible: (side * side) as u32,
+                ..Gathered::default()
+            };
+        }
         let strata = self.strata[side].get_or_init(|| self.stratify(side));
         let mut random = SampleStream::new(receiver.key, shot);
         if kernel == FormFactorKernel::Mixed {
@@ -704,4 +722,126 @@ fn near_target(
                 .zip(corners.iter().copied()),
         )
         .find(|(p, _)| above(p))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Material, Scene};
+
+    /// A 1 m square lamp 3 m over a 6 m floor, facing it: an empty scene,
+    /// so every ray is unblocked. From the floor its strata are far
+    /// (`NEAR_FIELD`), and the samples sum Wallace's disc terms.
+    fn lamp_over_floor() -> (Scene, Shooter) {
+        let mut scene = Scene::new();
+        let grey = scene
+            .add_material(Material::diffuse("grey", Rgb::splat(0.5)))
+            .unwrap();
+        let at = DVec3::new;
+        scene
+            .add_polygon(
+                "floor",
+                grey,
+                &[
+                    at(-2.0, 0.0, -2.0),
+                    at(-2.0, 0.0, 2.0),
+                    at(2.0, 0.0, 2.0),
+                    at(2.0, 0.0, -2.0),
+                ],
+            )
+            .unwrap();
+        let lamp = [
+            at(-0.5, 3.0, -0.5),
+            at(0.5, 3.0, -0.5),
+            at(0.5, 3.0, 0.5),
+            at(-0.5, 3.0, 0.5),
+        ];
+        scene.add_polygon("lamp", grey, &lamp).unwrap();
+        let cell = Cell::quad(lamp[0], lamp[1], lamp[2], lamp[3]);
+        let shooter = Shooter::new(
+            cell,
+            DVec3::NEG_Y,
+            SurfaceId::new(1),
+            (8, 16),
+            ShotRadiosity::Uniform(Rgb::splat(2.0)),
+        );
+        (scene, shooter)
+    }
+
+    fn gather(
+        (shooter, visibility): (&Shooter, &Visibility),
+        x: DVec3,
+        (clear, key): (bool, u64),
+        kernel: FormFactorKernel,
+    ) -> Gathered {
+        let receiver = Receiver {
+            position: x,
+            normal: DVec3::Y,
+            surface: SurfaceId::new(0),
+            key,
+            clear,
+            occluders: None,
+        };
+        shooter.gather(
+            &receiver,
+            3.0,
+            1,
+            kernel,
+            (visibility, &mut ShadowCache::default()),
+        )
+    }
+
+    /// A receiver known to see all of a uniform shooter takes W times
+    /// Lambert's exact factor, without samples; the samples of one that
+    /// casts its rays estimate the same value. Wallace's kernel keeps its
+    /// samples' sum, rays or none.
+    #[test]
+    fn a_clear_receiver_of_a_uniform_shot_takes_the_exact_factor() {
+        let (scene, shooter) = lamp_over_floor();
+        let visibility = Visibility::new(&scene);
+        for x in [
+            DVec3::ZERO,
+            DVec3::new(0.7, 0.0, 0.2),
+            DVec3::new(1.9, 0.0, -1.5),
+        ] {
+            let exact = 2.0 * polygon_form_factor(x, DVec3::Y, shooter.cell.polygon());
+            let clear = gather(
+                (&shooter, &visibility),
+                x,
+                (true, 0),
+                FormFactorKernel::Mixed,
+            );
+            assert_eq!(clear.irradiance.g, exact, "at {x}");
+            assert_eq!((clear.rays, clear.blocked), (0, 0));
+            assert!(clear.known_visible >= 64);
+            let trials = 64;
+            let sampled: f64 = (0..trials)
+                .map(|key| {
+                    let g = gather(
+                        (&shooter, &visibility),
+                        x,
+                        (false, key),
+                        FormFactorKernel::Mixed,
+                    );
+                    assert!(g.rays >= 64 && g.blocked == 0);
+                    g.irradiance.g
+                })
+                .sum::<f64>()
+                / f64::from(trials as u32);
+            assert!(
+                (sampled / exact - 1.0).abs() < 0.01,
+                "{sampled} against {exact} at {x}"
+            );
+            let wallace = |clear| {
+                gather(
+                    (&shooter, &visibility),
+                    x,
+                    (clear, 3),
+                    FormFactorKernel::Wallace,
+                )
+                .irradiance
+            };
+            assert_eq!(wallace(true), wallace(false));
+        }
+    }
 }
