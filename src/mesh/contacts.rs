@@ -687,19 +687,27 @@ pub fn is_enclosed_within(
     let covers = |other: &Surface, height: f64| {
         other.normal().dot(normal) < -0.999 && height <= slot_gap(receiver, other, tolerance)
     };
-    let closed = hemisphere_directions(normal)
-        .iter()
-        .filter(|&&direction| {
-            visibility
-                .closest_hit(origin, direction, reach, surface)
-                .is_some_and(|(hit, distance)| {
-                    let other = scene.surface(hit);
-                    let height = lift + distance * direction.dot(normal);
-                    other.normal().dot(direction) > 0.0 || covers(other, height)
-                })
-        })
-        .count();
-    closed >= 6
+    let is_closed = |direction: DVec3| {
+        visibility
+            .closest_hit(origin, direction, reach, surface)
+            .is_some_and(|(hit, distance)| {
+                let other = scene.surface(hit);
+                let height = lift + distance * direction.dot(normal);
+                other.normal().dot(direction) > 0.0 || covers(other, height)
+            })
+    };
+    // Six of seven must be closed: the second open ray settles it, which
+    // in the open (most elements) is the second ray cast.
+    let mut open = 0;
+    for direction in hemisphere_directions(normal) {
+        if !is_closed(direction) {
+            open += 1;
+            if open > 1 {
+                return false;
+            }
+        }
+    }
+    true
 }
 
 /// Seven directions over the hemisphere around `normal`: the normal and six
