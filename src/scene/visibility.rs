@@ -352,15 +352,7 @@ impl Visibility {
         most: usize,
         occluders: &mut Vec<u32>,
     ) -> bool {
-        let local = |(min, max): (DVec3, DVec3)| {
-            let to_local = |p: DVec3| {
-                let q = (p - self.centre) / self.scale;
-                Vec3A::new(q.x as f32, q.y as f32, q.z as f32)
-            };
-            let widen = Vec3A::splat(SHAFT_WIDENING);
-            (to_local(min) - widen, to_local(max) + widen)
-        };
-        let shaft = Shaft::new(local(a), local(b));
+        let shaft = self.shaft(a, b);
         let mut state = self.bvh.new_traversal(Vec3A::ONE);
         let mut node;
         let start = occluders.len();
@@ -390,6 +382,49 @@ impl Visibility {
             occluders.truncate(start);
         }
         complete
+    }
+
+    /// [`Visibility::shaft_occluders`] for a shaft that lies within
+    /// another, whose triangles `candidates` are: those of them that reach
+    /// into it, tested one by one instead of traversing the BVH. A triangle
+    /// that reaches into the inner shaft reaches into the outer one, so the
+    /// list holds every one that can block a segment of the inner shaft.
+    pub fn shaft_occluders_among(
+        &self,
+        (a, b): ((DVec3, DVec3), (DVec3, DVec3)),
+        candidates: &[u32],
+        most: usize,
+        occluders: &mut Vec<u32>,
+    ) -> bool {
+        let shaft = self.shaft(a, b);
+        let start = occluders.len();
+        for &id in candidates {
+            let Some(t) = self.triangles.get(id as usize) else {
+                continue;
+            };
+            if shaft.overlaps_triangle([t.v0, t.v0 - t.e1, t.v0 + t.e2]) {
+                if occluders.len() - start == most {
+                    occluders.truncate(start);
+                    return false;
+                }
+                occluders.push(id);
+            }
+        }
+        true
+    }
+
+    /// The shaft between boxes `a` and `b` in the BVH's units, each widened
+    /// by [`SHAFT_WIDENING`].
+    fn shaft(&self, a: (DVec3, DVec3), b: (DVec3, DVec3)) -> Shaft {
+        let local = |(min, max): (DVec3, DVec3)| {
+            let to_local = |p: DVec3| {
+                let q = (p - self.centre) / self.scale;
+                Vec3A::new(q.x as f32, q.y as f32, q.z as f32)
+            };
+            let widen = Vec3A::splat(SHAFT_WIDENING);
+            (to_local(min) - widen, to_local(max) + widen)
+        };
+        Shaft::new(local(a), local(b))
     }
 
     /// [`Visibility::is_unblocked`] for a segment that only the
@@ -744,6 +779,48 @@ mod tests {
             blocked > 500 && unblocked > 500,
             "{blocked} blocked, {unblocked} unblocked"
         );
+    }
+
+    /// A shaft within another picks its triangles from the outer one's
+    /// list, and those answer its segments as the BVH does: from the floor
+    /// under the plate to a box above it, an inner box under the plate's
+    /// middle lists the plate; one beside the plate, under the outer
+    /// shaft's edge, lists nothing and is clear.
+    #[test]
+    fn a_shaft_within_another_picks_its_triangles_from_the_outer_list() {
+        let scene = plate_over_floor();
+        let visibility = Visibility::new(&scene);
+        let flat = |x: f64, y: f64, half: f64| {
+            (
+                DVec3::new(x - half, y, -half),
+                DVec3::new(x + half, y, half),
+            )
+        };
+        let ends = [SurfaceId::new(0), SurfaceId::NONE];
+        let (outer, top) = (flat(1.0, 0.01, 1.2), flat(1.0, 2.0, 0.1));
+        let mut candidates = Vec::new();
+        assert!(visibility.shaft_occluders(outer, top, ends, 8, &mut candidates));
+        assert_eq!(candidates.len(), 2, "{candidates:?}");
+        let mut listed = Vec::new();
+        let under = flat(0.0, 0.01, 0.1);
+        assert!(visibility.shaft_occluders_among((under, top), &candidates, 8, &mut listed));
+        assert_eq!(listed.len(), 2);
+        for k in 0..=10 {
+            let p = DVec3::new(-0.1 + 0.02 * f64::from(k), 0.01, 0.05);
+            let q = DVec3::new(1.0, 2.0, 0.1 - 0.02 * f64::from(k));
+            assert_eq!(
+                visibility.is_unblocked_among(p, q, &listed),
+                visibility.is_unblocked(p, q, ends),
+                "{p} to {q}"
+            );
+        }
+        listed.clear();
+        let beside = flat(2.1, 0.01, 0.1);
+        assert!(visibility.shaft_occluders_among((beside, top), &candidates, 8, &mut listed));
+        assert!(listed.is_empty());
+        assert!(visibility.is_shaft_clear(beside, top, ends));
+        assert!(!visibility.shaft_occluders_among((under, top), &candidates, 1, &mut listed));
+        assert!(listed.is_empty());
     }
 
     /// Wherever a shaft between two random boxes is clear, every segment
