@@ -344,7 +344,8 @@ impl Visibility {
     /// one ([`Visibility::is_unblocked_among`]), a handful of them answer
     /// a segment for less than a traversal of the BVH costs (the candidate
     /// lists of Haines & Wallace 1991).
-    pub fn shaft_occluders(
+    #[must_use]
+    pub(crate) fn shaft_occluders(
         &self,
         a: (DVec3, DVec3),
         b: (DVec3, DVec3),
@@ -389,7 +390,8 @@ impl Visibility {
     /// into it, tested one by one instead of traversing the BVH. A triangle
     /// that reaches into the inner shaft reaches into the outer one, so the
     /// list holds every one that can block a segment of the inner shaft.
-    pub fn shaft_occluders_among(
+    #[must_use]
+    pub(crate) fn shaft_occluders_among(
         &self,
         (a, b): ((DVec3, DVec3), (DVec3, DVec3)),
         candidates: &[u32],
@@ -399,6 +401,10 @@ impl Visibility {
         let shaft = self.shaft(a, b);
         let start = occluders.len();
         for &id in candidates {
+            debug_assert!(
+                (id as usize) < self.triangles.len(),
+                "another BVH's triangle"
+            );
             let Some(t) = self.triangles.get(id as usize) else {
                 continue;
             };
@@ -444,10 +450,14 @@ impl Visibility {
     /// from the path tracer's reference; left out, 12 pixels differ from
     /// the BVH's image, on average nearer the reference than it.
     #[must_use]
-    pub fn is_unblocked_among(&self, from: DVec3, to: DVec3, occluders: &[u32]) -> bool {
+    pub(crate) fn is_unblocked_among(&self, from: DVec3, to: DVec3, occluders: &[u32]) -> bool {
         let mut ray = self.segment_ray(from, to);
         ray.tmin = (self.surface_offset / from.distance(to)) as f32;
         occluders.iter().all(|&id| {
+            debug_assert!(
+                (id as usize) < self.triangles.len(),
+                "another BVH's triangle"
+            );
             self.triangles
                 .get(id as usize)
                 .is_none_or(|t| t.intersect(&ray) >= ray.tmax)

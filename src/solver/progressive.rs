@@ -157,8 +157,9 @@ pub struct Solver {
     reception_plan_buffer: ReceptionPlan,
     /// The box of each patch's receiving points, for shaft culling.
     receiving_boxes: ReceivingBoxes,
-    /// Per vertex: whether it sees all of the current shooter (kept between
-    /// shots so as not to allocate).
+    /// Per vertex: whether it sees all of the current shooter, or which few
+    /// triangles alone can block its rays to it (kept between shots so as
+    /// not to allocate).
     receiver_shafts: ReceiverShafts,
     /// Shafts tested and found clear, over all shots.
     shafts: (u64, u64),
@@ -649,7 +650,10 @@ impl Solver {
         for (&v, g) in vertices.iter().zip(&gathered) {
             self.rays += u64::from(g.rays);
             self.known_visible += u64::from(g.known_visible);
-            if shafts.occluders_of(v as usize).is_some() {
+            if shafts
+                .occluders_of(v as usize)
+                .is_some_and(|list| !list.is_empty())
+            {
                 self.listed_rays += u64::from(g.rays);
             }
             self.recalled += u64::from(recall(v as usize) != Recall::Unknown);

@@ -83,8 +83,9 @@ pub struct SolverSettings {
     /// all of the shooter: those whose shaft to it (the convex region
     /// between the shooter's cell and the patch's receiving points) no
     /// other surface reaches into (Haines & Wallace 1991; see
-    /// `solver/shaft_culling.rs`). The same radiosity, with fewer rays
-    /// (true).
+    /// `solver/shaft_culling.rs`). The same radiosity, with fewer rays,
+    /// but that a clear vertex of an emitter's shot takes Lambert's exact
+    /// factor, which its samples only estimate (true).
     pub cull_shafts: bool,
     /// A reflected shot from a patch that has shot before casts no rays
     /// from the vertices whose rays to it last time, four or more, were

@@ -5,12 +5,13 @@
 //! Before a shot, the solver asks, for each patch of the receiving zone,
 //! whether any triangle reaches into the shaft between the shooter's cell
 //! and the box of the patch's receiving points (Haines & Wallace 1991;
-//! `Visibility::is_shaft_clear`). Where none does, every shadow ray from
+//! `Visibility::shaft_occluders`). Where none does, every shadow ray from
 //! those points to the shooter is unblocked, and the shot is gathered at
-//! them with the same samples and factors but no rays (an emitter's, a
-//! uniform shooter, with Lambert's exact factor: `Shooter::gather`). A vertex on the
-//! border of two patches is clear when either patch is, since its
-//! receiving point lies in both boxes.
+//! them with no rays: a reflected shot with the same samples and factors,
+//! a uniform shooter (an emitter) with Lambert's exact factor, which its
+//! samples only estimate (`Shooter::gather`). A vertex on the border of two
+//! patches is clear when either patch is, since its receiving point lies
+//! in both boxes.
 //!
 //! A shaft costs about what fifteen rays cost, so only patches whose
 //! vertices would cast at least [`MIN_RAYS`] rays are tested, and the
@@ -18,21 +19,24 @@
 //! [`ELEMENT_RAYS`]: an emitter's shot, whose vertices cast 64 each.
 //!
 //! A shaft that is not clear often holds only a few triangles: a desk's
-//! top between a lamp and the floor under it, a chair's seat. The
-//! traversal then lists them (up to [`MOST_OCCLUDERS`]), and the rays of
-//! the shaft's vertices test those triangles alone instead of traversing
-//! the BVH, with the same answers: each ray lies in the shaft, so nothing
-//! else can block it (the candidate lists of Haines & Wallace). Only the
-//! elements' shafts are listed, and only where the shafts keep the whole
-//! shooter (an emitter's shot); a vertex takes the shortest list of its
-//! elements'. On the
-//! 16 cluttered offices of `bench/generate_building.py` (their 96 lamps'
-//! shots) this took the solve from 4.8 to 3.6 s, with the same image to
-//! 0.006 % per pixel (`Visibility::is_unblocked_among` on where the
-//! triangles' own tests and the BVH's f32 boxes disagree). Longer lists
-//! lost more to the traversal than they saved (16: the same; 32: 4.3 s;
-//! 64: 5.4 s), and so did listing a patch's shaft in place of its
-//! elements' (clear elements then tested their patch's list).
+//! top between a lamp and the floor under it, a chair's seat. On an
+//! emitter's shot, the patch's traversal lists its triangles (up to
+//! [`PATCH_OCCLUDERS`]), each element's shaft, which lies within the
+//! patch's, picks its own from them (up to [`MOST_OCCLUDERS`]), and the
+//! rays of the element's vertices test those alone instead of traversing
+//! the BVH: each ray lies in the shaft, so nothing else can block it (the
+//! candidate lists of Haines & Wallace). The answers are the BVH's but for
+//! a triangle met within the surface offset of a ray's start, which the
+//! lists leave out and the BVH's f32 boxes mostly do
+//! (`Visibility::is_unblocked_among`). Lists are made only where the
+//! shafts keep the whole shooter; a vertex takes the shortest of its
+//! elements'. On the 16 cluttered offices of `bench/generate_building.py`
+//! (their 96 lamps' shots) the element lists took the solve from 4.8 to
+//! 3.5 s, with the same image to 0.006 % per pixel, and picking them from
+//! the patch's list took it from 3.0 to 2.75 s (after the exact factor at
+//! clear vertices). Longer element lists lost more to the traversal than
+//! they saved (16: the same; 32: 4.3 s; 64: 5.4 s), and a patch's list used
+//! for its elements' rays, in place of theirs, gave no gain.
 //!
 //! The irradiance is the rays' own but for one thing: a reflected shot's
 //! shafts leave out a rim of the shooter as wide as its surface's
@@ -242,8 +246,9 @@ impl ReceivingBoxes {
     /// shooter's and the patch's own surfaces'. Each patch's shaft to its
     /// receiving points is tested for being clear; where it is not but its
     /// elements would each cast [`ELEMENT_RAYS`] rays or more (an
-    /// emitter's shot), each element's shaft is, and listed when it holds
-    /// at most [`MOST_OCCLUDERS`] triangles and `rim` is zero. A vertex
+    /// emitter's shot), each element's shaft is, picking its triangles from
+    /// the patch's list when that held at most [`PATCH_OCCLUDERS`], and is
+    /// listed when it holds at most [`MOST_OCCLUDERS`] and `rim` is zero. A vertex
     /// takes the shortest verdict of its patch's and elements' shafts. A
     /// rim of the shooter `rim` wide is left out of the shafts (see the
     /// code). Returns how many shafts were tested and how many of them
@@ -280,13 +285,13 @@ impl ReceivingBoxes {
         let occluders = |(min, max): (DVec3, DVec3),
                          (surface, normal): (SurfaceId, DVec3),
                          most: usize,
-                         found: &mut Vec<u32>| {
+                         list: &mut Vec<u32>| {
             visibility.shaft_occluders(
                 source,
                 lift((min, max), normal),
                 [surface, shooter.surface],
                 most,
-                found,
+                list,
             )
         };
         // About how many rays `vertices` receiving points round `at` cast.
@@ -298,6 +303,7 @@ impl ReceivingBoxes {
             let mut found = PatchShafts::default();
             let patch = &mesh.patches[p];
             let (min, max, vertices) = self.boxes[p];
+            let patch_box = (min, max);
             let middle = 0.5 * (min + max);
             if patch.surface == shooter.surface
                 || !min.cmple(max).all()
@@ -340,7 +346,8 @@ impl ReceivingBoxes {
                     .iter()
                     .flat_map(|&e| mesh.elements[e as usize].corners().iter().copied())
                     .collect();
-                found.record(&vertices, 0);
+                found.clear.extend_from_slice(&vertices);
+                found.cleared += 1;
                 return found;
             }
             if !by_elements {
@@ -356,6 +363,9 @@ impl ReceivingBoxes {
                     .iter()
                     .map(|&v| mesh.vertices[v as usize].receiver_position);
                 let (min, max) = bounds(points);
+                // The patch's list holds the element's triangles only if
+                // its shaft lies within the patch's.
+                debug_assert!(min.cmpge(patch_box.0).all() && max.cmple(patch_box.1).all());
                 found.tested += 1;
                 let start = found.occluders.len();
                 let few = if listed {
@@ -391,6 +401,10 @@ impl ReceivingBoxes {
             for &v in &found.clear {
                 shafts.mark(v);
             }
+            // A shot's lists are its zone's elements' at most, eight
+            // triangles each: far under 2³² − 2 (`CLEAR` and `UNKNOWN`).
+            debug_assert!(shafts.occluders.len() + found.occluders.len() < CLEAR as usize);
+            debug_assert!(shafts.lists.len() + found.lists.len() < (CLEAR - 1) as usize);
             let base = shafts.occluders.len() as u32;
             shafts.occluders.extend_from_slice(&found.occluders);
             for &((first, count), (start, length)) in &found.lists {
@@ -423,4 +437,37 @@ fn corners(min: DVec3, max: DVec3) -> impl Iterator<Item = DVec3> {
             if k & 4 == 0 { min.z } else { max.z },
         )
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A vertex takes the shortest verdict its shafts give: clear beats
+    /// any list, a shorter list a longer one whichever came first; a reset
+    /// forgets them all, and a vertex beyond the mesh is ignored.
+    #[test]
+    fn a_vertex_keeps_the_shortest_verdict_of_its_shafts() {
+        let mut shafts = ReceiverShafts::default();
+        shafts.reset(4);
+        shafts.occluders.extend([10, 11, 12, 20]);
+        shafts.lists.extend([(0, 3), (3, 1)]);
+        shafts.offer(0, 0);
+        shafts.offer(0, 1);
+        shafts.offer(1, 1);
+        shafts.offer(1, 0);
+        shafts.offer(2, 0);
+        shafts.mark(2);
+        shafts.offer(2, 1);
+        shafts.offer(9, 0);
+        shafts.mark(9);
+        assert_eq!(shafts.occluders_of(0), Some(&[20][..]));
+        assert_eq!(shafts.occluders_of(1), Some(&[20][..]));
+        assert!(shafts.is_clear(2) && shafts.occluders_of(2) == Some(&[][..]));
+        assert_eq!(shafts.occluders_of(3), None);
+        assert!(!shafts.is_clear(3) && !shafts.is_clear(9));
+        shafts.reset(4);
+        assert!((0..4).all(|v| shafts.occluders_of(v).is_none()));
+        assert!(shafts.lists.is_empty() && shafts.occluders.is_empty() && shafts.set.is_empty());
+    }
 }

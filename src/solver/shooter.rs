@@ -237,8 +237,8 @@ impl Shooter {
             return Gathered::default();
         }
         let side = self.side_at((centre - x).length(), density);
-        // A receiver that sees all of a uniform shooter (an emitter) needs
-        // no samples: its irradiance is W times Lambert's exact factor,
+        // A receiver that sees all of a uniform shooter (an emitter, or a
+        // reflected shot from the patch mean) needs no samples: its irradiance is W times Lambert's exact factor,
         // which the strata's sum only estimates where they are far (their
         // disc terms; near ones already sum to it). On the 16 cluttered
         // offices of `bench/generate_building.py`, whose lamps' shots see
