@@ -688,12 +688,6 @@ mod tests {
         let scene = plate_over_floor();
         let visibility = Visibility::new(&scene);
         let (floor, plate) = (SurfaceId::new(0), SurfaceId::new(1));
-        let flat = |x: f64, y: f64, half: f64| {
-            (
-                DVec3::new(x - half, y, -half),
-                DVec3::new(x + half, y, half),
-            )
-        };
         let ends = [floor, SurfaceId::NONE];
         assert!(!visibility.is_shaft_clear(flat(0.0, 0.01, 0.2), flat(0.0, 2.0, 0.2), ends));
         assert!(visibility.is_shaft_clear(flat(2.5, 0.01, 0.2), flat(2.5, 2.0, 0.2), ends));
@@ -706,6 +700,43 @@ mod tests {
         assert!(visibility.is_shaft_clear(flat(0.0, 0.01, 0.2), flat(2.6, 2.0, 0.2), ends));
     }
 
+    /// A flat box at height y, centred on (x, y, 0), `half` wide each way
+    /// along x and z: a patch's receiving points or a lamp.
+    fn flat(x: f64, y: f64, half: f64) -> (DVec3, DVec3) {
+        (
+            DVec3::new(x - half, y, -half),
+            DVec3::new(x + half, y, half),
+        )
+    }
+
+    /// Random boxes over and under the plate of [`plate_over_floor`], and
+    /// random points in them, from a small deterministic generator.
+    struct RandomBoxes(u64);
+
+    impl RandomBoxes {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+
+        fn next_box(&mut self) -> (DVec3, DVec3) {
+            let centre = DVec3::new(
+                4.0 * self.next() - 2.0,
+                0.05 + 2.0 * self.next(),
+                4.0 * self.next() - 2.0,
+            );
+            let half = DVec3::new(0.4 * self.next(), 0.4 * self.next(), 0.4 * self.next());
+            (centre - half, centre + half)
+        }
+
+        fn point_in(&mut self, (min, max): (DVec3, DVec3)) -> DVec3 {
+            min + (max - min) * DVec3::new(self.next(), self.next(), self.next())
+        }
+    }
+
     /// A shaft lists the triangles that reach into it: the plate's two
     /// between the floor under it and a box above it, nothing for a clear
     /// shaft; with room for fewer than reach in, it lists none and leaves
@@ -715,12 +746,6 @@ mod tests {
         let scene = plate_over_floor();
         let visibility = Visibility::new(&scene);
         let (floor, plate) = (SurfaceId::new(0), SurfaceId::new(1));
-        let flat = |x: f64, y: f64, half: f64| {
-            (
-                DVec3::new(x - half, y, -half),
-                DVec3::new(x + half, y, half),
-            )
-        };
         let ends = [floor, SurfaceId::NONE];
         let (under, over) = (flat(0.0, 0.01, 0.2), flat(0.0, 2.0, 0.2));
         let mut listed = vec![7];
@@ -746,32 +771,18 @@ mod tests {
     fn a_shaft_s_triangles_answer_its_segments_as_the_bvh_does() {
         let scene = plate_over_floor();
         let visibility = Visibility::new(&scene);
-        let mut state = 5_u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
-        let random_box = |next: &mut dyn FnMut() -> f64| {
-            let centre = DVec3::new(4.0 * next() - 2.0, 0.05 + 2.0 * next(), 4.0 * next() - 2.0);
-            let half = DVec3::new(0.4 * next(), 0.4 * next(), 0.4 * next());
-            (centre - half, centre + half)
-        };
+        let mut random = RandomBoxes(5);
         let ends = [SurfaceId::NONE; 2];
         let (mut blocked, mut unblocked) = (0, 0);
         let mut listed = Vec::new();
         for _ in 0..400 {
-            let (a, b) = (random_box(&mut next), random_box(&mut next));
+            let (a, b) = (random.next_box(), random.next_box());
             listed.clear();
             if !visibility.shaft_occluders(a, b, ends, 8, &mut listed) || listed.is_empty() {
                 continue;
             }
             for _ in 0..64 {
-                let mut point = |(min, max): (DVec3, DVec3)| {
-                    min + (max - min) * DVec3::new(next(), next(), next())
-                };
-                let (p, q) = (point(a), point(b));
+                let (p, q) = (random.point_in(a), random.point_in(b));
                 let seen = visibility.is_unblocked_among(p, q, &listed);
                 assert_eq!(
                     seen,
@@ -800,12 +811,6 @@ mod tests {
     fn a_shaft_within_another_picks_its_triangles_from_the_outer_list() {
         let scene = plate_over_floor();
         let visibility = Visibility::new(&scene);
-        let flat = |x: f64, y: f64, half: f64| {
-            (
-                DVec3::new(x - half, y, -half),
-                DVec3::new(x + half, y, half),
-            )
-        };
         let ends = [SurfaceId::new(0), SurfaceId::NONE];
         let (outer, top) = (flat(1.0, 0.01, 1.2), flat(1.0, 2.0, 0.1));
         let mut candidates = Vec::new();
@@ -839,32 +844,18 @@ mod tests {
     fn every_segment_of_a_clear_shaft_is_unblocked() {
         let scene = plate_over_floor();
         let visibility = Visibility::new(&scene);
-        let mut state = 3_u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
-        let random_box = |next: &mut dyn FnMut() -> f64| {
-            let centre = DVec3::new(4.0 * next() - 2.0, 0.05 + 2.0 * next(), 4.0 * next() - 2.0);
-            let half = DVec3::new(0.4 * next(), 0.4 * next(), 0.4 * next());
-            (centre - half, centre + half)
-        };
+        let mut random = RandomBoxes(3);
         let ends = [SurfaceId::NONE; 2];
         let (mut clear, mut blocked) = (0, 0);
         for _ in 0..400 {
-            let (a, b) = (random_box(&mut next), random_box(&mut next));
+            let (a, b) = (random.next_box(), random.next_box());
             if !visibility.is_shaft_clear(a, b, ends) {
                 blocked += 1;
                 continue;
             }
             clear += 1;
             for _ in 0..64 {
-                let mut point = |(min, max): (DVec3, DVec3)| {
-                    min + (max - min) * DVec3::new(next(), next(), next())
-                };
-                let (p, q) = (point(a), point(b));
+                let (p, q) = (random.point_in(a), random.point_in(b));
                 assert!(
                     visibility.is_unblocked(p, q, ends),
                     "{a:?} {b:?}: {p} to {q}"

@@ -510,9 +510,7 @@ fn shaft_culling_saves_rays_not_light() {
         (culled + unblocked).abs_diff(all) * 100_000 < all,
         "{culled} rays and {unblocked} clear samples against {all} rays"
     );
-    let differences = relative_differences(&light, &all_light);
-    let worst = differences.iter().copied().fold(0.0, f64::max);
-    let mean = differences.iter().sum::<f64>() / differences.len() as f64;
+    let (worst, mean) = worst_and_mean(&relative_differences(&light, &all_light));
     println!("relative differences: worst {worst:.2e}, mean {mean:.2e}");
     assert!(worst < 1e-3 && mean < 1e-6, "worst {worst}, mean {mean}");
     // Under the default kernel the clear vertices take the emitter's
@@ -520,9 +518,7 @@ fn shaft_culling_saves_rays_not_light() {
     // 0.75 % apart at the worst vertex, 0.034 % on average.
     let (_, _, exact, _) = solve_with(true, FormFactorKernel::Mixed);
     let (_, _, sampled, _) = solve_with(false, FormFactorKernel::Mixed);
-    let differences = relative_differences(&exact, &sampled);
-    let worst = differences.iter().copied().fold(0.0, f64::max);
-    let mean = differences.iter().sum::<f64>() / differences.len() as f64;
+    let (worst, mean) = worst_and_mean(&relative_differences(&exact, &sampled));
     println!("default kernel: worst {worst:.2e}, mean {mean:.2e}");
     assert!(worst < 0.02 && mean < 1e-3, "worst {worst}, mean {mean}");
 }
@@ -562,11 +558,18 @@ fn rays_tested_against_their_shafts_triangles_cast_the_same_shadows() {
         listed * 10 > samples,
         "{listed} of {samples} samples listed"
     );
-    let differences = relative_differences(&light, &all_light);
-    let worst = differences.iter().copied().fold(0.0, f64::max);
-    let mean = differences.iter().sum::<f64>() / differences.len() as f64;
+    let (worst, mean) = worst_and_mean(&relative_differences(&light, &all_light));
     println!("relative differences: worst {worst:.2e}, mean {mean:.2e}");
     assert!(worst < 1e-3 && mean < 1e-6, "worst {worst}, mean {mean}");
+}
+
+/// The largest and the mean of `differences`.
+fn worst_and_mean(differences: &[f64]) -> (f64, f64) {
+    let worst = differences.iter().copied().fold(0.0, f64::max);
+    (
+        worst,
+        differences.iter().sum::<f64>() / differences.len() as f64,
+    )
 }
 
 /// Per vertex, |B − B_ref| / B_ref of the green channel (0 where both are
