@@ -248,11 +248,11 @@ impl ReceivingBoxes {
     /// elements would each cast [`ELEMENT_RAYS`] rays or more (an
     /// emitter's shot), each element's shaft is, picking its triangles from
     /// the patch's list when that held at most [`PATCH_OCCLUDERS`], and is
-    /// listed when it holds at most [`MOST_OCCLUDERS`] and `rim` is zero. A vertex
-    /// takes the shortest verdict of its patch's and elements' shafts. A
-    /// rim of the shooter `rim` wide is left out of the shafts (see the
-    /// code). Returns how many shafts were tested and how many of them
-    /// were clear.
+    /// listed when it holds at most [`MOST_OCCLUDERS`] and `rim` is zero.
+    /// A vertex takes the shortest verdict of its patch's and elements'
+    /// shafts. A rim of the shooter `rim` wide is left out of the shafts
+    /// (see the code). Returns how many shafts were tested and how many of
+    /// them were clear.
     pub(crate) fn find_occluders(
         &self,
         (scene, mesh, visibility): (&Scene, &Mesh, &Visibility),
@@ -279,7 +279,7 @@ impl ReceivingBoxes {
             lift((min + inset, max - inset), shooter.normal)
         };
         let centre = shooter.cell.centre();
-        // Appends to `found` the triangles in the shaft to a box of
+        // Appends to `list` the triangles in the shaft to a box of
         // receiving points on a surface of `normal`, if there are at most
         // `most` of them: false when it holds more.
         let occluders = |(min, max): (DVec3, DVec3),
@@ -341,12 +341,8 @@ impl ReceivingBoxes {
                 &mut candidates,
             );
             if listed && candidates.is_empty() {
-                let vertices: Vec<u32> = patch
-                    .elements
-                    .iter()
-                    .flat_map(|&e| mesh.elements[e as usize].corners().iter().copied())
-                    .collect();
-                found.clear.extend_from_slice(&vertices);
+                let corners = |&e: &u32| mesh.elements[e as usize].corners().iter().copied();
+                found.clear.extend(patch.elements.iter().flat_map(corners));
                 found.cleared += 1;
                 return found;
             }

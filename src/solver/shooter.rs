@@ -238,12 +238,13 @@ impl Shooter {
         }
         let side = self.side_at((centre - x).length(), density);
         // A receiver that sees all of a uniform shooter (an emitter, or a
-        // reflected shot from the patch mean) needs no samples: its irradiance is W times Lambert's exact factor,
-        // which the strata's sum only estimates where they are far (their
-        // disc terms; near ones already sum to it). On the 16 cluttered
-        // offices of `bench/generate_building.py`, whose lamps' shots see
-        // 44 % of their samples clear, the solve went from 3.5 to 3.0 s
-        // and the golden scenes' images moved by 0.004 points or less.
+        // reflected shot from the patch mean) needs no samples: its
+        // irradiance is W times Lambert's exact factor, which the strata's
+        // sum only estimates where they are far (their disc terms; near
+        // ones already sum to it). On the 16 cluttered offices of
+        // `bench/generate_building.py`, whose lamps' shots see 44 % of
+        // their samples clear, the solve went from 3.5 to 3.0 s and the
+        // golden scenes' images moved by 0.004 points or less.
         if receiver.clear
             && kernel != FormFactorKernel::Wallace
             && let ShotRadiosity::Uniform(radiosity) = self.radiosity
