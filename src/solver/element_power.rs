@@ -60,21 +60,19 @@ fn unoccluded_factor(x: DVec3, n: DVec3, emitter: &[DVec3], emitter_normal: DVec
 }
 
 /// The power (W) each of `elements` receives from the shot of an emitting
-/// patch `emitter` (its polygon and front normal) that gave the vertices
-/// `incident` irradiance, by element index in `elements`' order (see the
-/// module's documentation). `vertices` are the elements' corners (the
-/// shot's closed zone, or the whole mesh): the unoccluded field is read
-/// once at each (at its receiver position) and once per element, at its
-/// centre, so a shot in one room of a building costs that room alone.
-/// `at_vertices` is a buffer kept from shot to shot, indexed by vertex: the
-/// factors are written at `vertices` only, and read there.
+/// patch `emitter` (its polygon and front normal) that gave vertex v the
+/// irradiance `incident(v)`, by element index in `elements`' order (see
+/// the module's documentation). `vertices` are the elements' corners (the
+/// shot's closed zone, or the whole mesh), and `place(v)` is vertex v's
+/// place in that list: the unoccluded field is read once at each (at its
+/// receiver position) and once per element, at its centre, so a shot in
+/// one room of a building costs that room alone.
 pub(crate) fn emitter_shot_powers(
     scene: &Scene,
     mesh: &Mesh,
     (emitter, emitter_normal): (&[DVec3], DVec3),
-    incident: &[Rgb],
+    (incident, place): (&(dyn Fn(u32) -> Rgb + Sync), &(dyn Fn(u32) -> usize + Sync)),
     (vertices, elements): (&[u32], &[u32]),
-    at_vertices: &mut Vec<f64>,
 ) -> Vec<Rgb> {
     let normal = |surface| scene.surface(surface).normal();
     // The unoccluded factor at every vertex, shadowed or not.
@@ -86,19 +84,15 @@ pub(crate) fn emitter_shot_powers(
             unoccluded_factor(vertex.receiver_position, n, emitter, emitter_normal)
         })
         .collect();
-    at_vertices.resize(mesh.vertices.len(), 0.0);
-    for (&v, factor) in vertices.iter().zip(factors) {
-        at_vertices[v as usize] = factor;
-    }
     elements
         .par_iter()
         .map(|&e| {
             let element = &mesh.elements[e as usize];
-            let trapezoid = element.corner_mean(|v| incident[v as usize]) * element.area;
+            let trapezoid = element.corner_mean(incident) * element.area;
             if trapezoid == Rgb::ZERO {
                 return Rgb::ZERO;
             }
-            let corners = element.corner_mean(|v| at_vertices[v as usize]);
+            let corners = element.corner_mean(|v| factors[place(v)]);
             if corners <= f64::MIN_POSITIVE {
                 return trapezoid;
             }

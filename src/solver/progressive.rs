@@ -23,7 +23,7 @@ use super::solution::Solution;
 use super::unshot::{FieldScale, PatchField, UnshotCorners};
 use super::unshot_by_zone::UnshotByZone;
 use super::visibility_memory::{Recall, VisibilityMemory};
-use super::zones::{ZoneLabels, ZoneMembers, Zones};
+use super::zones::{ShotPlaces, ZoneLabels, ZoneMembers, Zones};
 use crate::mesh::{Cell, ElementHierarchy, Mesh, receiver_inset};
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Camera, Rgb, Scene, ShadowCache, SurfaceId, Visibility};
@@ -110,14 +110,12 @@ pub struct Solver {
     /// Each surface's reflectance, side by side: every shot reads it at
     /// every vertex and element it reaches.
     surface_reflectance: Vec<Rgb>,
-    /// A shot's irradiance per vertex, kept between shots (a building's
-    /// closed rooms each write only their own vertices, and clear them).
+    /// A shot's irradiance per vertex of its closed zone (or of the mesh),
+    /// at each one's [`ShotPlaces`], kept between shots: a shot in one room
+    /// of a building holds that room's vertices alone.
     incident: Vec<Rgb>,
     /// A shot's power per receiving element, kept between shots.
     element_powers: Vec<Rgb>,
-    /// An emitter's unoccluded factor at each vertex of its shot's zone,
-    /// kept from shot to shot (`element_power.rs`).
-    emitter_factors: Vec<f64>,
     emitted_power: Rgb,
     shot_power: Rgb,
     received_power: Rgb,
@@ -354,7 +352,6 @@ impl Solver {
             surface_reflectance,
             incident: Vec::new(),
             element_powers: Vec::new(),
-            emitter_factors: Vec::new(),
             emitted_power,
             shot_power: Rgb::ZERO,
             received_power: Rgb::ZERO,
@@ -458,7 +455,6 @@ impl Solver {
         });
         self.receive(&incident, zone, emitter, lands_whole);
         self.recount_unshot(zone);
-        self.clear_incident(&mut incident, zone);
         self.incident = incident;
         self.shot_power += shot_power;
         self.shot[j] += delta;
@@ -483,18 +479,12 @@ impl Solver {
             }
             None => (0..self.mesh.vertices.len() as u32).collect(),
         };
-        let light = self.luminaire_light(k, &vertices);
-        let mut incident = std::mem::take(&mut self.incident);
-        incident.resize(self.mesh.vertices.len(), Rgb::ZERO);
-        for (&v, light) in vertices.iter().zip(light) {
-            incident[v as usize] = light;
-        }
+        // In the zone's order: where the shot keeps its vertices' light.
+        let incident = self.luminaire_light(k, &vertices);
         let samples = self.scene.luminaires[k].opening_samples().len();
         self.rays += (vertices.len() * samples) as u64;
         self.receive(&incident, zone, None, None);
         self.recount_unshot(zone);
-        self.clear_incident(&mut incident, zone);
-        self.incident = incident;
         self.shot_power += self.scene.luminaires[k].power();
         self.luminaire_shot[k] = true;
         self.shots += 1;
@@ -530,9 +520,9 @@ impl Solver {
     }
 
     /// Irradiance at every vertex from patch j shooting `radiosity`,
-    /// computed in parallel, into `incident` (all zero on entry, resized to
-    /// the vertices): at the vertices of closed zone `zone` only when given
-    /// (the others get none). `power` is the shot's power as a sum of
+    /// computed in parallel, into `incident` (cleared, then one value per
+    /// vertex at its [`ShotPlaces`]): at the vertices of closed zone `zone`
+    /// only when given (the others get none, and have no place). `power` is the shot's power as a sum of
     /// channels, and, when the shot may be received coarsely (a reflected
     /// shot), by channel: then the patches it barely lights gather it at
     /// their sample vertices only (see [`Solver::reception_plan`]).
@@ -627,7 +617,15 @@ impl Solver {
             };
             shooter.gather(&receiver, density, shot, kernel, (visibility, cache))
         };
-        incident.resize(mesh.vertices.len(), Rgb::ZERO);
+        let members = self.zones.as_ref().map(|(_, members)| members);
+        let places = ShotPlaces::new(zone, members);
+        let zone_size = zone
+            .zip(members)
+            .map_or(mesh.vertices.len(), |(zone, members)| {
+                members.vertices[zone].len()
+            });
+        incident.clear();
+        incident.resize(zone_size, Rgb::ZERO);
         let vertices = match (&plan, zone.zip(self.zones.as_ref())) {
             (Some(plan), _) => Some(&plan.gathered[..]),
             (None, Some((zone, (_, members)))) => Some(&members.vertices[zone][..]),
@@ -640,10 +638,10 @@ impl Solver {
                 in_shadow_cache_runs(vertices, |&v, cache| gather(v as usize, cache)),
             ),
             None => {
-                every_vertex = (0..incident.len() as u32).collect();
+                every_vertex = (0..mesh.vertices.len() as u32).collect();
                 (
                     &every_vertex,
-                    indices_in_shadow_cache_runs(incident.len(), gather),
+                    indices_in_shadow_cache_runs(mesh.vertices.len(), gather),
                 )
             }
         };
@@ -657,12 +655,9 @@ impl Solver {
                 self.listed_rays += u64::from(g.rays);
             }
             self.recalled += u64::from(recall(v as usize) != Recall::Unknown);
-            incident[v as usize] = g.irradiance;
+            incident[places.of(v)] = g.irradiance;
         }
         if remembering {
-            let zone_size = zone_lists
-                .zip(zone)
-                .map_or(mesh.vertices.len(), |(lists, zone)| lists[zone].len());
             self.visibility_memory
                 .remember(j, zone_size, (vertices, &gathered));
         }
@@ -684,7 +679,7 @@ impl Solver {
                 reception.weights_of(v).map(|weights| {
                     let (mut light, mut kernel_there) = (Rgb::ZERO, 0.0);
                     for &(s, w) in &weights {
-                        light += incident[s as usize] * f64::from(w);
+                        light += incident[places.of(s)] * f64::from(w);
                         kernel_there += at(s) * f64::from(w);
                     }
                     light * curvature_factor(at(v), kernel_there)
@@ -698,7 +693,7 @@ impl Solver {
                 .collect();
             for (&v, value) in plan.interpolated.iter().zip(values) {
                 if let Some(value) = value {
-                    incident[v as usize] = value;
+                    incident[places.of(v)] = value;
                 }
             }
             let count = (plan.interpolated.len() + plan.gathered.len()) as u64;
@@ -850,20 +845,23 @@ impl Solver {
         let (vertices, elements): (&[u32], &[u32]) = match &members {
             Some((zone, (_, members))) => (&members.vertices[*zone], &members.elements[*zone]),
             None => {
-                all_vertices = (0..incident.len() as u32).collect();
+                all_vertices = (0..self.mesh.vertices.len() as u32).collect();
                 all_elements = (0..self.mesh.elements.len() as u32).collect();
                 (&all_vertices, &all_elements)
             }
         };
+        // The k-th of `vertices` keeps its light at place k.
+        let places = ShotPlaces::new(zone, members.as_ref().map(|(_, (_, members))| members));
+        let at = |v: u32| incident[places.of(v)];
         let (mesh, reflectances) = (&self.mesh, &self.surface_reflectance);
         let reflectance_of = |surface: SurfaceId| reflectances[surface.index()];
         indexed_update::par_update_at(&mut self.irradiance, vertices, &|k, h| {
-            *h += incident[vertices[k] as usize];
+            *h += incident[k];
         });
         indexed_update::par_update_at(&mut self.radiosity, vertices, &|k, b| {
             let v = vertices[k] as usize;
-            if incident[v] != Rgb::ZERO {
-                *b += reflectance_of(mesh.vertices[v].surface) * incident[v];
+            if incident[k] != Rgb::ZERO {
+                *b += reflectance_of(mesh.vertices[v].surface) * incident[k];
             }
         });
         let mut powers = std::mem::take(&mut self.element_powers);
@@ -871,20 +869,15 @@ impl Solver {
             Some((cell, normal)) => {
                 let emitter = (cell.polygon(), normal);
                 let zone = (vertices, elements);
-                let factors = &mut self.emitter_factors;
-                powers = element_power::emitter_shot_powers(
-                    &self.scene,
-                    mesh,
-                    emitter,
-                    incident,
-                    zone,
-                    factors,
-                );
+                let place = |v: u32| places.of(v);
+                let values = (&at as _, &place as _);
+                powers =
+                    element_power::emitter_shot_powers(&self.scene, mesh, emitter, values, zone);
             }
             None => {
                 let power = |&e: &u32| {
                     let element = &mesh.elements[e as usize];
-                    element.corner_mean(|v| incident[v as usize]) * element.area
+                    element.corner_mean(at) * element.area
                 };
                 if elements.len() > indexed_update::SERIAL_PART {
                     elements.par_iter().map(power).collect_into_vec(&mut powers);
@@ -910,7 +903,7 @@ impl Solver {
             self.absorbed_power += (Rgb::ONE - reflectance) * incident_power;
         }
         self.unshot_corners.add_shot(mesh, elements, |element, v| {
-            reflectance_of(element.surface) * scale * incident[v as usize]
+            reflectance_of(element.surface) * scale * at(v)
         });
         self.element_powers = powers;
         if let Some((_, zones)) = members {
@@ -919,30 +912,14 @@ impl Solver {
     }
 
     /// Gives back the buffers a shot works in, kept from shot to shot: a
-    /// shot's irradiance per vertex (24 bytes), its power per element (24,
-    /// about 1.25 elements a vertex) and an emitter's factors per vertex
-    /// (8), 62 bytes a vertex that hold nothing between shots. Once a run
-    /// stops, the ambient term's memory would stand on theirs (a gigabyte
-    /// in a building of 17 million vertices); the next shot makes them
+    /// shot's irradiance per vertex of its zone (24 bytes) and its power
+    /// per element (24, about 1.25 elements a vertex), which hold nothing
+    /// between shots. In a scene of one zone, the ambient term's memory
+    /// would stand on theirs once a run stops; the next shot makes them
     /// again.
     pub(crate) fn release_shot_buffers(&mut self) {
         self.incident = Vec::new();
         self.element_powers = Vec::new();
-        self.emitter_factors = Vec::new();
-    }
-
-    /// Zeroes `incident` where a shot into closed zone `zone` (or into
-    /// every vertex) wrote it, for the next shot: a shot in one room of a
-    /// building touches that room's vertices alone.
-    fn clear_incident(&self, incident: &mut [Rgb], zone: Option<usize>) {
-        match zone.zip(self.zones.as_ref()) {
-            Some((zone, (_, members))) => {
-                for &v in &members.vertices[zone] {
-                    incident[v as usize] = Rgb::ZERO;
-                }
-            }
-            None => incident.fill(Rgb::ZERO),
-        }
     }
 
     /// Counts the unshot power of closed zone `zone`'s patches again after
@@ -1819,24 +1796,28 @@ mod tests {
         scene
     }
 
-    /// The ambient term made room by room is the same whether the rooms'
-    /// rays are kept between images or cast for each and dropped, and
-    /// each room's rays stay in it: the second room, lit twice as
-    /// brightly, gets twice the first's light within the rays' noise.
+    /// A shot into one of two closed rooms keeps its buffers at that
+    /// room's size, for the next shot, and a run gives them back when it
+    /// stops.
     #[test]
     fn a_run_gives_back_its_shot_buffers_when_it_stops() {
         let mut settings = Settings::default();
         settings.mesh.max_edge = crate::Length::Absolute(0.5);
         let mut solver = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
         assert!(solver.step());
-        let held = |s: &Solver| {
-            let capacities = [s.incident.capacity(), s.element_powers.capacity()];
-            capacities
-                .into_iter()
-                .chain([s.emitter_factors.capacity()])
-                .sum::<usize>()
-        };
+        let held = |s: &Solver| s.incident.capacity() + s.element_powers.capacity();
         assert!(held(&solver) > 0, "a shot keeps its buffers for the next");
+        let (zones, members) = solver.zones.as_ref().expect("two closed rooms");
+        let room = zones.of(solver.mesh.patches[0].surface);
+        let room_size = (members.vertices[room].len(), members.elements[room].len());
+        assert!(
+            2 * room_size.0 <= solver.mesh.vertices.len() + 1,
+            "{room_size:?}"
+        );
+        assert_eq!(
+            (solver.incident.len(), solver.element_powers.len()),
+            room_size
+        );
         let until = crate::Until::default().total_shots(3);
         solver.run_until(&until, |_| {});
         assert_eq!((solver.shots(), held(&solver)), (3, 0));
