@@ -26,6 +26,7 @@ fn floor_panel(title: &str, kind: MeshKind, fraction: f64) -> MeshPanel {
     let mut solver = Solver::new(scene, settings).expect("valid settings");
     solver.run();
     let (scene, mesh) = (solver.scene(), solver.mesh());
+    let radiosity = solver.radiosity();
     let floor = scene.surface_named("floor").expect("a floor");
     let frame = scene.surface(floor).frame();
     let mut index = vec![usize::MAX; mesh.vertices.len()];
@@ -39,7 +40,7 @@ fn floor_panel(title: &str, kind: MeshKind, fraction: f64) -> MeshPanel {
                 if index[v] == usize::MAX {
                     index[v] = points.len();
                     points.push(frame.to_plane(mesh.vertices[v].position));
-                    values.push(solver.radiosity()[v].element_sum());
+                    values.push(radiosity[v].element_sum());
                 }
                 index[v]
             }));

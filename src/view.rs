@@ -13,13 +13,14 @@ impl Solution<'_> {
     /// L = B/π, W/(m²·sr). What [`Solution::render`] draws.
     #[must_use]
     pub fn triangles(&self) -> Vec<ShadedTriangle> {
-        mesh_triangles(self.mesh, &self.radiosity)
+        let radiosity = |v: u32| self.radiosity_at(v as usize);
+        shaded(self.mesh, &radiosity, self.triangle_indices())
     }
 
     /// The same triangles as vertex-index triples into the mesh's vertices,
     /// for writers that keep the vertices shared (the exporters).
     pub(crate) fn triangle_indices(&self) -> Vec<[u32; 3]> {
-        triangle_indices(self.mesh, &self.radiosity)
+        triangle_indices_of(self.mesh, &|v| self.radiosity_at(v as usize), |_| true)
     }
 
     /// The triangles an image from `camera` can show, as
@@ -31,9 +32,12 @@ impl Solution<'_> {
     /// view's frustum.
     pub(crate) fn triangle_indices_seen_from(&self, camera: &Camera) -> Vec<[u32; 3]> {
         match self.zones.zip(self.camera_zone(camera)) {
-            Some((zones, zone)) => triangle_indices_of(self.mesh, &self.radiosity, |element| {
-                zones.of(element.surface) == zone
-            }),
+            Some((zones, zone)) => {
+                let radiosity = |v: u32| self.radiosity_at(v as usize);
+                triangle_indices_of(self.mesh, &radiosity, |element| {
+                    zones.of(element.surface) == zone
+                })
+            }
             None => self.triangle_indices(),
         }
     }
@@ -49,9 +53,10 @@ impl Solution<'_> {
     /// [`Solution::render`] draws, for a viewer of its own.
     #[must_use]
     pub fn triangles_seen_from(&self, camera: &Camera) -> Vec<ShadedTriangle> {
+        let radiosity = |v: u32| self.radiosity_at(v as usize);
         shaded(
             self.mesh,
-            &self.radiosity,
+            &radiosity,
             self.triangle_indices_seen_from(camera),
         )
     }
@@ -63,7 +68,7 @@ impl Solution<'_> {
     #[must_use]
     pub fn render_irradiance(&self, camera: &Camera, settings: &RenderSettings) -> Image {
         let position = |v: u32| self.mesh.vertices[v as usize].position;
-        let irradiance = |v: u32| self.irradiance[v as usize];
+        let irradiance = |v: u32| self.irradiance_at(v as usize);
         let triangles: Vec<ShadedTriangle> = self
             .triangle_indices_seen_from(camera)
             .into_iter()
@@ -94,13 +99,22 @@ impl Solution<'_> {
 /// triangulated through them, so the image has no T-junction cracks.
 #[must_use]
 pub fn mesh_triangles(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<ShadedTriangle> {
-    shaded(mesh, radiosity, triangle_indices(mesh, radiosity))
+    let radiosity = |v: u32| radiosity[v as usize];
+    shaded(
+        mesh,
+        &radiosity,
+        triangle_indices_of(mesh, &radiosity, |_| true),
+    )
 }
 
 /// Triangles given as vertex-index triples, with their vertices' positions
-/// and radiance L = B/π.
-fn shaded(mesh: &Mesh, radiosity: &[Rgb], triangles: Vec<[u32; 3]>) -> Vec<ShadedTriangle> {
-    let radiance = |v: u32| radiosity[v as usize] / std::f64::consts::PI;
+/// and radiance L = B/π, from each vertex's `radiosity`.
+fn shaded(
+    mesh: &Mesh,
+    radiosity: &dyn Fn(u32) -> Rgb,
+    triangles: Vec<[u32; 3]>,
+) -> Vec<ShadedTriangle> {
+    let radiance = |v: u32| radiosity(v) / std::f64::consts::PI;
     let position = |v: u32| mesh.vertices[v as usize].position;
     triangles
         .into_iter()
@@ -111,26 +125,17 @@ fn shaded(mesh: &Mesh, radiosity: &[Rgb], triangles: Vec<[u32; 3]>) -> Vec<Shade
         .collect()
 }
 
-/// The mesh's triangles as triples of vertex indices, counter-clockwise seen
-/// from the front, in element order: each element split as
-/// [`mesh_triangles`] splits it (a quad along the diagonal of closer
-/// radiosities). The one triangulation the renderer draws and the exporters
-/// write.
-fn triangle_indices(mesh: &Mesh, radiosity: &[Rgb]) -> Vec<[u32; 3]> {
-    triangle_indices_of(mesh, radiosity, |_| true)
-}
-
-/// [`triangle_indices`] of the elements `keep` selects.
+/// The triangles of the elements `keep` selects as triples of vertex
+/// indices, counter-clockwise seen from the front, in element order: each
+/// element split as [`mesh_triangles`] splits it (a quad along the diagonal
+/// of closer radiosities, from each vertex's `radiosity`). The one
+/// triangulation the renderer draws and the exporters write.
 fn triangle_indices_of(
     mesh: &Mesh,
-    radiosity: &[Rgb],
+    radiosity: &dyn Fn(u32) -> Rgb,
     keep: impl Fn(&Element) -> bool,
 ) -> Vec<[u32; 3]> {
-    let gap = |p: u32, q: u32| {
-        (radiosity[p as usize] - radiosity[q as usize])
-            .abs()
-            .element_sum()
-    };
+    let gap = |p: u32, q: u32| (radiosity(p) - radiosity(q)).abs().element_sum();
     let mut triangles = Vec::with_capacity(2 * mesh.elements.len());
     let mut split = Vec::new();
     for element in mesh.elements.iter().filter(|element| keep(element)) {

@@ -124,19 +124,9 @@ impl BakedMesh {
     /// finite or there is nothing to export.
     fn new(solution: &Solution<'_>, tone_map: &ToneMap, path: &Path) -> Result<BakedMesh> {
         let (scene, mesh) = (solution.scene, solution.mesh);
-        let radiosity = &solution.radiosity;
-        if radiosity.len() != mesh.vertices.len() {
-            return Err(export_error(
-                path,
-                format!(
-                    "the solution has {} radiosities for {} vertices",
-                    radiosity.len(),
-                    mesh.vertices.len()
-                ),
-            ));
-        }
+        let radiosity = solution.radiosity();
         // Refuse non-finite values before anything is written.
-        for (index, (vertex, b)) in mesh.vertices.iter().zip(radiosity).enumerate() {
+        for (index, (vertex, b)) in mesh.vertices.iter().zip(&radiosity).enumerate() {
             if !vertex.position.is_finite() || !b.is_finite() {
                 return Err(export_error(
                     path,
@@ -181,5 +171,37 @@ fn export_error(path: &Path, message: impl ToString) -> Error {
     Error::Output {
         path: path.to_path_buf(),
         message: message.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::AmbientIrradiance;
+    use crate::{Length, Settings, Solver, load_scene};
+
+    /// A vertex whose radiosity is not finite is named, and neither format
+    /// writes a file, nor leaves a temporary one.
+    #[test]
+    fn non_finite_radiosity_is_refused_and_nothing_is_written() {
+        let scene = load_scene("cornell").expect("the bundled scene").scene;
+        let mut settings = Settings::default();
+        settings.mesh.max_edge = Length::OfDiagonal(0.15);
+        let mut solver = Solver::new(scene, settings).expect("a valid scene");
+        assert!(solver.step());
+        let mut solution = solver.solution();
+        let mut ambient = vec![Rgb::ZERO; solver.mesh().vertices.len()];
+        ambient[7].g = f64::NAN;
+        solution.ambient = AmbientIrradiance::Everywhere(ambient);
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        for name in ["bad.glb", "bad.ply"] {
+            let path = dir.path().join(name);
+            let error = export_solution(&solution, &ToneMap::new(-2.0), &path).unwrap_err();
+            assert!(matches!(error, Error::Output { .. }), "{error}");
+            assert!(error.to_string().contains("vertex 7"), "{error}");
+            assert!(!path.exists());
+        }
+        let left = std::fs::read_dir(dir.path()).map(Iterator::count);
+        assert_eq!(left.ok(), Some(0), "no temporary file left");
     }
 }

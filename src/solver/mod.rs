@@ -4,6 +4,7 @@
 //! gets (`scene_mesh.rs`, where lighting's fields meet the meshers).
 
 mod ambient;
+mod ambient_irradiance;
 mod ambient_rooms;
 mod ambient_smoothing;
 mod ambient_sweeps;
@@ -28,6 +29,8 @@ mod unshot_by_zone;
 mod visibility_memory;
 mod zones;
 
+#[cfg(test)]
+pub(crate) use ambient_irradiance::AmbientIrradiance;
 pub use ambient_rooms::ReadingPlace;
 pub use energy_balance::EnergyBalance;
 pub use mesh_settings::{Length, MeshKind, MeshSettings};

@@ -6,6 +6,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::ambient::{AmbientEstimate, LandingElement, PatchLocator, PatchRays, VertexRays};
+use super::ambient_irradiance::AmbientIrradiance;
 use super::ambient_rooms::{AmbientCache, LocalIndex, ReadingPlace, Room, zones_read};
 use super::ambient_smoothing;
 use super::ambient_sweeps::{self, UnshotLight};
@@ -92,9 +93,8 @@ pub struct Solver {
     /// the caller brought the mesh.
     receiver_insets: Vec<f64>,
     settings: SolverSettings,
-    /// Radiosity B per vertex (emission included), W/m².
-    radiosity: Vec<Rgb>,
-    /// Irradiance H per vertex (light received), W/m².
+    /// Irradiance H per vertex (light received), W/m². Its radiosity,
+    /// B = E + ρ H, is found from it when asked ([`Solver::radiosity`]).
     irradiance: Vec<Rgb>,
     /// Unshot radiosity ΔB per patch: the area-weighted mean of its
     /// elements' corner means, the ledger's and the shooter choice's measure.
@@ -255,7 +255,6 @@ impl Solver {
                 .material_of(scene.surface(surface))
                 .emitted_radiosity()
         };
-        let radiosity: Vec<Rgb> = mesh.vertices.iter().map(|v| emitted(v.surface)).collect();
         let unshot: Vec<Rgb> = mesh.patches.iter().map(|p| emitted(p.surface)).collect();
         let powers = mesh.patches.iter().zip(&unshot).map(|(p, b)| *b * p.area);
         let emitted_power =
@@ -271,6 +270,7 @@ impl Solver {
             .chain(scene.luminaires.iter().map(|l| l.power().element_sum()))
             .fold(0.0, f64::max);
         let unshot_len = unshot.len();
+        let irradiance = vec![Rgb::ZERO; mesh.vertices.len()];
         let unshot_corners = UnshotCorners::new(&mesh, &unshot);
         let patch_areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
         let surface_reflectance = scene
@@ -343,8 +343,7 @@ impl Solver {
             analysis,
             receiver_insets,
             settings,
-            irradiance: vec![Rgb::ZERO; radiosity.len()],
-            radiosity,
+            irradiance,
             unshot,
             unshot_corners,
             patch_areas,
@@ -858,12 +857,6 @@ impl Solver {
         indexed_update::par_update_at(&mut self.irradiance, vertices, &|k, h| {
             *h += incident[k];
         });
-        indexed_update::par_update_at(&mut self.radiosity, vertices, &|k, b| {
-            let v = vertices[k] as usize;
-            if incident[k] != Rgb::ZERO {
-                *b += reflectance_of(mesh.vertices[v].surface) * incident[k];
-            }
-        });
         let mut powers = std::mem::take(&mut self.element_powers);
         match emitter {
             Some((cell, normal)) => {
@@ -985,10 +978,12 @@ impl Solver {
             .sum()
     }
 
-    /// Radiosity per vertex (W/m²) from the light shot so far.
+    /// Radiosity per vertex (W/m²) from the light shot so far, B = E + ρ H
+    /// with the emission E and reflectance ρ of each vertex's surface: a
+    /// new list, 24 bytes a vertex (the solver keeps H alone).
     #[must_use]
-    pub fn radiosity(&self) -> &[Rgb] {
-        &self.radiosity
+    pub fn radiosity(&self) -> Vec<Rgb> {
+        self.solution().radiosity()
     }
 
     /// Irradiance per vertex (W/m²) from the light shot so far.
@@ -1002,15 +997,19 @@ impl Solver {
     /// images.
     #[must_use]
     pub fn radiosity_with_ambient(&self) -> Vec<Rgb> {
-        self.solution_with_ambient().radiosity
+        self.solution_with_ambient().radiosity()
     }
 
     /// The ambient irradiance G_v of every vertex: the light the unshot
     /// radiosity will still give, gathered along rays (see
     /// `solver/ambient.rs`), room by room (`solver/ambient_rooms.rs`),
     /// reporting its progress to `report`; only in zone `only`'s
-    /// vertices where given (0 at the others).
-    fn ambient_irradiance(&self, only: Option<&[usize]>, report: PhaseReporter) -> Vec<Rgb> {
+    /// vertices where given (0 at the others, which it does not hold).
+    fn ambient_irradiance(
+        &self,
+        only: Option<&[usize]>,
+        report: PhaseReporter,
+    ) -> AmbientIrradiance {
         let keep = AmbientCache::keeps(self.mesh.vertices.len());
         self.ambient_irradiance_keeping(keep, only, report)
     }
@@ -1022,7 +1021,7 @@ impl Solver {
         keep: bool,
         only: Option<&[usize]>,
         report: PhaseReporter,
-    ) -> Vec<Rgb> {
+    ) -> AmbientIrradiance {
         let zones = self.zones.as_ref().map(|(zones, _)| zones);
         let (rooms, others) = self.ambient_rooms(only, keep);
         // Half a room's vertices count once their rays are cast (or kept),
@@ -1101,7 +1100,7 @@ impl Solver {
         }
         kept.clear();
         let mut local = LocalIndex::new(&self.mesh);
-        let mut ambient = vec![Rgb::ZERO; self.mesh.vertices.len()];
+        let mut ambient = Vec::new();
         for (r, room) in rooms.iter().enumerate() {
             let cast_now;
             let rays = match cache.rooms.get(r) {
@@ -1113,14 +1112,21 @@ impl Solver {
             };
             local.enter(room);
             let room_ambient = self.room_ambient((room, &local), rays, (&residual, &patch_value));
-            for (&v, g) in room.vertices.iter().zip(room_ambient) {
-                ambient[v as usize] = g;
-            }
+            ambient.extend(room.vertices.iter().copied().zip(room_ambient));
             local.leave(room);
             counter.add(halves(room).1);
         }
         counter.finish();
-        ambient
+        match only {
+            Some(_) => AmbientIrradiance::of_rooms(ambient),
+            None => {
+                let mut everywhere = vec![Rgb::ZERO; self.mesh.vertices.len()];
+                for (v, g) in ambient {
+                    everywhere[v as usize] = g;
+                }
+                AmbientIrradiance::Everywhere(everywhere)
+            }
+        }
     }
 
     /// The rooms whose ambient term is made (the mesh's closed zones and
@@ -1275,7 +1281,7 @@ impl Solver {
     /// The solution from the light shot so far, without the ambient term.
     #[must_use]
     pub fn solution(&self) -> Solution<'_> {
-        self.solution_from(self.radiosity.clone(), self.irradiance.clone())
+        self.solution_from(AmbientIrradiance::Nowhere)
     }
 
     /// The solution with the ambient term for the light not yet shot added:
@@ -1353,31 +1359,23 @@ impl Solver {
             return self.solution();
         }
         let ambient = self.ambient_irradiance(only, report);
-        let radiosity = (0..self.radiosity.len())
-            .map(|v| self.radiosity[v] + self.reflectance(v) * ambient[v])
-            .collect();
-        // H_v + G_v written over G_v: one list a vertex fewer at the
-        // image's peak (24 bytes a vertex).
-        let mut irradiance = ambient;
-        for (g, h) in irradiance.iter_mut().zip(&self.irradiance) {
-            *g = *h + *g;
-        }
-        let mut solution = self.solution_from(radiosity, irradiance);
+        let mut solution = self.solution_from(ambient);
         if solution.zones.is_some() {
             solution.ambient_zones = only.map(<[usize]>::to_vec);
         }
         solution
     }
 
-    /// A [`Solution`] of this solver's scene and mesh with the given values.
-    fn solution_from(&self, radiosity: Vec<Rgb>, irradiance: Vec<Rgb>) -> Solution<'_> {
+    /// A [`Solution`] of this solver's scene, mesh and light shot, with
+    /// the `ambient` term added.
+    fn solution_from(&self, ambient: AmbientIrradiance) -> Solution<'_> {
         Solution {
             scene: &self.scene,
             mesh: &self.mesh,
             visibility: &self.visibility,
             luminaires_shot: self.luminaire_shot.clone(),
-            radiosity,
-            irradiance,
+            shot_irradiance: &self.irradiance,
+            ambient,
             receiver_insets: &self.receiver_insets,
             zones: self
                 .zones
@@ -1507,7 +1505,7 @@ impl Solver {
             let split = elements_to_split(
                 &self.mesh,
                 &refiner.hierarchy,
-                &self.radiosity,
+                &self.radiosity(),
                 &refiner.settings,
             );
             if split.is_empty() {
@@ -1518,12 +1516,8 @@ impl Solver {
             let added = refiner.hierarchy.split(&mut self.mesh, &split);
             let gathered = self.gather_shot_light(&added);
             for (&v, irradiance) in added.iter().zip(gathered) {
-                debug_assert_eq!(v as usize, self.radiosity.len());
-                let surface = self.scene.surface(self.mesh.vertices[v as usize].surface);
-                let material = self.scene.material_of(surface);
+                debug_assert_eq!(v as usize, self.irradiance.len());
                 self.irradiance.push(irradiance);
-                self.radiosity
-                    .push(material.emitted_radiosity() + material.reflectance * irradiance);
             }
             self.carry_unshot_corners(&refiner.hierarchy, &corners_before);
             let after = self.incident_power_per_patch();
@@ -1834,8 +1828,7 @@ mod tests {
         solver.run();
         let zoned = solver.solution_with_ambient();
         assert!(zoned.zones.is_some());
-        let mut everywhere =
-            solver.solution_from(zoned.radiosity.clone(), zoned.irradiance.clone());
+        let mut everywhere = solver.solution_from(zoned.ambient.clone());
         everywhere.zones = None;
         for x in [0.0, 5.0] {
             let floor = ProbePoint {
@@ -1880,6 +1873,7 @@ mod tests {
         let again = solver.ambient_irradiance_keeping(true, None, &silent);
         assert!(streamed == kept, "kept and streamed rays differ");
         assert!(kept == again, "the kept rays changed");
+        let kept = kept.at_every(solver.mesh.vertices.len());
         // Σ A G over the elements of the room from x0 to x0 + 4.
         let room_total = |x0: f64| -> f64 {
             let mesh = &solver.mesh;
@@ -1918,13 +1912,19 @@ mod tests {
         assert_eq!(rays(&solver), kept, "the other rooms' rays dropped");
         let all_again = solver.ambient_irradiance_keeping(true, None, &silent);
         assert!(all == all_again && one == one_again);
-        for (v, g) in one.iter().enumerate() {
+        let count = solver.mesh.vertices.len();
+        let (one_at, all_at) = (one.at_every(count), all.at_every(count));
+        for (v, g) in one_at.iter().enumerate() {
             if zone_of(v) == room {
-                assert!((*g - all[v]).abs().max_element() <= 1e-6 * all[v].max_element());
+                assert!((*g - all_at[v]).abs().max_element() <= 1e-6 * all_at[v].max_element());
             } else {
                 assert_eq!(*g, Rgb::ZERO);
             }
         }
+        assert!(
+            matches!(one, AmbientIrradiance::At { .. }),
+            "one room's term alone"
+        );
         // The whole term is the one a solver that never drew one room
         // makes, streamed or kept: the rays do not depend on the order.
         let mut fresh = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
@@ -1958,7 +1958,8 @@ mod tests {
             kept == streamed,
             "kept and streamed rays differ after refinement"
         );
-        assert!(kept.iter().any(|g| g.element_sum() > 0.0));
+        let count = solver.mesh.vertices.len();
+        assert!(kept.at_every(count).iter().any(|g| g.element_sum() > 0.0));
     }
 
     /// Each run of receivers starts with a fresh shadow cache at the same

@@ -5,6 +5,7 @@ use std::collections::BinaryHeap;
 
 use glam::{DVec2, DVec3};
 
+use super::ambient_irradiance::AmbientIrradiance;
 use super::ambient_rooms::ReadingPlace;
 use super::penumbra::AdaptiveVisibility;
 use crate::error::{Error, Result};
@@ -150,8 +151,11 @@ pub struct SurfaceTotals {
     pub received_power: Rgb,
 }
 
-/// A solution: radiosity and irradiance at every mesh vertex, with the scene,
-/// mesh and visibility needed to read it anywhere.
+/// A solution: radiosity and irradiance at every mesh vertex
+/// ([`Solution::radiosity_at`], [`Solution::irradiance_at`]), with the
+/// scene, mesh and visibility needed to read it anywhere. It borrows the
+/// light shot from its solver and holds the ambient term it adds, where
+/// that was gathered (every vertex, or the rooms an image is taken in).
 pub struct Solution<'a> {
     /// The scene.
     pub scene: &'a Scene,
@@ -162,10 +166,10 @@ pub struct Solution<'a> {
     /// Which of the scene's photometric luminaires the solution holds the
     /// light of (gather probes add their direct light).
     pub luminaires_shot: Vec<bool>,
-    /// Radiosity per mesh vertex, W/m².
-    pub radiosity: Vec<Rgb>,
-    /// Irradiance per mesh vertex, W/m².
-    pub irradiance: Vec<Rgb>,
+    /// Irradiance per mesh vertex from the light shot, W/m²: the solver's.
+    pub(crate) shot_irradiance: &'a [Rgb],
+    /// The ambient term G_v added to it (`solver/ambient.rs`).
+    pub(crate) ambient: AmbientIrradiance,
     /// The closed zone of every surface, when the solver found more than
     /// one: an image taken from inside a closed room draws that room alone.
     pub(crate) zones: Option<&'a super::zones::ZoneLabels>,
@@ -180,6 +184,46 @@ pub struct Solution<'a> {
 }
 
 impl Solution<'_> {
+    /// Irradiance H at mesh vertex `vertex`, W/m²: the light shot there
+    /// plus the ambient term.
+    ///
+    /// # Panics
+    /// When `vertex` is not an index into the mesh's vertices.
+    #[must_use]
+    pub fn irradiance_at(&self, vertex: usize) -> Rgb {
+        self.shot_irradiance[vertex] + self.ambient.at(vertex)
+    }
+
+    /// Radiosity B = E + ρ H at mesh vertex `vertex`, W/m², with the
+    /// emission E and reflectance ρ of its surface's material.
+    ///
+    /// # Panics
+    /// When `vertex` is not an index into the mesh's vertices.
+    #[must_use]
+    pub fn radiosity_at(&self, vertex: usize) -> Rgb {
+        let surface = self.scene.surface(self.mesh.vertices[vertex].surface);
+        let material = self.scene.material_of(surface);
+        material.emitted_radiosity() + material.reflectance * self.irradiance_at(vertex)
+    }
+
+    /// Every mesh vertex's irradiance ([`Solution::irradiance_at`]), in
+    /// the mesh's order: a new list, 24 bytes a vertex.
+    #[must_use]
+    pub fn irradiance(&self) -> Vec<Rgb> {
+        (0..self.mesh.vertices.len())
+            .map(|v| self.irradiance_at(v))
+            .collect()
+    }
+
+    /// Every mesh vertex's radiosity ([`Solution::radiosity_at`]), in the
+    /// mesh's order: a new list, 24 bytes a vertex.
+    #[must_use]
+    pub fn radiosity(&self) -> Vec<Rgb> {
+        (0..self.mesh.vertices.len())
+            .map(|v| self.radiosity_at(v))
+            .collect()
+    }
+
     /// Totals per surface, indexed as [`Scene::surfaces`]; each element
     /// contributes its area times the mean of its corners' values: the
     /// integrals of the shaded mesh. (The solver's energy ledger counts an
@@ -197,11 +241,12 @@ impl Solution<'_> {
             self.scene.surfaces.len()
         ];
         for element in &self.mesh.elements {
-            let mean = |values: &[Rgb]| element.corner_mean(|v| values[v as usize]);
             let total = &mut totals[element.surface.index()];
             total.area += element.area;
-            total.mean_radiosity += mean(&self.radiosity) * element.area;
-            total.received_power += mean(&self.irradiance) * element.area;
+            let radiosity = element.corner_mean(|v| self.radiosity_at(v as usize));
+            let irradiance = element.corner_mean(|v| self.irradiance_at(v as usize));
+            total.mean_radiosity += radiosity * element.area;
+            total.received_power += irradiance * element.area;
         }
         for total in &mut totals {
             if total.area > 0.0 {
@@ -506,7 +551,7 @@ impl Solution<'_> {
                 SampleStream::new(key, index as u64),
             );
             sources.push(GatherSource {
-                radiosity: element.corner_mean(|v| self.radiosity[v as usize]),
+                radiosity: element.corner_mean(|v| self.radiosity_at(v as usize)),
                 factor,
                 visibility,
             });
@@ -559,11 +604,8 @@ impl Solution<'_> {
                 .emitted_radiosity(),
             gradient: [DVec3::ZERO; 3],
         };
-        let gap = |p: u32, q: u32| {
-            (self.radiosity[p as usize] - self.radiosity[q as usize])
-                .abs()
-                .element_sum()
-        };
+        let radiosity = |v: u32| self.radiosity_at(v as usize);
+        let gap = |p: u32, q: u32| (radiosity(p) - radiosity(q)).abs().element_sum();
         let mut best: Option<(f64, [u32; 3], [f64; 3])> = None;
         let mut split = Vec::new();
         for element in self.mesh.elements.iter().filter(|e| e.surface == surface) {
@@ -588,24 +630,24 @@ impl Solution<'_> {
         };
         let weights = weights.map(|w| w.max(0.0));
         let total: f64 = weights.iter().sum();
-        let value = |values: &[Rgb]| {
+        let value = |at: &dyn Fn(u32) -> Rgb| {
             (0..3)
-                .map(|k| values[triangle[k] as usize] * (weights[k] / total))
+                .map(|k| at(triangle[k]) * (weights[k] / total))
                 .sum::<Rgb>()
         };
         let [a, b, c] = triangle.map(|v| self.mesh.vertices[v as usize].position);
         let gradients = barycentric_gradients(a, b, c, normal);
         let gradient = [0, 1, 2].map(|channel| {
             (0..3)
-                .map(|k| gradients[k] * self.radiosity[triangle[k] as usize].to_array()[channel])
+                .map(|k| gradients[k] * radiosity(triangle[k]).to_array()[channel])
                 .sum()
         });
         Probe {
             position,
             surface,
-            irradiance: value(&self.irradiance),
+            irradiance: value(&|v| self.irradiance_at(v as usize)),
             standard_error: Rgb::ZERO,
-            radiosity: value(&self.radiosity),
+            radiosity: value(&radiosity),
             gradient,
         }
     }

@@ -206,9 +206,9 @@ fn the_ambient_term_follows_the_mesh_as_it_splits() {
     settings.mesh.kind = MeshKind::Adaptive;
     settings.mesh.max_edge = Length::OfDiagonal(1.0 / 20.0);
     let mut solver = Solver::new(cornell(), settings).expect("valid settings");
-    let before = solver.solution_with_ambient().irradiance.len();
+    let before = solver.solution_with_ambient().irradiance().len();
     solver.run();
-    let after = solver.solution_with_ambient().irradiance;
+    let after = solver.solution_with_ambient().irradiance();
     assert!(
         after.len() > before,
         "{} vertices, {before} before",

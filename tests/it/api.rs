@@ -188,7 +188,7 @@ fn a_scene_built_in_code_and_loaded_from_obj_solve_identically() {
         .radiosity()
         .iter()
         .zip(b.radiosity())
-        .map(|(x, y)| (*x - *y).abs().max_element())
+        .map(|(x, y)| (*x - y).abs().max_element())
         .fold(0.0, f64::max);
     assert!(worst <= 1e-12, "largest radiosity difference {worst}");
 }
@@ -228,7 +228,10 @@ fn the_phases_outside_the_shots_report_their_progress_in_order() {
         assert_eq!(seen.last().unwrap().done, total, "{phase:?} ends done");
     }
     // The reporter changes nothing: the same ambient term without one.
-    assert_eq!(solution.radiosity, solver.solution_with_ambient().radiosity);
+    assert_eq!(
+        solution.radiosity(),
+        solver.solution_with_ambient().radiosity()
+    );
 
     // The contour mesher lays out its receivers between the two.
     let mut contour = preview();
@@ -272,12 +275,12 @@ fn cancelling_half_way_leaves_a_balanced_solution_that_can_resume() {
     // The ambient term stands in for the unshot light: the ambient solution
     // is brighter everywhere, by the same vertex count.
     let (plain, ambient) = (solver.solution(), solver.solution_with_ambient());
-    assert_eq!(plain.radiosity.len(), ambient.radiosity.len());
+    assert_eq!(plain.radiosity().len(), ambient.radiosity().len());
     assert!(
         plain
-            .radiosity
+            .radiosity()
             .iter()
-            .zip(&ambient.radiosity)
+            .zip(&ambient.radiosity())
             .all(|(p, a)| a.r >= p.r && a.g >= p.g && a.b >= p.b)
     );
     // The flag still set, nothing more is shot; cleared, the solve resumes.
@@ -315,7 +318,7 @@ fn a_run_stopped_and_resumed_shoots_the_light_of_one_run() {
     assert_eq!(resumed.shots(), whole.shots());
     for (a, b) in resumed.radiosity().iter().zip(whole.radiosity()) {
         assert!(
-            (*a - *b).abs().max_element() <= 1e-12 * b.max_element().max(1.0),
+            (*a - b).abs().max_element() <= 1e-12 * b.max_element().max(1.0),
             "{a:?} {b:?}"
         );
     }

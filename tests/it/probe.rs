@@ -144,7 +144,7 @@ fn mesh_mode_interpolates_vertices_and_has_the_interpolant_gradient() {
             )
             .unwrap();
         assert!(
-            (probe.radiosity - solution.radiosity[index])
+            (probe.radiosity - solution.radiosity_at(index))
                 .abs()
                 .max_element()
                 < 1e-12

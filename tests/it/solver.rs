@@ -123,7 +123,7 @@ fn small_disc_over_a_floor(kernel: FormFactorKernel) {
     let mesh = mesh(&scene, 0.4, 2.0);
     let mut solver = isorad::Solver::with_mesh(scene, mesh, with_kernel(1e-3, kernel)).unwrap();
     solver.run();
-    let errors = disc_over_floor_errors(solver.radiosity(), solver.mesh());
+    let errors = disc_over_floor_errors(&solver.radiosity(), solver.mesh());
     let worst = errors.iter().copied().fold(0.0, f64::max);
     assert!(errors.len() > 100, "{} vertices checked", errors.len());
     assert!(worst < 0.02, "worst {worst}");
@@ -179,7 +179,7 @@ fn every_emitting_patch_shoots_before_a_loose_tolerance_stops_the_solve() {
     assert!(solver.emission_pending());
     solver.run();
     assert!(!solver.emission_pending());
-    let errors = disc_over_floor_errors(solver.radiosity(), solver.mesh());
+    let errors = disc_over_floor_errors(&solver.radiosity(), solver.mesh());
     let worst = errors.iter().copied().fold(0.0, f64::max);
     println!("tolerance 0.3, {} shots: worst {worst:.2e}", solver.shots());
     assert!(errors.len() > 100 && worst < 0.02, "worst {worst}");
@@ -1070,7 +1070,7 @@ fn the_smoothed_ambient_term_is_nearer_an_unshot_lamps_light() {
             isorad::Solver::with_mesh(scene.clone(), mesh.clone(), settings).expect("solver");
         let solution = solver.solution_with_ambient();
         let (mut sum, mut count, mut total, mut exact_total) = (0.0, 0.0, 0.0, 0.0);
-        for (vertex, h) in solver.mesh().vertices.iter().zip(&solution.irradiance) {
+        for (vertex, h) in solver.mesh().vertices.iter().zip(&solution.irradiance()) {
             let p = vertex.position;
             if vertex.surface != SurfaceId::new(0) || p.x.abs().max(p.y.abs()) > 2.5 {
                 continue;
@@ -1340,17 +1340,17 @@ fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
     let seen = solver.solution_with_ambient_seen_from(&inside, &|_| {});
     let mut gained = 0;
     for (v, vertex) in solver.mesh().vertices.iter().enumerate() {
-        let (value, expected) = (seen.radiosity[v], whole.radiosity[v]);
+        let (value, expected) = (seen.radiosity_at(v), whole.radiosity_at(v));
         if vertex.position.x < 5.0 {
             let scale = expected.max_element().max(1e-12);
             assert!(
                 (value - expected).abs().max_element() <= 1e-6 * scale,
                 "vertex {v} in the room seen: {value:?}, the whole term {expected:?}"
             );
-            gained += usize::from(value.element_sum() > 1.001 * shot.radiosity[v].element_sum());
+            gained += usize::from(value.element_sum() > 1.001 * shot.radiosity_at(v).element_sum());
         } else {
-            assert_eq!(value, shot.radiosity[v], "vertex {v} in the other room");
-            assert_eq!(seen.irradiance[v], shot.irradiance[v]);
+            assert_eq!(value, shot.radiosity_at(v), "vertex {v} in the other room");
+            assert_eq!(seen.irradiance_at(v), shot.irradiance_at(v));
         }
     }
     let room_vertices = solver.mesh().vertices.len() / 2;
@@ -1374,7 +1374,7 @@ fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
     // From outside both rooms, the whole term.
     let outside = camera(DVec3::new(5.0, 1.5, -3.0));
     let seen = solver.solution_with_ambient_seen_from(&outside, &|_| {});
-    assert_eq!(seen.radiosity, whole.radiosity);
+    assert_eq!(seen.radiosity(), whole.radiosity());
 }
 
 /// Readings in closed rooms (a probe's surface, a calculation grid's
@@ -1404,9 +1404,13 @@ fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
     ];
     let read = solver.solution_with_ambient_for(&places, &|_| {});
     for (v, vertex) in solver.mesh().vertices.iter().enumerate() {
-        let (value, expected) = (read.radiosity[v], whole.radiosity[v]);
+        let (value, expected) = (read.radiosity_at(v), whole.radiosity_at(v));
         if (5.0..15.0).contains(&vertex.position.x) {
-            assert_eq!(value, shot.radiosity[v], "vertex {v} in the room not read");
+            assert_eq!(
+                value,
+                shot.radiosity_at(v),
+                "vertex {v} in the room not read"
+            );
         } else {
             let scale = expected.max_element().max(1e-12);
             assert!(
@@ -1461,7 +1465,7 @@ fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
         }
         let not_read = |v: &isorad::mesh::MeshVertex| (5.0..15.0).contains(&v.position.x);
         let room_1 = solver.mesh().vertices.iter().position(not_read).unwrap();
-        assert_eq!(read.radiosity[room_1], shot.radiosity[room_1]);
+        assert_eq!(read.radiosity_at(room_1), shot.radiosity_at(room_1));
     }
     // A place outside every room, or on a surface of no room, asks for the
     // whole term, as does no place.
@@ -1470,7 +1474,7 @@ fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
     let nowhere = [places[0], ReadingPlace::InSpace(DVec3::NAN)];
     for places in [&outside[..], &foreign[..], &nowhere[..], &[]] {
         let read = solver.solution_with_ambient_for(places, &|_| {});
-        assert_eq!(read.radiosity, whole.radiosity);
+        assert_eq!(read.radiosity(), whole.radiosity());
     }
     // A work-plane point in a room not read reads nothing.
     let read = solver.solution_with_ambient_for(&places[..1], &|_| {});

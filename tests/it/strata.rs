@@ -140,7 +140,7 @@ fn the_ambient_term_reads_the_unshot_light_where_its_rays_land() {
     settings.solver.tolerance = 1e-4;
     let mut reference_solver = Solver::new(table_scene(), settings.clone()).unwrap();
     reference_solver.run();
-    let reference = mean_on(&reference_solver, reference_solver.radiosity());
+    let reference = mean_on(&reference_solver, &reference_solver.radiosity());
     assert!(converged.step(), "the lamp shoots");
     let estimate = mean_on(&converged, &converged.radiosity_with_ambient());
     let error = estimate / reference - 1.0;
