@@ -25,31 +25,59 @@ use crate::scene::Rgb;
 /// shape of the light over the patch; a shot scales its strata to the total
 /// (see [`PatchField::sampled`]).
 ///
-/// The corners are kept as `f32`, 48 bytes an element where `f64` took
-/// 96: with one element per vertex or more, this array was the largest of
-/// a building's solve (57 of the 222 MB of heap at the peak of 16 cluttered
-/// offices, by heaptrack). The corners only shape the field: a shot scales
-/// its strata to the patch's total, kept in `f64` ([`FieldScale`]), so their
-/// rounding, 6 · 10⁻⁸ of each value, moves no power.
+/// The corners are kept as 16-bit fractions of the element's largest,
+/// 28 bytes an element where `f32` took 48 and `f64` 96: with one element
+/// per vertex or more, this array was the largest of a building's solve
+/// (1.07 of the 6.8 GB at the peak of a million quads' view). The corners
+/// only shape the field: a shot scales its strata to the patch's total,
+/// kept in `f64` ([`FieldScale`]), so their rounding, at most 1.5 · 10⁻⁵
+/// of the element's largest corner value, moves no power.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct UnshotCorners {
     corners: Vec<PackedCorners>,
 }
 
-/// An element's four corners' ΔB, each channel rounded to `f32`.
-type PackedCorners = [[f32; 3]; 4];
+/// An element's four corners' ΔB: each channel a signed fraction of
+/// `largest` (the largest magnitude among them, as `f32`) in steps of
+/// 1/[`STEPS`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct PackedCorners {
+    largest: f32,
+    fractions: [[i16; 3]; 4],
+}
+
+/// Steps from zero to an element's largest corner value.
+const STEPS: f64 = i16::MAX as f64;
 
 /// Rounds corners to their stored form, beyond f32's range to its largest
 /// value (an emitter of 10³⁹ W/m² would otherwise store infinity, and its
 /// shot's scale 0 · ∞).
 fn packed(corners: [Rgb; 4]) -> PackedCorners {
     let limit = f64::from(f32::MAX);
-    corners.map(|c| c.to_array().map(|w| w.clamp(-limit, limit) as f32))
+    let largest = corners
+        .iter()
+        .map(|c| c.abs().max_element())
+        .fold(0.0, f64::max)
+        .min(limit);
+    if largest <= 0.0 {
+        return PackedCorners::default();
+    }
+    let largest = largest as f32;
+    let unit = f64::from(largest);
+    let fraction = |w: f64| (w / unit * STEPS).round().clamp(-STEPS, STEPS) as i16;
+    PackedCorners {
+        largest,
+        fractions: corners.map(|c| c.to_array().map(fraction)),
+    }
 }
 
 /// Corners in their stored form, widened back.
 fn unpacked(corners: &PackedCorners) -> [Rgb; 4] {
-    corners.map(|[r, g, b]| Rgb::new(f64::from(r), f64::from(g), f64::from(b)))
+    let step = f64::from(corners.largest) / STEPS;
+    let value = |q: i16| f64::from(q) * step;
+    corners
+        .fractions
+        .map(|[r, g, b]| Rgb::new(value(r), value(g), value(b)))
 }
 
 impl UnshotCorners {
@@ -621,6 +649,35 @@ mod tests {
         let small = Cell::quad(far, far + u * 0.01, far + (u + v) * 0.01, far + v * 0.01);
         assert!(is_affine(&small));
         assert!(cell_coordinates(&quad, DVec3::new(5.0, 1.0, 0.0)).is_none());
+    }
+
+    /// Stored corners come back within half a step of the element's
+    /// largest value, signs and zeros kept; values beyond `f32`'s range
+    /// stay finite, and 28 bytes hold an element's corners.
+    #[test]
+    fn stored_corners_come_back_within_half_a_step_of_their_largest() {
+        let mut random = crate::lighting::SampleStream::new(5, 0);
+        for _ in 0..1000 {
+            let magnitude = 10f64.powf(12.0 * random.next_f64() - 6.0);
+            let mut value = || magnitude * (2.0 * random.next_f64() - 0.5);
+            let corners = [(); 4].map(|()| Rgb::new(value(), value(), value()));
+            let largest = corners
+                .iter()
+                .map(|c| c.abs().max_element())
+                .fold(0.0, f64::max);
+            let back = unpacked(&packed(corners));
+            for (c, b) in corners.iter().zip(&back) {
+                let error = (*c - *b).abs().max_element();
+                assert!(error <= (0.5 / STEPS + 1e-7) * largest, "{c:?} {b:?}");
+                for (x, y) in c.to_array().into_iter().zip(b.to_array()) {
+                    assert!(x * y >= 0.0 || x.abs() <= largest / STEPS, "{x} {y}");
+                }
+            }
+        }
+        assert_eq!(unpacked(&packed([Rgb::ZERO; 4])), [Rgb::ZERO; 4]);
+        let huge = unpacked(&packed([Rgb::splat(1e39), Rgb::ZERO, Rgb::ZERO, Rgb::ZERO]));
+        assert!(huge[0].is_finite() && huge[0].r > 3e38 && huge[1] == Rgb::ZERO);
+        assert_eq!(std::mem::size_of::<PackedCorners>(), 28);
     }
 
     #[test]
