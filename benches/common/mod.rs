@@ -113,7 +113,7 @@ pub fn shot_segments(scene: &Scene, mesh: &Mesh, shots: usize, seed: u64) -> Vec
         let centre = patch.cell.centre();
         for vertex in &mesh.vertices {
             let normal = scene.surface(vertex.surface).normal();
-            let x = vertex.receiver_position;
+            let x = vertex.receiver_position();
             if vertex.surface == patch.surface || shooter_normal.dot(x - centre) <= 0.0 {
                 continue;
             }

@@ -270,7 +270,7 @@ pub fn check_mesh(name: &str, scene: &Scene, mesh: &Mesh) {
     }
     for vertex in &mesh.vertices {
         assert!(vertex.position.is_finite(), "{name}: {vertex:?}");
-        assert!(vertex.receiver_position.is_finite(), "{name}: {vertex:?}");
+        assert!(vertex.receiver_position().is_finite(), "{name}: {vertex:?}");
         let surface = scene.surface(vertex.surface);
         let size = surface
             .vertices()

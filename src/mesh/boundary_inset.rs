@@ -59,8 +59,8 @@ impl Mesh {
             gauss[v as usize] += offset;
         }
         for ((vertex, direction), gauss) in self.vertices.iter_mut().zip(inward).zip(gauss) {
-            vertex.receiver_position =
-                vertex.position + direction.normalize_or_zero() * distance(vertex.surface) + gauss;
+            let inward = direction.normalize_or_zero() * distance(vertex.surface);
+            vertex.set_receiver_position(vertex.position + inward + gauss);
         }
     }
 
@@ -260,20 +260,22 @@ mod tests {
             element.vertices[3] = 2;
         }
         mesh.inset_boundary_receivers(INSET);
-        let at = |v: usize| mesh.vertices[v].receiver_position;
+        let at = |v: usize| mesh.vertices[v].receiver_position();
+        // Within the rounding of the offsets, kept in f32.
+        let close = |v: usize, expected: DVec3| at(v).distance(expected) < 1e-7;
         // Corner (0, 0): inward along the diagonal, and to the Gauss point
         // across the strip's height only (the edge at x = 1 is not a
         // boundary, so the quad is not one element wide along x).
         let expected =
             DVec3::new(1.0, 1.0, 0.0).normalize() * INSET + DVec3::new(0.0, GAUSS_ABSCISSA, 0.0);
-        assert!(at(0).distance(expected) < 1e-12, "{}", at(0));
+        assert!(close(0, expected), "{}", at(0));
         // Surface 1's lone quad is one element across both ways.
         let lone = DVec3::new(5.0, 0.0, 0.0)
             + DVec3::new(1.0, 1.0, 0.0).normalize() * INSET
             + DVec3::new(GAUSS_ABSCISSA, GAUSS_ABSCISSA, 0.0);
-        assert!(at(4).distance(lone) < 1e-12, "{}", at(4));
+        assert!(close(4, lone), "{}", at(4));
         // The shared corner (1, 0) moves up only.
         let shared = DVec3::new(1.0, INSET + GAUSS_ABSCISSA, 0.0);
-        assert!(at(1).distance(shared) < 1e-12, "{}", at(1));
+        assert!(close(1, shared), "{}", at(1));
     }
 }

@@ -420,7 +420,8 @@ pub fn gather_beside_covering_outlines(
             .filter(|c| distance_to_segment(p, c.ends[0], c.ends[1]) <= on_line)
             .map(|c| c.facing * c.clearance)
             .sum();
-        vertex.receiver_position += frame.u * offset.x + frame.v * offset.y;
+        let moved = vertex.receiver_position() + frame.u * offset.x + frame.v * offset.y;
+        vertex.set_receiver_position(moved);
     }
 }
 

@@ -257,7 +257,7 @@ fn split_element(mesh: &mut Mesh, element: &Element) -> [[u32; 4]; 4] {
             / 4.0;
         let offset = c.iter().map(|&v| receiver_offset(mesh, v)).sum::<DVec3>() / 4.0;
         let centre = mesh.add_vertex(position, element.surface);
-        mesh.vertices[centre as usize].receiver_position = position + offset;
+        mesh.vertices[centre as usize].set_receiver_position(position + offset);
         let (a, b, d, e) = (c[0], c[1], c[2], c[3]);
         let (ab, bd, de, ea) = (mid[0], mid[1], mid[2], mid[3]);
         [
@@ -271,8 +271,7 @@ fn split_element(mesh: &mut Mesh, element: &Element) -> [[u32; 4]; 4] {
 
 /// How far a vertex's receiver position is moved off its position.
 fn receiver_offset(mesh: &Mesh, v: u32) -> DVec3 {
-    let vertex = &mesh.vertices[v as usize];
-    vertex.receiver_position - vertex.position
+    mesh.vertices[v as usize].receiver_offset()
 }
 
 /// A child element of `parent` with the given corners (a triangle repeats
@@ -308,7 +307,7 @@ impl Mesh {
         let offset = 0.5 * (receiver_offset(self, a) + receiver_offset(self, b));
         let surface = self.vertices[a as usize].surface;
         let m = self.add_vertex(position, surface);
-        self.vertices[m as usize].receiver_position = position + offset;
+        self.vertices[m as usize].set_receiver_position(position + offset);
         self.edge_midpoints.insert(key, m);
         m
     }

@@ -374,7 +374,7 @@ impl VertexRays {
                 let visibility = visibility_of(vertex.surface);
                 for (k, (hit, landing)) in hits.iter_mut().zip(landings.iter_mut()).enumerate() {
                     let mut stream = SampleStream::new(u64::from(v), k as u64 | 2 << 40);
-                    let origin = vertex.receiver_position;
+                    let origin = vertex.receiver_position();
                     let sectors = VERTEX_RAYS / VERTEX_RINGS;
                     let direction =
                         stratified_direction(normal, k, (VERTEX_RINGS, sectors), &mut stream);
@@ -550,7 +550,7 @@ impl VertexRays {
             .enumerate()
             .map(|(i, &v)| {
                 let rays = i * VERTEX_RAYS..(i + 1) * VERTEX_RAYS;
-                let x = mesh.vertices[v as usize].receiver_position;
+                let x = mesh.vertices[v as usize].receiver_position();
                 let (mut count, mut inverse) = (0.0, 0.0);
                 for (&h, landing) in self.hits[rays.clone()].iter().zip(&self.landings[rays]) {
                     let (Some(patch), Some((s, t))) =
@@ -858,11 +858,9 @@ mod tests {
             landings,
         };
         let mut mesh = Mesh::default();
-        mesh.vertices.push(crate::mesh::MeshVertex {
-            position: DVec3::ZERO,
-            receiver_position: DVec3::ZERO,
-            surface: crate::scene::SurfaceId::new(0),
-        });
+        let surface = crate::scene::SurfaceId::new(0);
+        mesh.vertices
+            .push(crate::mesh::MeshVertex::new(DVec3::ZERO, surface));
         let unshot = [Rgb::splat(1.0)];
         // 2 left of s = 0.5 and 4 right of it; each point read within a
         // step of where its ray landed.

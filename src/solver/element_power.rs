@@ -81,7 +81,7 @@ pub(crate) fn emitter_shot_powers(
         .map(|&v| {
             let vertex = &mesh.vertices[v as usize];
             let n = normal(vertex.surface);
-            unoccluded_factor(vertex.receiver_position, n, emitter, emitter_normal)
+            unoccluded_factor(vertex.receiver_position(), n, emitter, emitter_normal)
         })
         .collect();
     elements

@@ -360,10 +360,10 @@ impl Interpolation {
         let nearest = |point: DVec3| {
             vertices.iter().copied().min_by(|&a, &b| {
                 let da = mesh.vertices[a as usize]
-                    .receiver_position
+                    .receiver_position()
                     .distance_squared(point);
                 let db = mesh.vertices[b as usize]
-                    .receiver_position
+                    .receiver_position()
                     .distance_squared(point);
                 da.total_cmp(&db).then(a.cmp(&b))
             })
@@ -378,7 +378,7 @@ impl Interpolation {
         let v = normal.cross(u).normalize_or_zero();
         let frame = (origin, u, v);
         let to_plane = |s: u32| {
-            let d = mesh.vertices[s as usize].receiver_position - origin;
+            let d = mesh.vertices[s as usize].receiver_position() - origin;
             DVec2::new(d.dot(u), d.dot(v))
         };
         let constant = Interpolation {
@@ -446,7 +446,7 @@ impl Interpolation {
             return Some([(s, 1.0), (s, 0.0), (s, 0.0)]);
         }
         let (origin, u, w) = self.frame;
-        let d = mesh.vertices[v as usize].receiver_position - origin;
+        let d = mesh.vertices[v as usize].receiver_position() - origin;
         let x = DVec2::new(d.dot(u), d.dot(w));
         let mut best = ([0.0; 3], f64::NEG_INFINITY, [0usize; 3]);
         for &[a, b, c] in &self.triangles {
@@ -511,7 +511,7 @@ mod tests {
                 assert!(s as usize != v, "vertex {v} is its own sample");
                 assert_eq!(mesh.vertices[s as usize].surface, patch.surface);
             }
-            let at = |v: u32| linear(mesh.vertices[v as usize].receiver_position);
+            let at = |v: u32| linear(mesh.vertices[v as usize].receiver_position());
             let value: f64 = weights.iter().map(|&(s, w)| f64::from(w) * at(s)).sum();
             // Exact up to the weights' single precision.
             if (value - at(v as u32)).abs() < 1e-6 * value.abs().max(1.0) {

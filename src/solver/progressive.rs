@@ -509,7 +509,7 @@ impl Solver {
                 }
                 let normal = scene.surface(vertex.surface).normal();
                 luminaire.irradiance_at(
-                    vertex.receiver_position,
+                    vertex.receiver_position(),
                     normal,
                     vertex.surface,
                     visibility,
@@ -607,7 +607,7 @@ impl Solver {
                 return Default::default();
             }
             let receiver = Receiver {
-                position: vertex.receiver_position,
+                position: vertex.receiver_position(),
                 normal: scene.surface(vertex.surface).normal(),
                 surface: vertex.surface,
                 key: index as u64,
@@ -670,7 +670,7 @@ impl Solver {
             let at = |v: u32| {
                 let vertex = &mesh.vertices[v as usize];
                 kernel.at(
-                    vertex.receiver_position,
+                    vertex.receiver_position(),
                     scene.surface(vertex.surface).normal(),
                 )
             };
@@ -1606,7 +1606,7 @@ impl Solver {
                 zones.is_some_and(|zones| zones.of(shooter.surface) != zones.of(vertex.surface))
             };
             let receiver = Receiver {
-                position: vertex.receiver_position,
+                position: vertex.receiver_position(),
                 normal: scene.surface(vertex.surface).normal(),
                 surface: vertex.surface,
                 key: u64::from(v),

@@ -226,7 +226,7 @@ impl ReceivingBoxes {
                 let mut count: usize = 0;
                 for &e in &patch.elements {
                     for &v in mesh.elements[e as usize].corners() {
-                        let p = mesh.vertices[v as usize].receiver_position;
+                        let p = mesh.vertices[v as usize].receiver_position();
                         min = min.min(p);
                         max = max.max(p);
                         count += 1;
@@ -357,7 +357,7 @@ impl ReceivingBoxes {
                 let points = element
                     .corners()
                     .iter()
-                    .map(|&v| mesh.vertices[v as usize].receiver_position);
+                    .map(|&v| mesh.vertices[v as usize].receiver_position());
                 let (min, max) = bounds(points);
                 // The patch's list holds the element's triangles only if
                 // its shaft lies within the patch's.

@@ -487,7 +487,7 @@ impl Solution<'_> {
                 // The corner itself, a hair inside its surface: not where a
                 // thin surface's vertex gathers, at its Gauss point.
                 let y = vertex.position
-                    + (vertex.receiver_position - vertex.position)
+                    + (vertex.receiver_position() - vertex.position)
                         .clamp_length_max(self.receiver_inset(vertex.surface));
                 let source_normal = self.scene.surface(vertex.surface).normal();
                 let d = y - x;

@@ -282,7 +282,7 @@ fn every_vertex_of_an_adaptive_mesh_holds_the_luminaires_direct_light() {
     for (vertex, irradiance) in mesh.vertices.iter().zip(solver.irradiance()) {
         let normal = scene.surface(vertex.surface).normal();
         let direct = luminaire.irradiance_at(
-            vertex.receiver_position,
+            vertex.receiver_position(),
             normal,
             vertex.surface,
             &visibility,

@@ -1078,7 +1078,7 @@ fn the_smoothed_ambient_term_is_nearer_an_unshot_lamps_light() {
             let exact = PI
                 * 10.0
                 * isorad::radiometry::polygon_form_factor(
-                    vertex.receiver_position,
+                    vertex.receiver_position(),
                     DVec3::Z,
                     &panel,
                 );
@@ -1248,7 +1248,7 @@ fn a_room_far_from_the_rest_gathers_at_its_boundaries_as_alone() {
         mesh.vertices
             .iter()
             .filter(|v| v.position.x < 50.0 && !faces_down(v))
-            .map(|v| (v.position, v.receiver_position - v.position))
+            .map(|v| (v.position, v.receiver_position() - v.position))
             .collect::<Vec<_>>()
     };
     // A probe at a wall's foot gathers the same way: from the same point,

@@ -44,7 +44,7 @@ fn worst_errors(
         .iter()
         .zip(radiosity)
         .filter(|(v, _)| v.surface == receiver)
-        .map(|(v, &b)| (b, exact(v.receiver_position)))
+        .map(|(v, &b)| (b, exact(v.receiver_position())))
         .collect();
     let peak = values.iter().map(|(_, e)| *e).fold(0.0, f64::max);
     let (mut relative, mut absolute, mut checked) = (0.0f64, 0.0f64, 0);
@@ -167,7 +167,7 @@ fn floor_at_the_foot_of_a_block_matches_the_exact_factor() {
     let exitance = PI * LAMP_RADIANCE;
     let (mut worst, mut worst_near, mut checked) = (0.0f64, 0.0f64, 0);
     for (vertex, &b) in mesh.vertices.iter().zip(&radiosity) {
-        let x = vertex.receiver_position;
+        let x = vertex.receiver_position();
         if vertex.surface != SurfaceId::new(0) || x.x <= 0.5 || x.y.abs() >= 0.5 {
             continue;
         }
