@@ -634,8 +634,12 @@ fn cell_distance(cell: &[DVec2], p: DVec2) -> f64 {
 /// no light reaches them and no viewer sees them. An element is hidden
 /// when its centroid is ([`is_enclosed`]), each surface's slots judged
 /// against its own contact tolerance (given with it).
-pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[(SurfaceId, f64)]) {
-    let visibility = Visibility::new(scene);
+/// `visibility` is the scene's BVH ([`Visibility::new`]).
+pub(crate) fn remove_hidden_elements(
+    mesh: &mut Mesh,
+    (scene, visibility): (&Scene, &Visibility),
+    surfaces: &[(SurfaceId, f64)],
+) {
     let mut tolerance = vec![None; scene.surfaces.len()];
     for &(id, within) in surfaces {
         tolerance[id.index()] = Some(within);
@@ -646,7 +650,7 @@ pub fn remove_hidden_elements(mesh: &mut Mesh, scene: &Scene, surfaces: &[(Surfa
         .map(|element| {
             tolerance[element.surface.index()].is_some_and(|within| {
                 let centroid = element.corner_mean(|v| mesh.vertices[v as usize].position);
-                is_enclosed_within(scene, &visibility, (element.surface, centroid), within)
+                is_enclosed_within(scene, visibility, (element.surface, centroid), within)
             })
         })
         .collect();

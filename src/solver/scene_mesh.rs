@@ -101,7 +101,8 @@ pub(crate) fn mesh_scene_in_zones(
             boundaries: boundaries[surface.index()].clone(),
             contact_scale: contact_scales[surface.index()],
         };
-        let (mesh, receiver_insets) = mesh_surfaces_counted(scene, &square, &guides, report);
+        let (mesh, receiver_insets) =
+            mesh_surfaces_counted((scene, Some(visibility)), &square, &guides, report);
         return SceneMesh {
             mesh,
             analysis,
@@ -172,7 +173,8 @@ pub(crate) fn mesh_scene_in_zones(
         boundaries: boundaries[surface.index()].clone(),
         contact_scale: contact_scales[surface.index()],
     };
-    let (mesh, receiver_insets) = mesh_surfaces_counted(scene, &square, &guides, report);
+    let (mesh, receiver_insets) =
+        mesh_surfaces_counted((scene, Some(visibility)), &square, &guides, report);
     SceneMesh {
         mesh,
         analysis,
