@@ -582,16 +582,14 @@ impl Solver {
         // What each vertex saw of this patch at its last shot, for a
         // reflected shot.
         let remembering = coarse.is_some() && self.settings.remember_visibility;
-        let zone_lists = self
-            .zones
-            .as_ref()
-            .map(|(_, members)| &members.vertices[..]);
+        let members = self.zones.as_ref().map(|(_, members)| members);
+        let places = ShotPlaces::new(zone, members);
         self.visibility_memory
-            .refresh((mesh.vertices.len(), mesh.patches.len()), zone_lists);
+            .refresh((mesh.vertices.len(), mesh.patches.len()));
         let memory = &self.visibility_memory;
         let recall = |v: usize| {
             if remembering {
-                memory.recall(j, v)
+                memory.recall(j, places.of(v as u32))
             } else {
                 Recall::Unknown
             }
@@ -616,8 +614,6 @@ impl Solver {
             };
             shooter.gather(&receiver, density, shot, kernel, (visibility, cache))
         };
-        let members = self.zones.as_ref().map(|(_, members)| members);
-        let places = ShotPlaces::new(zone, members);
         let zone_size = zone
             .zip(members)
             .map_or(mesh.vertices.len(), |(zone, members)| {
@@ -658,7 +654,7 @@ impl Solver {
         }
         if remembering {
             self.visibility_memory
-                .remember(j, zone_size, (vertices, &gathered));
+                .remember((j, zone_size), places, (vertices, &gathered));
         }
         if let Some(plan) = plan {
             let shooter = &self.mesh.patches[j];

@@ -10,6 +10,7 @@
 //! patch and the interpolation the renderer would draw.
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use super::element_index::{ElementIndex, padded_box};
 use super::indexed_update::par_update_at;
@@ -85,7 +86,7 @@ impl UnshotCorners {
     pub(crate) fn new(mesh: &Mesh, per_patch: &[Rgb]) -> UnshotCorners {
         let corners = mesh
             .elements
-            .iter()
+            .par_iter()
             .map(|e| packed([per_patch[e.patch as usize]; 4]))
             .collect();
         UnshotCorners { corners }

@@ -25,6 +25,7 @@
 //! (1993), §5.3 (reusing form factors).
 
 use super::shooter::Gathered;
+use super::zones::ShotPlaces;
 
 /// Rays a vertex must have cast to one shooter, all agreeing, for its view
 /// of the shooter to be remembered.
@@ -51,11 +52,9 @@ const HIDDEN: u8 = 2;
 /// Per shooting patch, what the vertices of its zone saw at its last shot.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct VisibilityMemory {
-    /// Per patch: one state per vertex of its zone, by the vertex's
-    /// position in the zone's list.
+    /// Per patch: one state per vertex of its zone, at the vertex's place
+    /// in the zone's list ([`ShotPlaces`]).
     seen: Vec<Option<Box<[u8]>>>,
-    /// Each vertex's position in its zone's list of vertices.
-    position: Vec<u32>,
     /// The mesh's vertex and patch counts the memory was made for.
     made_for: (usize, usize),
     /// Bytes held.
@@ -63,44 +62,24 @@ pub(crate) struct VisibilityMemory {
 }
 
 impl VisibilityMemory {
-    /// Forgets everything if the mesh has changed; `zones` lists each
-    /// zone's vertices (ascending), or is `None` when the whole scene is
-    /// one zone.
-    pub(crate) fn refresh(
-        &mut self,
-        (vertices, patches): (usize, usize),
-        zones: Option<&[Vec<u32>]>,
-    ) {
-        if self.made_for == (vertices, patches) && self.position.len() == vertices {
+    /// Forgets everything if the mesh has changed.
+    pub(crate) fn refresh(&mut self, (vertices, patches): (usize, usize)) {
+        if self.made_for == (vertices, patches) && self.seen.len() == patches {
             return;
         }
         self.seen = vec![None; patches];
         self.bytes = 0;
-        self.position = match zones {
-            Some(zones) => {
-                let mut position = vec![0; vertices];
-                for list in zones {
-                    for (k, &v) in list.iter().enumerate() {
-                        if let Some(slot) = position.get_mut(v as usize) {
-                            *slot = k as u32;
-                        }
-                    }
-                }
-                position
-            }
-            None => (0..vertices as u32).collect(),
-        };
         self.made_for = (vertices, patches);
     }
 
-    /// What vertex `v` saw of patch `shooter` at its last shot.
-    pub(crate) fn recall(&self, shooter: usize, v: usize) -> Recall {
+    /// What the vertex at `place` in its zone's list saw of patch
+    /// `shooter` at its last shot.
+    pub(crate) fn recall(&self, shooter: usize, place: usize) -> Recall {
         let state = self
             .seen
             .get(shooter)
             .and_then(Option::as_ref)
-            .zip(self.position.get(v))
-            .and_then(|(seen, &k)| seen.get(k as usize).copied());
+            .and_then(|seen| seen.get(place).copied());
         match state {
             Some(VISIBLE) => Recall::Visible,
             Some(HIDDEN) => Recall::Hidden,
@@ -110,11 +89,12 @@ impl VisibilityMemory {
 
     /// Remembers what each of `vertices` saw of patch `shooter` at this
     /// shot (`gathered`, in the same order), for a zone of `zone_size`
-    /// vertices. Vertices that cast no rays keep what they had.
+    /// vertices, each at its place in the zone's list. Vertices that cast
+    /// no rays keep what they had.
     pub(crate) fn remember(
         &mut self,
-        shooter: usize,
-        zone_size: usize,
+        (shooter, zone_size): (usize, usize),
+        places: ShotPlaces<'_>,
         (vertices, gathered): (&[u32], &[Gathered]),
     ) {
         let Some(slot) = self.seen.get_mut(shooter) else {
@@ -143,11 +123,7 @@ impl VisibilityMemory {
             } else {
                 UNKNOWN
             };
-            if let Some(entry) = self
-                .position
-                .get(v as usize)
-                .and_then(|&k| seen.get_mut(k as usize))
-            {
+            if let Some(entry) = seen.get_mut(places.of(v)) {
                 *entry = state;
             }
         }
@@ -173,21 +149,25 @@ mod tests {
     #[test]
     fn remembers_only_unanimous_views() {
         let mut memory = VisibilityMemory::default();
-        let zones = vec![vec![0, 2, 4], vec![1, 3]];
-        memory.refresh((5, 2), Some(&zones));
+        // Zones [0, 2, 4] and [1, 3]: each vertex's place in its list.
+        let zone = [0, 2, 4];
+        let places = ShotPlaces(Some(&[0, 0, 1, 1, 2]));
+        let recall =
+            |memory: &VisibilityMemory, shooter, v: u32| memory.recall(shooter, places.of(v));
+        memory.refresh((5, 2));
         let views = [gathered(4, 0), gathered(4, 4), gathered(4, 1)];
-        memory.remember(1, 3, (&zones[0], &views));
-        assert_eq!(memory.recall(1, 0), Recall::Visible);
-        assert_eq!(memory.recall(1, 2), Recall::Hidden);
-        assert_eq!(memory.recall(1, 4), Recall::Unknown);
-        assert_eq!(memory.recall(0, 0), Recall::Unknown, "another shooter");
+        memory.remember((1, 3), places, (&zone, &views));
+        assert_eq!(recall(&memory, 1, 0), Recall::Visible);
+        assert_eq!(recall(&memory, 1, 2), Recall::Hidden);
+        assert_eq!(recall(&memory, 1, 4), Recall::Unknown);
+        assert_eq!(recall(&memory, 0, 0), Recall::Unknown, "another shooter");
         let again = [gathered(0, 0), gathered(2, 0), gathered(9, 0)];
-        memory.remember(1, 3, (&zones[0], &again));
-        assert_eq!(memory.recall(1, 0), Recall::Visible, "no rays: kept");
-        assert_eq!(memory.recall(1, 2), Recall::Unknown, "two rays: too few");
-        assert_eq!(memory.recall(1, 4), Recall::Visible);
+        memory.remember((1, 3), places, (&zone, &again));
+        assert_eq!(recall(&memory, 1, 0), Recall::Visible, "no rays: kept");
+        assert_eq!(recall(&memory, 1, 2), Recall::Unknown, "two rays: too few");
+        assert_eq!(recall(&memory, 1, 4), Recall::Visible);
         // A new mesh forgets.
-        memory.refresh((6, 2), Some(&zones));
-        assert_eq!(memory.recall(1, 4), Recall::Unknown);
+        memory.refresh((6, 2));
+        assert_eq!(recall(&memory, 1, 4), Recall::Unknown);
     }
 }

@@ -426,7 +426,7 @@ impl ZoneMembers {
 /// a shot in one room of a building holds that room's vertices alone, else
 /// at the vertex's own index.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct ShotPlaces<'a>(Option<&'a [u32]>);
+pub(crate) struct ShotPlaces<'a>(pub(crate) Option<&'a [u32]>);
 
 impl<'a> ShotPlaces<'a> {
     /// The places of a shot into closed zone `zone` (listed in `members`),
