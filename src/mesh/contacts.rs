@@ -408,9 +408,11 @@ pub fn gather_beside_covering_outlines(
     for (id, contacts) in covering {
         of_surface[id.index()] = Some(contacts);
     }
-    for vertex in &mut mesh.vertices {
+    // Each vertex alone, in parallel: a building's floors carry hundreds
+    // of contact lines each.
+    mesh.vertices.par_iter_mut().for_each(|vertex| {
         let Some(contacts) = of_surface[vertex.surface.index()] else {
-            continue;
+            return;
         };
         let frame = scene.surface(vertex.surface).frame();
         let p = frame.to_plane(vertex.position);
@@ -422,7 +424,7 @@ pub fn gather_beside_covering_outlines(
             .sum();
         let moved = vertex.receiver_position() + frame.u * offset.x + frame.v * offset.y;
         vertex.set_receiver_position(moved);
-    }
+    });
 }
 
 /// Where a polygon meets a plane: the extreme points, along the line of
