@@ -521,10 +521,11 @@ impl Solver {
     /// Irradiance at every vertex from patch j shooting `radiosity`,
     /// computed in parallel, into `incident` (cleared, then one value per
     /// vertex at its [`ShotPlaces`]): at the vertices of closed zone `zone`
-    /// only when given (the others get none, and have no place). `power` is the shot's power as a sum of
-    /// channels, and, when the shot may be received coarsely (a reflected
-    /// shot), by channel: then the patches it barely lights gather it at
-    /// their sample vertices only (see [`Solver::reception_plan`]).
+    /// only when given (the others get none, and have no place). `power`
+    /// is the shot's power as a sum of channels, and, when the shot may be
+    /// received coarsely (a reflected shot), by channel: then the patches
+    /// it barely lights gather it at their sample vertices only (see
+    /// [`Solver::reception_plan`]).
     fn incident_from(
         &mut self,
         j: usize,
@@ -1096,7 +1097,11 @@ impl Solver {
         }
         kept.clear();
         let mut local = LocalIndex::new(&self.mesh);
-        let mut ambient = Vec::new();
+        // Every vertex's term by index, or the rooms' vertices' alone.
+        let mut everywhere = only
+            .is_none()
+            .then(|| vec![Rgb::ZERO; self.mesh.vertices.len()]);
+        let mut in_rooms = Vec::new();
         for (r, room) in rooms.iter().enumerate() {
             let cast_now;
             let rays = match cache.rooms.get(r) {
@@ -1108,20 +1113,21 @@ impl Solver {
             };
             local.enter(room);
             let room_ambient = self.room_ambient((room, &local), rays, (&residual, &patch_value));
-            ambient.extend(room.vertices.iter().copied().zip(room_ambient));
+            match &mut everywhere {
+                Some(values) => {
+                    for (&v, g) in room.vertices.iter().zip(room_ambient) {
+                        values[v as usize] = g;
+                    }
+                }
+                None => in_rooms.extend(room.vertices.iter().copied().zip(room_ambient)),
+            }
             local.leave(room);
             counter.add(halves(room).1);
         }
         counter.finish();
-        match only {
-            Some(_) => AmbientIrradiance::of_rooms(ambient),
-            None => {
-                let mut everywhere = vec![Rgb::ZERO; self.mesh.vertices.len()];
-                for (v, g) in ambient {
-                    everywhere[v as usize] = g;
-                }
-                AmbientIrradiance::Everywhere(everywhere)
-            }
+        match everywhere {
+            Some(values) => AmbientIrradiance::Everywhere(values),
+            None => AmbientIrradiance::of_rooms(in_rooms),
         }
     }
 
