@@ -163,7 +163,7 @@ impl Mesh {
             let c = element.corners();
             let p = |k: usize| self.vertices[c[k] as usize].position;
             let is_boundary = |k: usize| edges & (1 << (k % c.len())) != 0;
-            if element.is_triangle {
+            if element.is_triangle() {
                 if (0..3).all(is_boundary) {
                     for (k, &corner) in c.iter().enumerate() {
                         add(corner, (p((k + 1) % 3) + p((k + 2) % 3) - 2.0 * p(k)) / 6.0);

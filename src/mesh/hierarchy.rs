@@ -240,7 +240,7 @@ fn split_element(mesh: &mut Mesh, element: &Element) -> [[u32; 4]; 4] {
     let mid: Vec<u32> = (0..n)
         .map(|k| mesh.midpoint(c[k], c[(k + 1) % n]))
         .collect();
-    if element.is_triangle {
+    if element.is_triangle() {
         let (a, b, d) = (c[0], c[1], c[2]);
         let (ab, bd, da) = (mid[0], mid[1], mid[2]);
         [
@@ -278,14 +278,14 @@ fn receiver_offset(mesh: &Mesh, v: u32) -> DVec3 {
 /// its third).
 fn element_with(mesh: &Mesh, parent: &Element, corners: &[u32; 4]) -> Element {
     let p = |k: usize| mesh.vertices[corners[k] as usize].position;
-    let cell = if parent.is_triangle {
+    let cell = if parent.is_triangle() {
         Cell::triangle(p(0), p(1), p(2))
     } else {
         Cell::quad(p(0), p(1), p(2), p(3))
     };
+    debug_assert_eq!(corners[3] == corners[2], parent.is_triangle());
     Element {
         vertices: *corners,
-        is_triangle: parent.is_triangle,
         surface: parent.surface,
         patch: parent.patch,
         area: cell.area,

@@ -64,13 +64,13 @@ impl MeshVertex {
 }
 
 /// A mesh element: a triangle or a quadrilateral of vertices, counter-clockwise
-/// seen from the surface's front.
+/// seen from the surface's front. 32 bytes: a building's mesh holds tens
+/// of millions.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Element {
-    /// Vertex indices; a triangle repeats its third vertex.
+    /// Vertex indices; a triangle repeats its third vertex, and a
+    /// quadrilateral's four differ ([`Element::is_triangle`]).
     pub vertices: [u32; 4],
-    /// True for a triangle.
-    pub is_triangle: bool,
     /// The surface it lies on.
     pub surface: SurfaceId,
     /// Index of the patch it belongs to.
@@ -80,10 +80,16 @@ pub struct Element {
 }
 
 impl Element {
+    /// True for a triangle: its fourth vertex repeats its third.
+    #[must_use]
+    pub fn is_triangle(&self) -> bool {
+        self.vertices[3] == self.vertices[2]
+    }
+
     /// The element's vertex indices (3 or 4).
     #[must_use]
     pub fn corners(&self) -> &[u32] {
-        if self.is_triangle {
+        if self.is_triangle() {
             &self.vertices[..3]
         } else {
             &self.vertices
@@ -109,7 +115,7 @@ impl Element {
     #[must_use]
     pub fn triangles(&self, gap: impl Fn(u32, u32) -> f64) -> ([[u32; 3]; 2], usize) {
         let [a, b, c, d] = self.vertices;
-        if self.is_triangle {
+        if self.is_triangle() {
             ([[a, b, c], [a, b, c]], 1)
         } else if gap(a, c) <= gap(b, d) {
             ([[a, b, c], [a, c, d]], 2)
@@ -158,7 +164,7 @@ impl Mesh {
     #[must_use]
     pub fn element_cell(&self, element: &Element) -> Cell {
         let p = |k: usize| self.vertices[element.vertices[k] as usize].position;
-        if element.is_triangle {
+        if element.is_triangle() {
             Cell::triangle(p(0), p(1), p(2))
         } else {
             Cell::quad(p(0), p(1), p(2), p(3))
@@ -168,6 +174,11 @@ impl Mesh {
     /// Adds a triangle or quad element (3 or 4 vertex indices,
     /// counter-clockwise) to a patch of its surface.
     pub fn add_element(&mut self, corners: &[u32], patch: u32) -> u32 {
+        // Four corners of which the last two are one make a triangle.
+        let corners = match corners {
+            [a, b, c, d] if c == d => &[*a, *b, *c][..],
+            corners => corners,
+        };
         let p = |k: usize| self.vertices[corners[k] as usize].position;
         let cell = if corners.len() == 3 {
             Cell::triangle(p(0), p(1), p(2))
@@ -182,7 +193,6 @@ impl Mesh {
         let owner = &mut self.patches[patch as usize];
         self.elements.push(Element {
             vertices,
-            is_triangle: corners.len() == 3,
             surface: owner.surface,
             patch,
             area: cell.area,
@@ -493,4 +503,42 @@ fn perimeter(polygon: &[DVec3]) -> f64 {
     (0..polygon.len())
         .map(|k| polygon[k].distance(polygon[(k + 1) % polygon.len()]))
         .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A building's mesh holds tens of millions of each: an element is 32
+    /// bytes and a vertex 40.
+    #[test]
+    fn elements_and_vertices_stay_small() {
+        assert_eq!(std::mem::size_of::<Element>(), 32);
+        assert_eq!(std::mem::size_of::<MeshVertex>(), 40);
+    }
+
+    /// A triangle repeats its third vertex; four corners whose last two
+    /// are one make a triangle too, of the same area.
+    #[test]
+    fn an_element_is_a_triangle_when_its_third_vertex_repeats() {
+        let mut mesh = Mesh::default();
+        let surface = SurfaceId::new(0);
+        let cell = Cell::quad(DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y);
+        let patch = mesh.add_patch(surface, cell);
+        for p in [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y] {
+            mesh.add_vertex(p, surface);
+        }
+        let quad = mesh.add_element(&[0, 1, 2, 3], patch);
+        let triangle = mesh.add_element(&[0, 1, 2], patch);
+        let folded = mesh.add_element(&[0, 1, 2, 2], patch);
+        let element = |e: u32| mesh.elements[e as usize];
+        assert!(!element(quad).is_triangle());
+        assert_eq!(element(quad).corners(), &[0, 1, 2, 3]);
+        for e in [triangle, folded] {
+            assert!(element(e).is_triangle());
+            assert_eq!(element(e).corners(), &[0, 1, 2]);
+            assert!((element(e).area - 0.5).abs() < 1e-15);
+        }
+        assert!((element(quad).area - 1.0).abs() < 1e-15);
+    }
 }

@@ -153,7 +153,7 @@ impl LandingElement {
         let element = mesh.elements.get(e)?;
         let coordinate = |k: u16| f64::from(k) / f64::from(u16::MAX);
         let st = (coordinate(self.st[0]), coordinate(self.st[1]));
-        Some(interpolated(corners(e), element.is_triangle, st))
+        Some(interpolated(corners(e), element.is_triangle(), st))
     }
 }
 
@@ -820,7 +820,6 @@ mod tests {
         for is_triangle in [false, true] {
             mesh.elements.push(crate::mesh::Element {
                 vertices: [0, 1, 2, if is_triangle { 2 } else { 3 }],
-                is_triangle,
                 surface: crate::scene::SurfaceId::new(0),
                 patch: 0,
                 area: 1.0,

@@ -101,7 +101,11 @@ pub(crate) fn emitter_shot_powers(
                 unoccluded_factor(centre, normal(element.surface), emitter, emitter_normal);
             // Corners and centre, exact for a quadratic: (1/3, 2/3) over a
             // parallelogram, (1/4, 3/4) over a triangle.
-            let centre_weight = if element.is_triangle { 0.75 } else { 2.0 / 3.0 };
+            let centre_weight = if element.is_triangle() {
+                0.75
+            } else {
+                2.0 / 3.0
+            };
             let quadrature = (1.0 - centre_weight) * corners + centre_weight * centre;
             trapezoid * (quadrature / corners).clamp(1.0 / MAX_RATIO, MAX_RATIO)
         })

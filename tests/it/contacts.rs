@@ -96,7 +96,7 @@ fn the_floor_under_a_block_is_cut_out_along_the_contact_lines() {
         mesh.elements
             .iter()
             .filter(|e| e.surface != SurfaceId::new(0))
-            .all(|e| !e.is_triangle)
+            .all(|e| !e.is_triangle())
     );
 }
 

@@ -108,7 +108,7 @@ fn a_quad_gets_n_by_n_elements() {
     assert!(
         mesh.elements
             .iter()
-            .all(|e| !e.is_triangle && (e.area - 6.0 / 49.0).abs() < 1e-12)
+            .all(|e| !e.is_triangle() && (e.area - 6.0 / 49.0).abs() < 1e-12)
     );
 }
 
