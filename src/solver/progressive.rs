@@ -108,7 +108,7 @@ pub struct Solver {
     /// each and their totals, counted again where a shot changed them.
     unshot_by_zone: UnshotByZone,
     /// Each surface's reflectance, side by side: every shot reads it at
-    /// every vertex and element it reaches.
+    /// every element it reaches.
     surface_reflectance: Vec<Rgb>,
     /// A shot's irradiance per vertex of its closed zone (or of the mesh),
     /// at each one's [`ShotPlaces`], kept between shots: a shot in one room
@@ -1861,6 +1861,10 @@ mod tests {
         }
     }
 
+    /// The ambient term made room by room is the same whether the rooms'
+    /// rays are kept between images or cast for each and dropped, and
+    /// each room's rays stay in it: the second room, lit twice as
+    /// brightly, gets twice the first's light within the rays' noise.
     #[test]
     fn rooms_kept_or_cast_again_give_the_same_ambient_term() {
         let mut settings = Settings::default();

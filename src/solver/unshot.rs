@@ -31,8 +31,12 @@ use crate::scene::Rgb;
 /// per vertex or more, this array was the largest of a building's solve
 /// (1.07 of the 6.8 GB at the peak of a million quads' view). The corners
 /// only shape the field: a shot scales its strata to the patch's total,
-/// kept in `f64` ([`FieldScale`]), so their rounding, at most 1.5 · 10⁻⁵
-/// of the element's largest corner value, moves no power.
+/// kept in `f64` ([`FieldScale`]), so their rounding moves no power. Each
+/// store rounds by at most 1.5 · 10⁻⁵ of the element's largest corner
+/// value, and a shot that adds less than that to a dim corner adds nothing,
+/// so over many shots the dim corners may lag. Solved to 0.2 % unshot
+/// (734 shots on the Cornell box, 1,087 on `scenes/room`), the images are
+/// those of corners in `f32` to 0.000 % per pixel.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct UnshotCorners {
     corners: Vec<PackedCorners>,
@@ -52,7 +56,7 @@ const STEPS: f64 = i16::MAX as f64;
 
 /// Rounds corners to their stored form, beyond f32's range to its largest
 /// value (an emitter of 10³⁹ W/m² would otherwise store infinity, and its
-/// shot's scale 0 · ∞).
+/// shot's scale 0 · ∞); a NaN is stored as zero.
 fn packed(corners: [Rgb; 4]) -> PackedCorners {
     let limit = f64::from(f32::MAX);
     let largest = corners
