@@ -41,6 +41,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::zones::ShotPlaces;
 use crate::mesh::Mesh;
 use crate::radiometry::polygon_form_factor;
 use crate::scene::{Rgb, Scene};
@@ -60,18 +61,18 @@ fn unoccluded_factor(x: DVec3, n: DVec3, emitter: &[DVec3], emitter_normal: DVec
 }
 
 /// The power (W) each of `elements` receives from the shot of an emitting
-/// patch `emitter` (its polygon and front normal) that gave vertex v the
-/// irradiance `incident(v)`, by element index in `elements`' order (see
-/// the module's documentation). `vertices` are the elements' corners (the
-/// shot's closed zone, or the whole mesh), and `place(v)` is vertex v's
-/// place in that list: the unoccluded field is read once at each (at its
-/// receiver position) and once per element, at its centre, so a shot in
-/// one room of a building costs that room alone.
+/// patch `emitter` (its polygon and front normal) that gave the vertices
+/// `incident` irradiance, each at its place (`places`), by element index
+/// in `elements`' order (see the module's documentation). `vertices` are
+/// the elements' corners (the shot's closed zone, or the whole mesh), in
+/// the order of their places: the unoccluded field is read once at each
+/// (at its receiver position) and once per element, at its centre, so a
+/// shot in one room of a building costs that room alone.
 pub(crate) fn emitter_shot_powers(
     scene: &Scene,
     mesh: &Mesh,
     (emitter, emitter_normal): (&[DVec3], DVec3),
-    (incident, place): (&(dyn Fn(u32) -> Rgb + Sync), &(dyn Fn(u32) -> usize + Sync)),
+    (incident, places): (&[Rgb], ShotPlaces<'_>),
     (vertices, elements): (&[u32], &[u32]),
 ) -> Vec<Rgb> {
     let normal = |surface| scene.surface(surface).normal();
@@ -88,11 +89,11 @@ pub(crate) fn emitter_shot_powers(
         .par_iter()
         .map(|&e| {
             let element = &mesh.elements[e as usize];
-            let trapezoid = element.corner_mean(incident) * element.area;
+            let trapezoid = element.corner_mean(|v| incident[places.of(v)]) * element.area;
             if trapezoid == Rgb::ZERO {
                 return Rgb::ZERO;
             }
-            let corners = element.corner_mean(|v| factors[place(v)]);
+            let corners = element.corner_mean(|v| factors[places.of(v)]);
             if corners <= f64::MIN_POSITIVE {
                 return trapezoid;
             }

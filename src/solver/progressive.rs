@@ -859,8 +859,7 @@ impl Solver {
             Some((cell, normal)) => {
                 let emitter = (cell.polygon(), normal);
                 let zone = (vertices, elements);
-                let place = |v: u32| places.of(v);
-                let values = (&at as _, &place as _);
+                let values = (incident, places);
                 powers =
                     element_power::emitter_shot_powers(&self.scene, mesh, emitter, values, zone);
             }
