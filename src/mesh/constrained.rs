@@ -120,19 +120,69 @@ pub fn triangulate_constrained(
                 })
         })
         .collect();
-    // Keep the faces whose centroid lies inside the outline.
-    let triangles = cdt
+    let faces: Vec<[usize; 3]> = cdt
         .inner_faces()
         .map(|face| face.vertices().map(|v| remap[v.fix().index()]))
+        .collect();
+    // A needle (two corners a rounding error apart, beyond the snapping
+    // distance: crossings of nearly parallel segments) is one point there.
+    // Left out instead, it would leave a crack between its long sides.
+    let merged = collapse_needles(&points, &faces);
+    // Keep the faces whose centroid lies inside the outline.
+    let triangles = faces
+        .into_iter()
+        .map(|face| face.map(|k| merged[k]))
         .filter(|&[a, b, c]| a != b && b != c && c != a)
         .filter(|&[a, b, c]| {
             let (pa, pb, pc) = (points[a], points[b], points[c]);
-            let twice_area = (pb - pa).perp_dot(pc - pa);
-            let scale = (pb - pa).length_squared().max((pc - pa).length_squared());
-            twice_area > 1e-12 * scale && polygon_contains(&outline, (pa + pb + pc) / 3.0)
+            !is_sliver(pa, pb, pc) && polygon_contains(&outline, (pa + pb + pc) / 3.0)
         })
         .collect();
     PlaneTriangulation { points, triangles }
+}
+
+/// Whether a triangle is too thin to keep: twice its area at most 10⁻¹²
+/// of its longest side from `a` squared (or clockwise).
+fn is_sliver(a: DVec2, b: DVec2, c: DVec2) -> bool {
+    let twice_area = (b - a).perp_dot(c - a);
+    let scale = (b - a).length_squared().max((c - a).length_squared());
+    twice_area.is_nan() || twice_area <= 1e-12 * scale
+}
+
+/// Length of a needle's shortest side, relative to its longest, under
+/// which its two nearest corners are taken as one.
+const NEEDLE_RATIO: f64 = 1e-6;
+
+/// For each point, the point it is merged into: the two corners of each
+/// sliver's shortest side, when that side is under [`NEEDLE_RATIO`] of its
+/// longest, become the lower-numbered one (transitively). A needle's area
+/// is below a rounding error of its neighbours', and merging its short side
+/// leaves them sharing their long sides.
+fn collapse_needles(points: &[DVec2], faces: &[[usize; 3]]) -> Vec<usize> {
+    fn root(merged: &mut [usize], mut k: usize) -> usize {
+        while merged[k] != k {
+            merged[k] = merged[merged[k]];
+            k = merged[k];
+        }
+        k
+    }
+    let mut merged: Vec<usize> = (0..points.len()).collect();
+    for &[a, b, c] in faces {
+        if !is_sliver(points[a], points[b], points[c]) {
+            continue;
+        }
+        let sides = [(a, b), (b, c), (c, a)].map(|(i, j)| (points[i].distance(points[j]), i, j));
+        let longest = sides.iter().map(|s| s.0).fold(0.0, f64::max);
+        let (shortest, i, j) = sides
+            .into_iter()
+            .min_by(|x, y| x.0.total_cmp(&y.0))
+            .unwrap_or((f64::NAN, a, b));
+        if shortest <= NEEDLE_RATIO * longest {
+            let (i, j) = (root(&mut merged, i), root(&mut merged, j));
+            merged[i.max(j)] = i.min(j);
+        }
+    }
+    (0..points.len()).map(|k| root(&mut merged, k)).collect()
 }
 
 /// Distance, relative to the largest unit coordinate (at most the input's
@@ -299,5 +349,26 @@ mod tests {
                 .iter()
                 .any(|p| p.distance(DVec2::new(1.0, 0.5)) < 1e-12)
         );
+    }
+
+    #[test]
+    fn a_needle_s_short_side_is_one_point_and_a_cap_keeps_its_corners() {
+        // 0–1–2: a needle along the x axis, its short side 1–2 10⁻⁹ long.
+        // 3–4–5: a cap, corner 5 a rounding error off the middle of 3–4.
+        // 0–1–6: a fair triangle.
+        let points = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 1e-16),
+            DVec2::new(1.0 + 1e-9, 0.0),
+            DVec2::new(0.0, 2.0),
+            DVec2::new(1.0, 2.0),
+            DVec2::new(0.5, 2.0 + 1e-14),
+            DVec2::new(0.5, 1.0),
+        ];
+        let merged = collapse_needles(&points, &[[0, 1, 2], [3, 4, 5], [0, 1, 6]]);
+        assert_eq!(merged, [0, 1, 1, 3, 4, 5, 6]);
+        assert!(is_sliver(points[0], points[1], points[2]));
+        assert!(is_sliver(points[3], points[4], points[5]));
+        assert!(!is_sliver(points[0], points[1], points[6]));
     }
 }

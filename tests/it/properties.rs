@@ -184,6 +184,34 @@ proptest! {
     }
 }
 
+/// Proptest's case of 2026-12-06: a polygon 10⁻⁴ across, a hundred of its
+/// sizes from the origin. Three crossings on one of its edges, computed
+/// from nearly parallel segments, fell 10⁻¹⁴ apart (beyond the snapping
+/// distance), and the needle between two of them was left out: a crack.
+#[test]
+fn a_contour_mesh_has_no_crack_where_crossings_nearly_coincide() {
+    let points: Vec<DVec2> = [
+        (0.009975205191657031, 4.119417461520331e-6),
+        (0.009999114919625688, 3.9299485655145884e-5),
+        (0.009967949934041138, 6.0715720282604825e-5),
+        (0.009906861376647761, 5.655989502135754e-5),
+        (0.009920609472968842, 2.3457076043971558e-5),
+        (0.009917407645402804, 9.543175205192173e-6),
+        (0.009914990841156532, -5.235389661574636e-7),
+        (0.009917931184368962, -1.0449971294318974e-5),
+        (0.009925440812450852, -1.757634225323931e-5),
+        (0.009942177250924751, -1.8661644181236565e-5),
+        (0.009945433958950364, -1.7052803287081843e-5),
+        (0.009992153627942285, -8.885640600155362e-6),
+    ]
+    .iter()
+    .map(|&(x, y)| DVec2::new(x, y))
+    .collect();
+    let scene = floor_scene(&points);
+    let mesh = contour_mesh(&scene, DVec2::new(-0.8165197391255873, 0.27866373477846873));
+    check_mesh_of_polygon(&scene, &mesh).unwrap();
+}
+
 // ---- Form factors -----------------------------------------------------------
 
 /// A point on the unit sphere from two numbers in [0, 1).
