@@ -112,6 +112,7 @@
 
 mod error;
 mod font;
+mod freed_memory;
 mod fs;
 
 pub mod calculation;

@@ -20,6 +20,10 @@ use crate::scene::SurfaceId;
 /// (1 − 1/√3)/2: the lower two-point Gauss–Legendre abscissa on [0, 1].
 const GAUSS_ABSCISSA: f64 = 0.211_324_865_405_187_1;
 
+/// Surfaces whose boundary moves are found in parallel before they are
+/// applied.
+const INSET_BATCH: usize = 16_384;
+
 /// What one surface's boundary does to one of its vertices: the sum of the
 /// inward normals of its boundary edges, and its Gauss-point offset.
 type VertexMove = (u32, DVec3, DVec3);
@@ -39,7 +43,8 @@ impl Mesh {
     ///
     /// Surfaces are read apart: an edge two surfaces' elements share
     /// (which [`Mesh::validate`] refuses: a vertex belongs to one surface)
-    /// is a boundary edge of each.
+    /// is a boundary edge of each, and such a vertex takes the sum of
+    /// each surface's move.
     pub fn inset_boundary_receivers(&mut self, distance: f64) {
         self.inset_boundary_receivers_by(&|_| distance);
     }
@@ -47,20 +52,23 @@ impl Mesh {
     /// [`Mesh::inset_boundary_receivers`] with each surface's own
     /// `distance(surface)`: a building's rooms each by their own size.
     pub fn inset_boundary_receivers_by(&mut self, distance: &(dyn Fn(SurfaceId) -> f64 + Sync)) {
-        let moves: Vec<Vec<VertexMove>> = self
-            .elements_by_surface()
-            .par_iter()
-            .map(|ranges| self.boundary_moves(ranges))
-            .collect();
-        let mut inward = vec![DVec3::ZERO; self.vertices.len()];
-        let mut gauss = vec![DVec3::ZERO; self.vertices.len()];
-        for (v, direction, offset) in moves.into_iter().flatten() {
-            inward[v as usize] += direction;
-            gauss[v as usize] += offset;
+        for vertex in &mut self.vertices {
+            vertex.set_receiver_position(vertex.position);
         }
-        for ((vertex, direction), gauss) in self.vertices.iter_mut().zip(inward).zip(gauss) {
-            let inward = direction.normalize_or_zero() * distance(vertex.surface);
-            vertex.set_receiver_position(vertex.position + inward + gauss);
+        // A batch of surfaces at a time, each vertex moved as its surface's
+        // are found: no list of every vertex's move (for a million quads,
+        // two such lists held 860 MB at the end of meshing).
+        for batch in self.elements_by_surface().chunks(INSET_BATCH) {
+            let moves: Vec<Vec<VertexMove>> = batch
+                .par_iter()
+                .map(|ranges| self.boundary_moves(ranges))
+                .collect();
+            for (v, direction, offset) in moves.into_iter().flatten() {
+                let vertex = &mut self.vertices[v as usize];
+                let inward = direction.normalize_or_zero() * distance(vertex.surface);
+                let moved = vertex.receiver_position() + inward + offset;
+                vertex.set_receiver_position(moved);
+            }
         }
     }
 

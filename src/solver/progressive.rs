@@ -25,6 +25,7 @@ use super::unshot::{FieldScale, PatchField, UnshotCorners};
 use super::unshot_by_zone::UnshotByZone;
 use super::visibility_memory::{Recall, VisibilityMemory};
 use super::zones::{ShotPlaces, ZoneLabels, ZoneMembers, Zones};
+use crate::freed_memory::give_back_freed_memory;
 use crate::mesh::{Cell, ElementHierarchy, Mesh, receiver_inset};
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Camera, Rgb, Scene, ShadowCache, SurfaceId, Visibility};
@@ -206,17 +207,23 @@ impl Solver {
         settings.validate()?;
         scene.validate()?;
         settings.mesh.check_budget(&scene)?;
+        // What loading the scene freed (its file's text, its faces) is
+        // given back before the solve's lists are made; so is what
+        // finding the rooms and meshing free.
+        give_back_freed_memory();
         let visibility = Visibility::new(&scene);
         // The closed zones, found once: meshing pairs each receiver with
         // its own room's lights and occluders, and the shots stay in theirs.
         let counter = PhaseCounter::start(Phase::ClosedRooms, 1, report);
         let zones = Zones::new(&scene, &visibility);
         counter.finish();
+        give_back_freed_memory();
         let SceneMesh {
             mesh,
             analysis,
             receiver_insets,
         } = mesh_scene_in_zones(&scene, &visibility, &settings.mesh, Some(&zones), report);
+        give_back_freed_memory();
         let refiner = (settings.mesh.kind == MeshKind::Adaptive)
             .then(|| Refiner::new(&mesh, settings.mesh.refinement.clone()));
         let parts = (mesh, visibility, analysis, Some(zones));
