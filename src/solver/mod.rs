@@ -26,6 +26,7 @@ mod shooter;
 mod solution;
 mod unshot;
 mod unshot_by_zone;
+mod vertex_irradiance;
 mod visibility_memory;
 mod zones;
 

@@ -56,6 +56,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use super::vertex_irradiance::VertexIrradiance;
 use crate::mesh::{Cell, Mesh};
 use crate::scene::Rgb;
 
@@ -254,7 +255,7 @@ impl PatchReception {
         &self,
         vertices: &[u32],
         thresholds: &[Rgb],
-        irradiance: &[Rgb],
+        irradiance: &VertexIrradiance,
         plan: &mut ReceptionPlan,
     ) {
         plan.gathered.clear();
@@ -288,11 +289,11 @@ impl PatchReception {
     /// Whether vertex `v` may be interpolated: it is no sample, its
     /// irradiance reaches the threshold of every patch it lies on, and its
     /// samples agree with it ([`SAMPLE_AGREEMENT`]).
-    fn may_interpolate(&self, v: u32, thresholds: &[Rgb], irradiance: &[Rgb]) -> bool {
+    fn may_interpolate(&self, v: u32, thresholds: &[Rgb], irradiance: &VertexIrradiance) -> bool {
         let Some(interpolation) = self.vertices[v as usize].as_ref() else {
             return false;
         };
-        let h = irradiance[v as usize];
+        let h = irradiance.at(v as usize);
         let reaches = |p: u32| {
             let t = thresholds[p as usize];
             h.r >= t.r && h.g >= t.g && h.b >= t.b
@@ -304,7 +305,7 @@ impl PatchReception {
         }
         let hv = h.element_sum();
         let agrees = |&(s, w): &(u32, f32)| {
-            let hs = irradiance[s as usize].element_sum();
+            let hs = irradiance.at(s as usize).element_sum();
             w == 0.0 || (hs >= SAMPLE_AGREEMENT * hv && hv >= SAMPLE_AGREEMENT * hs)
         };
         hv > 0.0 && interpolation.weights.iter().all(agrees)
@@ -533,11 +534,13 @@ mod tests {
     fn plan_with(mesh: &Mesh, threshold: f64, irradiance_of: &[(u32, f64)]) -> ReceptionPlan {
         let reception = PatchReception::new(mesh);
         let thresholds = vec![Rgb::splat(threshold); mesh.patches.len()];
-        let mut irradiance = vec![Rgb::ONE; mesh.vertices.len()];
+        let mut values = vec![Rgb::ONE; mesh.vertices.len()];
         for &(v, h) in irradiance_of {
-            irradiance[v as usize] = Rgb::splat(h);
+            values[v as usize] = Rgb::splat(h);
         }
         let vertices: Vec<u32> = (0..mesh.vertices.len() as u32).collect();
+        let mut irradiance = VertexIrradiance::zeros(mesh.vertices.len());
+        irradiance.add_at(&vertices, &values);
         let mut plan = ReceptionPlan::default();
         reception.plan(&vertices, &thresholds, &irradiance, &mut plan);
         assert_eq!(

@@ -23,6 +23,7 @@ use super::shooter::{Gathered, Receiver, Shooter, ShotRadiosity};
 use super::solution::Solution;
 use super::unshot::{FieldScale, PatchField, UnshotCorners};
 use super::unshot_by_zone::UnshotByZone;
+use super::vertex_irradiance::VertexIrradiance;
 use super::visibility_memory::{Recall, VisibilityMemory};
 use super::zones::{ShotPlaces, ZoneLabels, ZoneMembers, Zones};
 use crate::freed_memory::give_back_freed_memory;
@@ -96,7 +97,7 @@ pub struct Solver {
     settings: SolverSettings,
     /// Irradiance H per vertex (light received), W/m². Its radiosity,
     /// B = E + ρ H, is found from it when asked ([`Solver::radiosity`]).
-    irradiance: Vec<Rgb>,
+    irradiance: VertexIrradiance,
     /// Unshot radiosity ΔB per patch: the area-weighted mean of its
     /// elements' corner means, the ledger's and the shooter choice's measure.
     unshot: Vec<Rgb>,
@@ -277,7 +278,7 @@ impl Solver {
             .chain(scene.luminaires.iter().map(|l| l.power().element_sum()))
             .fold(0.0, f64::max);
         let unshot_len = unshot.len();
-        let irradiance = vec![Rgb::ZERO; mesh.vertices.len()];
+        let irradiance = VertexIrradiance::zeros(mesh.vertices.len());
         let unshot_corners = UnshotCorners::new(&mesh, &unshot);
         let patch_areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
         let surface_reflectance = scene
@@ -858,9 +859,7 @@ impl Solver {
         let at = |v: u32| incident[places.of(v)];
         let (mesh, reflectances) = (&self.mesh, &self.surface_reflectance);
         let reflectance_of = |surface: SurfaceId| reflectances[surface.index()];
-        indexed_update::par_update_at(&mut self.irradiance, vertices, &|k, h| {
-            *h += incident[k];
-        });
+        self.irradiance.add_at(vertices, incident);
         let mut powers = std::mem::take(&mut self.element_powers);
         match emitter {
             Some((cell, normal)) => {
@@ -989,10 +988,20 @@ impl Solver {
         self.solution().radiosity()
     }
 
-    /// Irradiance per vertex (W/m²) from the light shot so far.
+    /// Irradiance per vertex (W/m²) from the light shot so far, as a new
+    /// list (the solver keeps it in `f32`: `solver/vertex_irradiance.rs`).
     #[must_use]
-    pub fn irradiance(&self) -> &[Rgb] {
-        &self.irradiance
+    pub fn irradiance(&self) -> Vec<Rgb> {
+        self.irradiance.to_vec()
+    }
+
+    /// Vertex `v`'s irradiance (W/m²) from the light shot so far.
+    ///
+    /// # Panics
+    /// If `v` is not a vertex of the mesh.
+    #[must_use]
+    pub fn irradiance_at(&self, v: usize) -> Rgb {
+        self.irradiance.at(v)
     }
 
     /// Radiosity per vertex with the ambient term added: the light not yet
@@ -1580,7 +1589,7 @@ impl Solver {
     fn incident_power_per_patch(&self) -> Vec<Rgb> {
         let mut power = vec![Rgb::ZERO; self.mesh.patches.len()];
         for element in &self.mesh.elements {
-            let mean = element.corner_mean(|v| self.irradiance[v as usize]);
+            let mean = element.corner_mean(|v| self.irradiance.at(v as usize));
             power[element.patch as usize] += mean * element.area;
         }
         power

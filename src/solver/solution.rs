@@ -6,6 +6,7 @@ use std::collections::BinaryHeap;
 use glam::{DVec2, DVec3};
 
 use super::ambient_irradiance::AmbientIrradiance;
+use super::vertex_irradiance::VertexIrradiance;
 use super::ambient_rooms::ReadingPlace;
 use super::penumbra::AdaptiveVisibility;
 use crate::error::{Error, Result};
@@ -167,7 +168,7 @@ pub struct Solution<'a> {
     /// light of (gather probes add their direct light).
     pub luminaires_shot: Vec<bool>,
     /// Irradiance per mesh vertex from the light shot, W/m²: the solver's.
-    pub(crate) shot_irradiance: &'a [Rgb],
+    pub(crate) shot_irradiance: &'a VertexIrradiance,
     /// The ambient term G_v added to it (`solver/ambient.rs`).
     pub(crate) ambient: AmbientIrradiance,
     /// The closed zone of every surface, when the solver found more than
@@ -191,7 +192,7 @@ impl Solution<'_> {
     /// When `vertex` is not an index into the mesh's vertices.
     #[must_use]
     pub fn irradiance_at(&self, vertex: usize) -> Rgb {
-        self.shot_irradiance[vertex] + self.ambient.at(vertex)
+        self.shot_irradiance.at(vertex) + self.ambient.at(vertex)
     }
 
     /// Radiosity B = E + ρ H at mesh vertex `vertex`, W/m², with the

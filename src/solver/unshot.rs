@@ -14,6 +14,7 @@ use rayon::prelude::*;
 
 use super::element_index::{ElementIndex, padded_box};
 use super::indexed_update::par_update_at;
+use super::vertex_irradiance::VertexIrradiance;
 use crate::mesh::{Cell, Element, Mesh, Patch};
 use crate::scene::Rgb;
 
@@ -156,7 +157,7 @@ impl UnshotCorners {
         mesh: &Mesh,
         parent_of: impl Fn(usize) -> Option<Element>,
         old: &std::collections::HashMap<[u32; 4], [Rgb; 4]>,
-        irradiance: &[Rgb],
+        irradiance: &VertexIrradiance,
         reflectance: impl Fn(&Element) -> Rgb,
     ) {
         self.corners = mesh
@@ -178,9 +179,9 @@ impl UnshotCorners {
                 for (slot, &v) in corners.iter_mut().zip(element.corners()) {
                     let unshot = interpolate_in_parent(mesh, &parent, v, |k| parent_corners[k]);
                     let expected = interpolate_in_parent(mesh, &parent, v, |k| {
-                        irradiance[parent.vertices[k] as usize]
+                        irradiance.at(parent.vertices[k] as usize)
                     });
-                    *slot = unshot + rho * (irradiance[v as usize] - expected);
+                    *slot = unshot + rho * (irradiance.at(v as usize) - expected);
                 }
                 corners
             })

@@ -100,8 +100,8 @@ pub fn solve_with_progress(
 /// Warns when the emitters' light reaches no surface (they face away from
 /// the scene, or nothing else is there): the image is black but for them.
 fn warn_if_nothing_is_lit(solver: &Solver) {
-    let lit = |h: &isorad::Rgb| h.element_sum() > 0.0;
-    if solver.shots() > 0 && !solver.irradiance().iter().any(lit) {
+    let lit = |v: usize| solver.irradiance_at(v).element_sum() > 0.0;
+    if solver.shots() > 0 && !(0..solver.mesh().vertices.len()).any(lit) {
         eprintln!(
             "warning: no surface receives light from the emitters: all of it leaves the scene. \
              Faces emit from their front only (vertices counter-clockwise seen from the front); \
