@@ -6,7 +6,9 @@
 //! and the coplanar merge) freed 680 MB that stayed resident through the
 //! whole solve, beside what meshing's per-surface lists freed. `malloc_trim`
 //! returns every free page of every heap; it takes 10–60 ms on a building,
-//! so it is asked for only between phases, where a large one ends.
+//! so it is asked for only between phases, where a large one ends: after
+//! loading, after the rooms are found, after meshing, and before an
+//! image's ambient term (what the shots freed).
 //!
 //! Elsewhere (other C libraries, other systems) this does nothing.
 

@@ -1034,6 +1034,8 @@ impl Solver {
         only: Option<&[usize]>,
         report: PhaseReporter,
     ) -> AmbientIrradiance {
+        // What the shots freed goes back before the term's lists are made.
+        give_back_freed_memory();
         let zones = self.zones.as_ref().map(|(zones, _)| zones);
         let (rooms, others) = self.ambient_rooms(only, keep);
         // Half a room's vertices count once their rays are cast (or kept),

@@ -6,9 +6,9 @@ use std::collections::BinaryHeap;
 use glam::{DVec2, DVec3};
 
 use super::ambient_irradiance::AmbientIrradiance;
-use super::vertex_irradiance::VertexIrradiance;
 use super::ambient_rooms::ReadingPlace;
 use super::penumbra::AdaptiveVisibility;
+use super::vertex_irradiance::VertexIrradiance;
 use crate::error::{Error, Result};
 use crate::lighting::SampleStream;
 use crate::mesh::{Cell, Mesh, receiver_inset};

@@ -68,7 +68,7 @@ mod tests {
     /// A thousand shots of sizes over eight decades onto one vertex land
     /// within a thousand half-units of `f32`'s last place of their `f64`
     /// sum; untouched vertices keep their values.
-#[test]
+    #[test]
     fn shots_add_up_within_single_precision() {
         let mut store = VertexIrradiance::zeros(3);
         let vertices = [0, 2];
@@ -76,7 +76,9 @@ mod tests {
         let mut exact = Rgb::splat(1e4);
         let mut state = 12_345_u64;
         for _ in 0..1000 {
-            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
             let decade = (state >> 40) % 8;
             let shot = Rgb::new(1.0, 0.5, 0.25) * 10f64.powi(decade as i32 - 4);
             store.add_at(&vertices[..1], &[shot]);
