@@ -206,12 +206,27 @@ fn welded_loops(surfaces: &[Surface], cell: f64) -> WeldedLoops {
     WeldedLoops { ids, positions }
 }
 
+/// The faces along one directed edge: the first, and how many. Merging
+/// asks only whether exactly one face uses an edge, and which; a list per
+/// edge was a memory allocation for each of a building's four million.
+#[derive(Clone, Copy, Debug)]
+struct EdgeUse {
+    first: usize,
+    count: u32,
+}
+
 /// Every directed edge (a, b) of every face, with the faces using it.
-fn directed_edges(loops: &WeldedLoops) -> HashMap<(u32, u32), Vec<usize>> {
-    let mut edges: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+fn directed_edges(loops: &WeldedLoops) -> HashMap<(u32, u32), EdgeUse> {
+    let mut edges: HashMap<(u32, u32), EdgeUse> = HashMap::new();
     for (face, ids) in loops.ids.iter().enumerate() {
         for (a, b) in loop_edges(ids) {
-            edges.entry((a, b)).or_default().push(face);
+            edges
+                .entry((a, b))
+                .and_modify(|edge| edge.count += 1)
+                .or_insert(EdgeUse {
+                    first: face,
+                    count: 1,
+                });
         }
     }
     edges
@@ -228,7 +243,7 @@ fn grow_region(
     seed: usize,
     surfaces: &[Surface],
     loops: &WeldedLoops,
-    edges: &HashMap<(u32, u32), Vec<usize>>,
+    edges: &HashMap<(u32, u32), EdgeUse>,
     diagonal: f64,
     region_of: &mut [Option<usize>],
 ) -> Vec<usize> {
@@ -258,10 +273,10 @@ fn grow_region(
             let (Some(forward), Some(backward)) = (edges.get(&(a, b)), edges.get(&(b, a))) else {
                 continue;
             };
-            if forward.len() != 1 || backward.len() != 1 {
+            if forward.count != 1 || backward.count != 1 {
                 continue;
             }
-            let neighbour = backward[0];
+            let neighbour = backward.first;
             if region_of[neighbour].is_none() && joins(neighbour) {
                 region_of[neighbour] = Some(seed);
                 region.push(neighbour);
