@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use glam::DVec2;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-use crate::scene::polygon_contains;
+use crate::scene::{distance_to_boundary, polygon_contains};
 
 /// A triangulation in plane coordinates: points and counter-clockwise
 /// triangles indexing them.
@@ -127,7 +127,7 @@ pub fn triangulate_constrained(
     // A needle (two corners a rounding error apart, beyond the snapping
     // distance: crossings of nearly parallel segments) is one point there.
     // Left out instead, it would leave a crack between its long sides.
-    let merged = collapse_needles(&points, &faces);
+    let merged = collapse_needles(&points, &faces, &outline);
     // Keep the faces whose centroid lies inside the outline.
     let triangles = faces
         .into_iter()
@@ -153,36 +153,79 @@ fn is_sliver(a: DVec2, b: DVec2, c: DVec2) -> bool {
 /// which its two nearest corners are taken as one.
 const NEEDLE_RATIO: f64 = 1e-6;
 
-/// For each point, the point it is merged into: the two corners of each
-/// sliver's shortest side, when that side is under [`NEEDLE_RATIO`] of its
-/// longest, become the lower-numbered one (transitively). A needle's area
-/// is below a rounding error of its neighbours', and merging its short side
-/// leaves them sharing their long sides.
-fn collapse_needles(points: &[DVec2], faces: &[[usize; 3]]) -> Vec<usize> {
-    fn root(merged: &mut [usize], mut k: usize) -> usize {
+/// For each point, the point it is merged into. The two corners of the
+/// shortest side of each sliver inside `outline`, when that side is under
+/// [`NEEDLE_RATIO`] of its longest, become one: the corner nearer the
+/// outline (the lower-numbered on a tie), so that the outline does not
+/// move in. A needle's area is below a rounding error of its neighbours',
+/// and merging its short side leaves them sharing their long sides. A merge
+/// that would turn one of the moved corner's other triangles inside out is
+/// not made.
+fn collapse_needles(points: &[DVec2], faces: &[[usize; 3]], outline: &[DVec2]) -> Vec<usize> {
+    fn root(merged: &[usize], mut k: usize) -> usize {
         while merged[k] != k {
-            merged[k] = merged[merged[k]];
             k = merged[k];
         }
         k
     }
+    let centroid = |[a, b, c]: [usize; 3]| (points[a] + points[b] + points[c]) / 3.0;
+    let needles: Vec<(usize, usize)> = faces
+        .iter()
+        .filter(|&&[a, b, c]| is_sliver(points[a], points[b], points[c]))
+        .filter(|&&face| polygon_contains(outline, centroid(face)))
+        .filter_map(|&[a, b, c]| {
+            let sides =
+                [(a, b), (b, c), (c, a)].map(|(i, j)| (points[i].distance(points[j]), i, j));
+            let longest = sides.iter().map(|s| s.0).fold(0.0, f64::max);
+            let (shortest, i, j) = sides.into_iter().min_by(|x, y| x.0.total_cmp(&y.0))?;
+            (shortest <= NEEDLE_RATIO * longest).then_some((i, j))
+        })
+        .collect();
     let mut merged: Vec<usize> = (0..points.len()).collect();
-    for &[a, b, c] in faces {
-        if !is_sliver(points[a], points[b], points[c]) {
-            continue;
-        }
-        let sides = [(a, b), (b, c), (c, a)].map(|(i, j)| (points[i].distance(points[j]), i, j));
-        let longest = sides.iter().map(|s| s.0).fold(0.0, f64::max);
-        let (shortest, i, j) = sides
-            .into_iter()
-            .min_by(|x, y| x.0.total_cmp(&y.0))
-            .unwrap_or((f64::NAN, a, b));
-        if shortest <= NEEDLE_RATIO * longest {
-            let (i, j) = (root(&mut merged, i), root(&mut merged, j));
-            merged[i.max(j)] = i.min(j);
+    if needles.is_empty() {
+        return merged;
+    }
+    let mut faces_of: Vec<Vec<usize>> = vec![Vec::new(); points.len()];
+    for (f, face) in faces.iter().enumerate() {
+        for &k in face {
+            faces_of[k].push(f);
         }
     }
-    (0..points.len()).map(|k| root(&mut merged, k)).collect()
+    let from_boundary = |k: usize| distance_to_boundary(outline, points[k]);
+    for (i, j) in needles {
+        let (ri, rj) = (root(&merged, i), root(&merged, j));
+        if ri == rj {
+            continue;
+        }
+        let (keep, gone) = match from_boundary(ri)
+            .total_cmp(&from_boundary(rj))
+            .then(ri.cmp(&rj))
+        {
+            std::cmp::Ordering::Greater => (rj, ri),
+            _ => (ri, rj),
+        };
+        // Every triangle of the moved points' that stays a triangle must
+        // keep its winding.
+        let at = |k: usize| match root(&merged, k) {
+            r if r == gone => points[keep],
+            r => points[r],
+        };
+        let folds = (0..points.len())
+            .filter(|&k| root(&merged, k) == gone)
+            .flat_map(|k| &faces_of[k])
+            .any(|&f| {
+                let [a, b, c] = faces[f];
+                let before = [a, b, c].map(|k| points[root(&merged, k)]);
+                let after = [at(a), at(b), at(c)];
+                let twice_area = |[p, q, r]: [DVec2; 3]| (q - p).perp_dot(r - p);
+                let collapsed = [a, b, c].iter().any(|&k| root(&merged, k) == keep);
+                !collapsed && twice_area(before) > 0.0 && twice_area(after) <= 0.0
+            });
+        if !folds {
+            merged[gone] = keep;
+        }
+    }
+    (0..points.len()).map(|k| root(&merged, k)).collect()
 }
 
 /// Distance, relative to the largest unit coordinate (at most the input's
@@ -351,24 +394,66 @@ mod tests {
         );
     }
 
+    /// A box about every test point.
+    const AROUND: [DVec2; 4] = [
+        DVec2::new(-1.0, -1.0),
+        DVec2::new(3.0, -1.0),
+        DVec2::new(3.0, 3.0),
+        DVec2::new(-1.0, 3.0),
+    ];
+
     #[test]
     fn a_needle_s_short_side_is_one_point_and_a_cap_keeps_its_corners() {
-        // 0–1–2: a needle along the x axis, its short side 1–2 10⁻⁹ long.
+        // 0–1–2: a needle along the x axis, its short side 1–2 10⁻⁹ long,
+        // corner 2 the nearer the outline (below).
         // 3–4–5: a cap, corner 5 a rounding error off the middle of 3–4.
         // 0–1–6: a fair triangle.
         let points = [
             DVec2::new(0.0, 0.0),
             DVec2::new(1.0, 1e-16),
-            DVec2::new(1.0 + 1e-9, 0.0),
+            DVec2::new(1.0 + 1e-9, -1e-9),
             DVec2::new(0.0, 2.0),
             DVec2::new(1.0, 2.0),
             DVec2::new(0.5, 2.0 + 1e-14),
             DVec2::new(0.5, 1.0),
         ];
-        let merged = collapse_needles(&points, &[[0, 1, 2], [3, 4, 5], [0, 1, 6]]);
-        assert_eq!(merged, [0, 1, 1, 3, 4, 5, 6]);
+        let faces = [[0, 1, 2], [3, 4, 5], [0, 1, 6]];
+        let merged = collapse_needles(&points, &faces, &AROUND);
+        assert_eq!(merged, [0, 2, 2, 3, 4, 5, 6]);
         assert!(is_sliver(points[0], points[1], points[2]));
         assert!(is_sliver(points[3], points[4], points[5]));
         assert!(!is_sliver(points[0], points[1], points[6]));
+        // Outside the outline, a needle is left as it is (it is dropped).
+        let far = [
+            DVec2::new(10.0, 10.0),
+            DVec2::new(10.0, 11.0),
+            DVec2::new(11.0, 10.0),
+        ];
+        assert_eq!(
+            collapse_needles(&points, &faces, &far),
+            [0, 1, 2, 3, 4, 5, 6]
+        );
+    }
+
+    /// A merge that would turn a small triangle at the moved corner inside
+    /// out is not made.
+    #[test]
+    fn a_needle_is_left_where_merging_would_fold_a_neighbour() {
+        let points = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 1e-16),
+            DVec2::new(1.0 + 1e-9, -1e-9),
+            DVec2::new(1.0 - 1e-9, -0.5e-9),
+            DVec2::new(1.0 + 2e-9, -0.5e-9),
+        ];
+        // 1–3–4 lies above 3–4's line; corner 1 moved onto 2 falls below.
+        assert!(!is_sliver(points[1], points[3], points[4]));
+        let merged = collapse_needles(&points, &[[0, 1, 2], [1, 3, 4]], &AROUND);
+        assert_eq!(merged, [0, 1, 2, 3, 4]);
+        // Without that neighbour, the needle closes.
+        assert_eq!(
+            collapse_needles(&points, &[[0, 1, 2]], &AROUND),
+            [0, 2, 2, 3, 4]
+        );
     }
 }

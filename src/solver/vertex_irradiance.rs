@@ -6,8 +6,8 @@
 //! sum rounded to `f32`, which moves it by at most half a unit in `f32`'s
 //! last place (6 · 10⁻⁸ of the value): n shots move a vertex's value by at
 //! most n times that, 0.006 % after a thousand, far below an image's noise.
-//! The ledger's powers are summed from the shots in `f64` and do not read
-//! it.
+//! The ledger's powers are summed from the shots in `f64`; adaptive
+//! refinement alone reads these values into it (the power a split moves).
 
 use rayon::prelude::*;
 

@@ -186,8 +186,9 @@ proptest! {
 
 /// Proptest's case of 2026-12-06: a polygon 10⁻⁴ across, a hundred of its
 /// sizes from the origin. Three crossings on one of its edges, computed
-/// from nearly parallel segments, fell 10⁻¹⁴ apart (beyond the snapping
-/// distance), and the needle between two of them was left out: a crack.
+/// from nearly parallel segments, fell 10⁻¹⁴ apart in the surface's plane
+/// coordinates, beyond the snapping distance there (10⁻¹⁰ of the polygon's
+/// 5.5 · 10⁻⁵), and the needle between two of them was left out: a crack.
 #[test]
 fn a_contour_mesh_has_no_crack_where_crossings_nearly_coincide() {
     let points: Vec<DVec2> = [
