@@ -111,6 +111,7 @@
 #![warn(missing_docs)]
 
 mod error;
+mod fixed_hash;
 mod font;
 mod freed_memory;
 mod fs;

@@ -34,13 +34,14 @@
 //! on Rendering 1992; D. Lischinski, F. Tampieri, D. P. Greenberg,
 //! "Discontinuity meshing for accurate radiosity", IEEE CG&A 12(6) 1992.
 
-use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
 
 use glam::{DVec2, DVec3};
 
 use super::Luminaire;
 use super::sample_stream::SampleStream;
 use super::stratified::stratified_points;
+use crate::fixed_hash::FixedMap;
 use crate::scene::{
     PlaneFrame, Scene, ShadowCache, SurfaceId, Visibility, clip_segment_to_polygon,
     distance_to_boundary, distance_to_segment,
@@ -81,7 +82,29 @@ pub struct BoundaryLimits {
 /// other way is on the occluder's silhouette from there.
 pub struct EdgeNeighbours {
     quantum: f64,
-    edges: HashMap<[[i64; 3]; 2], Vec<SurfaceId>>,
+    edges: FixedMap<EdgeKey, Vec<SurfaceId>>,
+}
+
+/// An edge's two end points, rounded to the lattice, the lesser first.
+/// Hashed as six words ([`FixedMap`]) and compared word by word: a
+/// building's boundaries look one up per corner of every occluder near
+/// every receiver, and SipHash over the 48 bytes took 3 % of the phase
+/// (64 offices' boundaries take 1–2 % less time this way).
+#[derive(Clone, Copy, Debug, Eq)]
+struct EdgeKey([i64; 6]);
+
+impl PartialEq for EdgeKey {
+    fn eq(&self, other: &EdgeKey) -> bool {
+        self.0.iter().zip(&other.0).all(|(a, b)| a == b)
+    }
+}
+
+impl Hash for EdgeKey {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        for word in self.0 {
+            state.write_u64(word as u64);
+        }
+    }
 }
 
 impl EdgeNeighbours {
@@ -92,7 +115,7 @@ impl EdgeNeighbours {
         let quantum = (1e-6 * scene.diagonal()).max(f64::MIN_POSITIVE);
         let mut neighbours = EdgeNeighbours {
             quantum,
-            edges: HashMap::new(),
+            edges: FixedMap::default(),
         };
         for (id, surface) in scene.surfaces_with_ids() {
             let polygon = surface.occluder_vertices();
@@ -104,10 +127,11 @@ impl EdgeNeighbours {
         neighbours
     }
 
-    fn key(&self, a: DVec3, b: DVec3) -> [[i64; 3]; 2] {
+    fn key(&self, a: DVec3, b: DVec3) -> EdgeKey {
         let round = |p: DVec3| (p / self.quantum).round().as_i64vec3().to_array();
         let (a, b) = (round(a), round(b));
-        if a <= b { [a, b] } else { [b, a] }
+        let [[p, q, r], [x, y, z]] = if a <= b { [a, b] } else { [b, a] };
+        EdgeKey([p, q, r, x, y, z])
     }
 
     /// The surfaces other than `surface` that have the edge ab.

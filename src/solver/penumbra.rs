@@ -16,11 +16,9 @@
 //! separates its corners, so even a sliver thinner than the stratum, which
 //! its jittered rays would miss, keeps it on the frontier.
 
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
-
 use glam::DVec3;
 
+use crate::fixed_hash::FixedMap;
 use crate::lighting::SampleStream;
 use crate::mesh::Cell;
 use crate::scene::{SurfaceId, Visibility};
@@ -74,49 +72,6 @@ impl Stratum {
 
 /// The corners of a grid cell, and its children, as offsets.
 const CORNERS: [(u32, u32); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
-
-/// Maps with a fixed hash, so that iteration order (and with it the
-/// rounding of the sums over strata) is the same on every run.
-type FixedMap<K, V> = HashMap<K, V, BuildHasherDefault<GridHasher>>;
-
-/// A fast fixed hash for small integer keys (grid cells and lattice
-/// points): each word is folded in by a rotation, an exclusive or and a
-/// multiplication by 2⁶⁴/φ (Fibonacci hashing). SipHash, the standard
-/// default, resists adversarial keys, which these are not, at several
-/// times the cost; the refinement hashes a few keys per shadow ray.
-#[derive(Clone, Copy, Debug, Default)]
-struct GridHasher(u64);
-
-impl GridHasher {
-    fn fold(&mut self, word: u64) {
-        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x9e37_79b9_7f4a_7c15);
-    }
-}
-
-impl Hasher for GridHasher {
-    fn write(&mut self, bytes: &[u8]) {
-        for &byte in bytes {
-            self.fold(u64::from(byte));
-        }
-    }
-
-    fn write_u8(&mut self, word: u8) {
-        self.fold(u64::from(word));
-    }
-
-    fn write_u32(&mut self, word: u32) {
-        self.fold(u64::from(word));
-    }
-
-    fn write_u64(&mut self, word: u64) {
-        self.fold(word);
-    }
-
-    fn finish(&self) -> u64 {
-        // The product's high bits are its best mixed; hash tables index by the low ones.
-        self.0.rotate_left(26)
-    }
-}
 
 /// Where a stratum sits: its level below the base grid and its column and
 /// row in that level's (m · 2^level)² grid over the element's parameters.
