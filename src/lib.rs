@@ -136,8 +136,8 @@ pub use phase::{Phase, PhaseProgress};
 pub use render::{Image, RenderSettings, ToneMap, write_exr, write_png};
 pub use scene::{Camera, LoadedScene, Material, Rgb, Scene, SurfaceId, load_scene};
 pub use solver::{
-    Length, MeshKind, MeshSettings, Probe, ProbeMode, Progress, ReadingPlace, Settings, Solution,
-    Solver, SolverSettings, StopReason, Until,
+    Length, MeshKind, MeshSettings, PatchShotSummary, Probe, ProbeMode, Progress, ReadingPlace,
+    Settings, Solution, Solver, SolverSettings, StopReason, Until,
 };
 
 /// Helpers that exist for isorad's tests, fuzz targets and benchmarks:

@@ -87,7 +87,7 @@ pub(crate) const VERTEX_RAYS: usize = 96;
 const VERTEX_RINGS: usize = 8;
 
 /// No patch: the ray left the scene.
-const MISS: u32 = u32::MAX;
+pub(crate) const MISS: u32 = u32::MAX;
 
 /// The Jacobi iteration stops when no patch's value changes by more than
 /// this fraction of the largest unshot radiosity, or after
@@ -271,22 +271,10 @@ impl PatchRays {
             self.hits = Vec::new();
             self.slot = vec![NOT_CAST; mesh.patches.len()];
         }
-        // A patch without elements (all hidden) casts only misses.
         let hits: Vec<u32> = patches
             .par_iter()
             .flat_map_iter(|&p| (0..PATCH_RAYS).map(move |k| (p as usize, k)))
-            .map(|(p, k)| {
-                let patch = &mesh.patches[p];
-                let normal = scene.surface(patch.surface).normal();
-                let mut stream = SampleStream::new(p as u64, k as u64 | 1 << 40);
-                point_on_elements(mesh, p, k, &mut stream).map_or(MISS, |origin| {
-                    // Not stratified: the points are, by k.
-                    let direction = cosine_direction(normal, &mut stream);
-                    let start = (origin, normal, patch.surface);
-                    let visibility = visibility_of(patch.surface);
-                    locator.hit(scene, visibility, start, direction).0
-                })
-            })
+            .map(|(p, k)| patch_ray((scene, mesh), (p, k, PATCH_RAYS), locator, visibility_of))
             .collect();
         let first = self.hits.len() / PATCH_RAYS;
         for (k, &p) in patches.iter().enumerate() {
@@ -574,11 +562,34 @@ impl VertexRays {
     }
 }
 
+/// The patch that ray `k` of `count` of patch `p` hits first, or [`MISS`]:
+/// from the `k`-th of `count` stratified points on its elements,
+/// cosine-weighted, traversing `visibility_of` its surface. A patch without
+/// elements (all hidden) casts only misses. The same ray whoever casts it:
+/// seeded by the patch and its index.
+pub(crate) fn patch_ray<'v>(
+    (scene, mesh): (&Scene, &Mesh),
+    (p, k, count): (usize, usize, usize),
+    locator: &PatchLocator,
+    visibility_of: &(dyn Fn(SurfaceId) -> &'v Visibility + Sync),
+) -> u32 {
+    let patch = &mesh.patches[p];
+    let normal = scene.surface(patch.surface).normal();
+    let mut stream = SampleStream::new(p as u64, k as u64 | 1 << 40);
+    point_on_elements(mesh, p, (k, count), &mut stream).map_or(MISS, |origin| {
+        // Not stratified: the points are, by k.
+        let direction = cosine_direction(normal, &mut stream);
+        let start = (origin, normal, patch.surface);
+        let visibility = visibility_of(patch.surface);
+        locator.hit(scene, visibility, start, direction).0
+    })
+}
+
 /// The number of rays a source's mean is over: all of its `hits`, or, for
 /// a source in a zone that keeps its light (`lossless`), those that land
 /// where at least half do (a source most of whose rays miss lies inside an
 /// object, and keeps the mean over all its rays).
-fn rays_counted(hits: &[u32], lossless: bool) -> f64 {
+pub(crate) fn rays_counted(hits: &[u32], lossless: bool) -> f64 {
     let landed = hits.iter().filter(|&&h| h != MISS).count();
     if lossless && 2 * landed >= hits.len() {
         landed as f64
@@ -605,11 +616,16 @@ fn stratified_direction(
     cosine_direction_at(normal, (u1, u2))
 }
 
-/// The `k`-th of [`PATCH_RAYS`] stratified points on patch `p`'s elements
+/// The `k`-th of `count` stratified points on patch `p`'s elements
 /// (its visible part: the cell less what objects standing on it hide),
 /// stratified by area over the elements in order, jittered within each.
 /// `None` for a patch without elements.
-fn point_on_elements(mesh: &Mesh, p: usize, k: usize, stream: &mut SampleStream) -> Option<DVec3> {
+fn point_on_elements(
+    mesh: &Mesh,
+    p: usize,
+    (k, count): (usize, usize),
+    stream: &mut SampleStream,
+) -> Option<DVec3> {
     let patch = &mesh.patches[p];
     let total: f64 = patch
         .elements
@@ -619,7 +635,7 @@ fn point_on_elements(mesh: &Mesh, p: usize, k: usize, stream: &mut SampleStream)
     if patch.elements.is_empty() || total <= 0.0 {
         return None;
     }
-    let mut target = (k as f64 + stream.next_f64()) / PATCH_RAYS as f64 * total;
+    let mut target = (k as f64 + stream.next_f64()) / count as f64 * total;
     let mut chosen = patch.elements[patch.elements.len() - 1];
     for &e in &patch.elements {
         let area = mesh.elements[e as usize].area;

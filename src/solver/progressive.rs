@@ -15,6 +15,7 @@ use super::energy_balance::EnergyBalance;
 use super::indexed_update;
 use super::mesh_settings::MeshKind;
 use super::patch_reception::{PatchReception, ReceptionPlan};
+use super::patch_shots::{PatchShotInput, PatchShotSummary, PatchShots};
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
@@ -181,6 +182,9 @@ pub struct Solver {
     shot: Vec<Rgb>,
     /// The element hierarchy of an adaptive solve.
     refiner: Option<Refiner>,
+    /// The patch shots of the unshot power the last run left
+    /// (`solver/patch_shots.rs`), until the next shot.
+    patch_shots: Option<PatchShots>,
 }
 
 impl Solver {
@@ -385,6 +389,7 @@ impl Solver {
             every_index: (Vec::new(), Vec::new()),
             shot: vec![Rgb::ZERO; unshot_len],
             refiner: None,
+            patch_shots: None,
         }
     }
 
@@ -409,6 +414,8 @@ impl Solver {
     /// small patches (the slivers of a many-sided disc) could otherwise
     /// carry less power per patch than the floor it lights, and wait.
     pub fn step(&mut self) -> bool {
+        // A shot changes the unshot power the patch shots were made of.
+        self.patch_shots = None;
         if let Some(k) = self.luminaire_shot.iter().position(|&shot| !shot) {
             self.shoot_luminaire(k);
             return true;
@@ -965,8 +972,14 @@ impl Solver {
         }
     }
 
+    /// The power not yet shot: what the patch shots left, if the last run
+    /// made them, or what the vertices' shots left.
     fn unshot_power(&self) -> Rgb {
-        self.unshot_by_zone.total() + self.unshot_luminaires()
+        let unshot = match &self.patch_shots {
+            Some(shots) => shots.left,
+            None => self.unshot_by_zone.total(),
+        };
+        unshot + self.unshot_luminaires()
     }
 
     /// The power of the photometric luminaires that have not shot yet.
@@ -1072,7 +1085,12 @@ impl Solver {
         // Where rays land, found only when some are cast.
         let locator = std::cell::OnceCell::new();
         let locator = || locator.get_or_init(|| PatchLocator::new(&self.scene, &self.mesh));
-        let uncast = cache.patches.uncast(&self.mesh, within.as_deref());
+        // After patch shots the patches' further bounces are theirs; else
+        // the term finds them along its patches' rays.
+        let uncast = match &self.patch_shots {
+            Some(_) => Vec::new(),
+            None => cache.patches.uncast(&self.mesh, within.as_deref()),
+        };
         if !uncast.is_empty() {
             let parts = (&self.scene, &self.mesh);
             cache
@@ -1186,11 +1204,29 @@ impl Solver {
     }
 
     /// Each patch's residual A_h, the unshot light's further bounces at
-    /// patch resolution ([`PatchRays::residual`], zero until `rays` are
-    /// cast), and ΔB_h + A_h, what a vertex ray reads where it lands on
-    /// no element of its room. The residual is found on the patches
+    /// patch resolution, and ΔB_h + A_h, what a vertex ray reads where it
+    /// lands on no element of its room. After patch shots A_h is ρ_h
+    /// times the irradiance they brought h (`solver/patch_shots.rs`);
+    /// otherwise it is found along the patches' `rays`
+    /// ([`PatchRays::residual`], zero until they are cast), on the patches
     /// `within` (all, by `None`).
     fn patch_residual(&self, rays: &PatchRays, within: Option<&[u32]>) -> (Vec<Rgb>, Vec<Rgb>) {
+        if let Some(shots) = &self.patch_shots {
+            let residual: Vec<Rgb> = (0..self.mesh.patches.len())
+                .into_par_iter()
+                .map(|p| {
+                    let surface = self.mesh.patches[p].surface.index();
+                    self.surface_reflectance[surface] * shots.irradiance(p)
+                })
+                .collect();
+            let patch_value = self
+                .unshot
+                .iter()
+                .zip(&residual)
+                .map(|(u, a)| *u + *a)
+                .collect();
+            return (residual, patch_value);
+        }
         let (reflectance, lossless): (Vec<Rgb>, Vec<bool>) = self
             .mesh
             .patches
@@ -1405,14 +1441,82 @@ impl Solver {
         }
     }
 
+    /// Shoots the unshot power the vertices' shots left patch to patch
+    /// (`solver/patch_shots.rs`), until at most
+    /// [`SolverSettings::patch_tolerance`] of the emitted power is left,
+    /// every zone counted in full; [`Solver::run_until`] does when it
+    /// converges. The vertices keep the light of their own shots; each
+    /// patch keeps what the patch shots brought it, which the ambient term
+    /// gathers at the vertices of the rooms an image shows and
+    /// [`Solver::solution`] gives every vertex from its elements' patches.
+    /// Nothing is shot while emission is pending, or when no more than the
+    /// tolerance is left. The next shot drops them: they are made again
+    /// from its unshot power.
+    pub fn shoot_patches(&mut self) {
+        self.patch_shots = None;
+        let emitted = self.emitted_power.element_sum();
+        let unshot = self.unshot_by_zone.total().element_sum();
+        let tolerance = self.settings.patch_tolerance;
+        if self.emission_pending() || emitted <= 0.0 || unshot <= tolerance * emitted {
+            return;
+        }
+        self.release_shot_buffers();
+        give_back_freed_memory();
+        let zones = self.zones.as_ref().map(|(zones, _)| zones);
+        let visibility_of = |surface: SurfaceId| {
+            zones
+                .and_then(|zones| zones.visibility(zones.of(surface)))
+                .unwrap_or(&self.visibility)
+        };
+        let locator = PatchLocator::new(&self.scene, &self.mesh);
+        let input = PatchShotInput {
+            scene: &self.scene,
+            mesh: &self.mesh,
+            zones: self.unshot_by_zone.zone_patches(),
+            unshot: &self.unshot,
+            areas: &self.patch_areas,
+            reflectance: &self.surface_reflectance,
+            lossless: &self.surface_lossless,
+            locator: &locator,
+            visibility_of: &visibility_of,
+        };
+        let shots = PatchShots::shoot(&input, tolerance * emitted / unshot);
+        self.patch_shots = Some(shots);
+    }
+
+    /// What the last run's patch shots did ([`Solver::shoot_patches`]), or
+    /// `None` if it made none (or a shot came after).
+    #[must_use]
+    pub fn patch_shot_summary(&self) -> Option<PatchShotSummary> {
+        let shots = self.patch_shots.as_ref()?;
+        let emitted = self.emitted_power.element_sum();
+        let fraction = |power: Rgb| {
+            if emitted > 0.0 {
+                power.element_sum() / emitted
+            } else {
+                0.0
+            }
+        };
+        Some(PatchShotSummary {
+            unshot_before: fraction(shots.before),
+            unshot_after: fraction(shots.left),
+            sweeps: shots.sweeps,
+            rays: shots.rays,
+        })
+    }
+
     /// The energy ledger; see [`EnergyBalance`].
     #[must_use]
     pub fn energy_balance(&self) -> EnergyBalance {
+        let (absorbed, escaped) = self
+            .patch_shots
+            .as_ref()
+            .map_or((Rgb::ZERO, Rgb::ZERO), |s| (s.absorbed, s.escaped));
         EnergyBalance {
             emitted: self.emitted_power,
-            absorbed: self.absorbed_power,
+            absorbed: self.absorbed_power + absorbed,
             unshot: self.unshot_power(),
-            escaped: self.shot_power - self.received_power,
+            escaped: self.shot_power - self.received_power + escaped,
         }
     }
 

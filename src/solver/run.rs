@@ -108,7 +108,9 @@ impl Solver {
     /// every shot. Criteria are checked between shots, so a cancelled or
     /// timed-out run leaves a consistent solution (one shot is typically a
     /// few milliseconds). The buffers a shot works in are given back when
-    /// the run stops, before an image's ambient term needs the memory.
+    /// the run stops, before an image's ambient term needs the memory. A
+    /// run that converges (or finds nothing to shoot) then shoots what is
+    /// left patch to patch ([`Solver::shoot_patches`]).
     pub fn run_until(&mut self, until: &Until, mut progress: impl FnMut(&Progress)) -> StopReason {
         let start = Instant::now();
         let tolerance = until.tolerance.unwrap_or(self.settings().tolerance);
@@ -138,6 +140,9 @@ impl Solver {
             });
         };
         self.release_shot_buffers();
+        if matches!(reason, StopReason::Converged | StopReason::NothingToShoot) {
+            self.shoot_patches();
+        }
         reason
     }
 

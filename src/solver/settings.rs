@@ -55,6 +55,19 @@ pub struct SolverSettings {
     /// time for a tenth of a point of per-pixel error against a path tracer
     /// (BENCHMARKS.md, (e)).
     pub tolerance: f64,
+    /// Once the vertices' shots have converged to
+    /// [`SolverSettings::tolerance`], the unshot power left is shot patch
+    /// to patch until at most this fraction of the emitted power is left,
+    /// every zone counted in full (0.0001; `solver/patch_shots.rs`): the
+    /// dim reflected light carried at the coarsest level, patches, along
+    /// 16 rays a patch, each sweep over a room's patches one addition a
+    /// ray. The rays are most of the cost, so a ten-thousandth costs about
+    /// what a hundredth does (16 closed offices: 0.10 s either way, eight
+    /// sweeps a room). The ambient term then reads what each patch
+    /// received as what it will still reflect. In (0, 1]; 1 shoots none
+    /// (the ambient term then finds the further bounces itself, for the
+    /// rooms it gathers).
+    pub patch_tolerance: f64,
     /// Stop after this many shots whatever the unshot power.
     pub max_shots: usize,
     /// Samples per shooting patch for the most powerful shooters (the
@@ -176,6 +189,7 @@ impl Default for SolverSettings {
     fn default() -> Self {
         SolverSettings {
             tolerance: 0.05,
+            patch_tolerance: 0.0001,
             max_shots: 1_000_000,
             direct_samples: 64,
             max_samples: 256,
@@ -233,6 +247,12 @@ impl SolverSettings {
             return Err(invalid(
                 "tolerance",
                 format!("{} is not in (0, 1)", self.tolerance),
+            ));
+        }
+        if !(self.patch_tolerance > 0.0 && self.patch_tolerance <= 1.0) {
+            return Err(invalid(
+                "patch_tolerance",
+                format!("{} is not in (0, 1]", self.patch_tolerance),
             ));
         }
         if self.direct_samples == 0 {

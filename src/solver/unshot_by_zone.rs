@@ -113,6 +113,11 @@ impl UnshotByZone {
         self.weighted[zone] = weighted;
     }
 
+    /// The patches of each zone, each list ascending.
+    pub(crate) fn zone_patches(&self) -> &[Vec<u32>] {
+        &self.patches
+    }
+
     /// Counts every zone again.
     pub(crate) fn recount_all(&mut self, (unshot, areas): (&[Rgb], &[f64])) {
         for zone in 0..self.patches.len() {

@@ -324,9 +324,45 @@ fn a_run_stopped_and_resumed_shoots_the_light_of_one_run() {
     }
 }
 
+/// The absorbed power the surface totals of `solution` show, Σ (1 − ρ) ×
+/// received power.
+fn absorbed_in_totals(solution: &isorad::Solution<'_>, scene: &isorad::Scene) -> Rgb {
+    solution
+        .surface_totals()
+        .iter()
+        .zip(&scene.surfaces)
+        .map(|(t, s)| (Rgb::ONE - scene.material_of(s).reflectance) * t.received_power)
+        .sum()
+}
+
+/// After patch shots the ledger counts what they gave the patches, which
+/// the image's ambient term gathers at the vertices: the totals of the
+/// solution with the term show the ledger's absorbed power, the light
+/// shot at the vertices alone less.
+#[test]
+fn surface_totals_with_the_ambient_term_close_the_ledger_after_patch_shots() {
+    let mut solver = Solver::new(room_in_code(), preview()).unwrap();
+    solver.run();
+    let summary = solver.patch_shot_summary().expect("patch shots");
+    assert!(summary.unshot_after <= 0.01 && summary.unshot_before > 0.01);
+    let scene = solver.scene();
+    let ledger = solver.energy_balance().absorbed;
+    let gathered = absorbed_in_totals(&solver.solution_with_ambient(), scene);
+    let shot = absorbed_in_totals(&solver.solution(), scene);
+    println!("absorbed: ledger {ledger}, with the term {gathered}, vertex shots {shot}");
+    assert!(
+        (gathered - ledger).abs().max_element() < 0.01 * ledger.max_element(),
+        "{gathered} vs {ledger}"
+    );
+    assert!((shot - ledger).abs().max_element() > 0.01 * ledger.max_element());
+}
+
 #[test]
 fn surface_totals_close_the_energy_ledger() {
-    let mut solver = Solver::new(room_in_code(), preview()).unwrap();
+    // The vertices' shots alone, which the totals of the mesh show.
+    let mut settings = preview();
+    settings.solver.patch_tolerance = 1.0;
+    let mut solver = Solver::new(room_in_code(), settings).unwrap();
     solver.run();
     let solution = solver.solution();
     let totals = solution.surface_totals();

@@ -137,6 +137,8 @@ fn a_bad_flag_value_is_an_error() {
         &["render", "--closed-zone-weight", "1.5", "-q"],
         &["render", "--ambient-sweeps", "100", "-q"],
         &["render", "--ambient-sweeps", "-1", "-q"],
+        &["render", "--patch-tolerance", "0", "-q"],
+        &["render", "--patch-tolerance", "1.5", "-q"],
     ] {
         let out = isorad(dir.path(), args);
         assert!(!out.status.success(), "{args:?} succeeded");
@@ -152,6 +154,12 @@ fn a_bad_flag_value_is_an_error() {
     let out = isorad(dir.path(), &["render", "--ambient-sweeps", "100", "-q"]);
     assert!(
         stderr(&out).contains("--ambient-sweeps"),
+        "{}",
+        stderr(&out)
+    );
+    let out = isorad(dir.path(), &["render", "--patch-tolerance", "0", "-q"]);
+    assert!(
+        stderr(&out).contains("--patch-tolerance"),
         "{}",
         stderr(&out)
     );

@@ -22,6 +22,7 @@ mod golden;
 mod level_lines;
 mod luminaires;
 mod office;
+mod patch_shots;
 mod plots;
 mod probe;
 mod properties;

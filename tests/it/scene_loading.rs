@@ -290,6 +290,12 @@ fn toml_bad_settings_are_named_with_line_and_field() {
         &["1.5 is not in (0, 1]"],
     );
     expect_setting_error(
+        &format!("{obj}[solver]\npatch_tolerance = 0\n"),
+        3,
+        "solver.patch_tolerance",
+        &["0 is not in (0, 1]"],
+    );
+    expect_setting_error(
         &format!("{obj}[solver]\nambient_sweeps = 65\n"),
         3,
         "solver.ambient_sweeps",

@@ -43,6 +43,11 @@ pub struct Overrides {
     /// every room to the tolerance.
     #[arg(long, value_name = "WEIGHT")]
     closed_zone_weight: Option<f64>,
+    /// Then shoot what is left patch to patch until unshot power <
+    /// FRACTION × emitted power, every room counted in full [default:
+    /// 0.0001]; 1 shoots none.
+    #[arg(long, value_name = "FRACTION")]
+    patch_tolerance: Option<f64>,
     /// At most this many sweeps over the vertices resolve the ambient
     /// term's further bounces where its rays land [default: 16; they stop
     /// once it changes by under 0.5 %]; 0 keeps each patch's mean.
@@ -114,6 +119,9 @@ impl Overrides {
         if let Some(weight) = self.closed_zone_weight {
             solver.closed_zone_weight = weight;
         }
+        if let Some(fraction) = self.patch_tolerance {
+            solver.patch_tolerance = fraction;
+        }
         if let Some(sweeps) = self.ambient_sweeps {
             solver.ambient_sweeps = sweeps;
         }
@@ -169,6 +177,11 @@ impl Overrides {
                 "--closed-zone-weight",
                 "solver.closed_zone_weight",
                 self.closed_zone_weight.is_some(),
+            ),
+            (
+                "--patch-tolerance",
+                "solver.patch_tolerance",
+                self.patch_tolerance.is_some(),
             ),
             (
                 "--ambient-sweeps",

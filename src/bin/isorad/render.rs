@@ -212,7 +212,10 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
         mesh.elements.len(),
         mesh.vertices.len()
     );
-    let (unshot, counted) = (solver.unshot_fraction(), solver.convergence_fraction());
+    // The vertices' shots' own unshot fraction: patch shots may follow.
+    let patch_shots = solver.patch_shot_summary();
+    let unshot = patch_shots.map_or(solver.unshot_fraction(), |s| s.unshot_before);
+    let counted = solver.convergence_fraction();
     let counted = if (unshot - counted).abs() > 1e-9 {
         format!(
             " ({:.3} % as the tolerance counts it, closed rooms' at --closed-zone-weight)",
@@ -228,6 +231,14 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
         rays as f64 / solve_seconds.max(1e-9) / 1e6,
         100.0 * unshot
     );
+    if let Some(shots) = patch_shots {
+        eprintln!(
+            "patch shots: unshot {:.3} % after {} sweeps over the patches along {} rays",
+            100.0 * shots.unshot_after,
+            shots.sweeps,
+            shots.rays
+        );
+    }
     let (interpolated, receptions) = solver.interpolated_receptions();
     if interpolated > 0 {
         eprintln!(

@@ -1,0 +1,102 @@
+//! Patch shots: the light the vertices' shots leave, shot patch to patch
+//! until the tolerance (`src/solver/patch_shots.rs`).
+
+use crate::support::*;
+use glam::DVec3;
+use isorad::{Rgb, Settings, Solver, StopReason};
+
+/// Two closed rooms, each with a block on its floor and a lamp under its
+/// ceiling, solved at the default settings but for `patch_tolerance`.
+fn two_rooms(patch_tolerance: f64) -> Solver {
+    let mut b = SceneBuilder::default();
+    let wall = b.material("wall", 0.6, 0.0);
+    let lamp = b.material("lamp", 0.0, 10.0);
+    for room in 0..2 {
+        let offset = DVec3::new(10.0 * f64::from(room), 0.0, 0.0);
+        room_with_block(&mut b, wall, &format!("{room}"), offset);
+        ceiling_lamp(&mut b, lamp, offset);
+    }
+    let mut settings = Settings::default();
+    settings.mesh.max_edge = isorad::Length::Absolute(0.5);
+    settings.mesh.patch_max_edge = isorad::Length::Absolute(1.0);
+    settings.solver.patch_tolerance = patch_tolerance;
+    let mut solver = Solver::new(b.scene, settings).unwrap();
+    assert_eq!(solver.run(), StopReason::Converged);
+    solver
+}
+
+/// The closed rooms stop their vertices' shots at about half their light
+/// unshot (counted at a tenth); the patch shots carry it to under 1 %,
+/// and the ledger still closes: what they took off the unshot power is
+/// absorbed, none of it escapes from rooms that keep their light.
+#[test]
+fn patch_shots_carry_the_light_left_to_the_tolerance_and_close_the_ledger() {
+    let (alone, with) = (two_rooms(1.0), two_rooms(0.01));
+    assert!(alone.patch_shot_summary().is_none());
+    let summary = with.patch_shot_summary().expect("patch shots");
+    println!("{summary:?}");
+    assert_eq!(summary.unshot_before, alone.unshot_fraction());
+    assert!(summary.unshot_before > 0.3, "{summary:?}");
+    assert!(
+        summary.unshot_after <= 0.01 && summary.sweeps >= 2,
+        "{summary:?}"
+    );
+    assert_eq!(with.unshot_fraction(), summary.unshot_after);
+    // The vertices' shots are the same.
+    assert_eq!(with.radiosity(), alone.radiosity());
+    let (ledger, before) = (with.energy_balance(), alone.energy_balance());
+    let sum = ledger.absorbed + ledger.unshot + ledger.escaped;
+    assert!((sum - ledger.emitted).abs().max_element() < 1e-9 * ledger.emitted.max_element());
+    let emitted = ledger.emitted.element_sum();
+    assert!((ledger.unshot.element_sum() / emitted - summary.unshot_after).abs() < 1e-12);
+    let taken = before.unshot - ledger.unshot;
+    let absorbed = ledger.absorbed - before.absorbed;
+    let escaped = ledger.escaped - before.escaped;
+    assert!((absorbed + escaped - taken).abs().max_element() < 1e-9 * emitted);
+    assert!(
+        escaped.max_element() < 1e-3 * taken.max_element(),
+        "{escaped}"
+    );
+    // 16 rays a patch, in the zones that hold unshot power (a zone
+    // without any casts none).
+    let patches = with.mesh().patches.len();
+    let rays = summary.rays as usize;
+    assert!(
+        rays.is_multiple_of(16) && rays <= 16 * patches && rays >= 15 * patches,
+        "{rays} rays"
+    );
+}
+
+/// A shot after the patch shots drops them, since they were made of the
+/// unshot power it changes; the next run that converges makes them anew.
+#[test]
+fn a_shot_after_the_patch_shots_drops_them() {
+    let mut solver = two_rooms(0.01);
+    let made = solver.patch_shot_summary().expect("patch shots");
+    let before = solver.convergence_fraction();
+    assert!(solver.step());
+    assert!(solver.patch_shot_summary().is_none());
+    assert!(solver.unshot_fraction() > 0.3);
+    assert!(solver.convergence_fraction() < before);
+    solver.shoot_patches();
+    let again = solver.patch_shot_summary().expect("patch shots again");
+    assert!(again.unshot_before < made.unshot_before && again.unshot_after <= 0.01);
+}
+
+/// The rooms' ambient term reads what the patch shots gave each patch:
+/// with them, the rooms' images get the light the ambient term's own
+/// patch iteration found without them, to the noise of their few rays.
+#[test]
+fn the_ambient_term_reads_the_patch_shots() {
+    let (alone, with) = (two_rooms(1.0), two_rooms(0.01));
+    let mean = |solver: &Solver| {
+        let radiosity = solver.radiosity_with_ambient();
+        radiosity.iter().copied().sum::<Rgb>().element_sum() / radiosity.len() as f64
+    };
+    let (a, b) = (mean(&alone), mean(&with));
+    let shot = with.radiosity().iter().copied().sum::<Rgb>().element_sum()
+        / with.mesh().vertices.len() as f64;
+    println!("mean radiosity: {a:.4} without patch shots, {b:.4} with, {shot:.4} shot");
+    assert!((a - b).abs() < 0.01 * a, "{a} against {b}");
+    assert!(b > 1.1 * shot);
+}
