@@ -8,9 +8,9 @@
 //! work around few rays: a dim reflected shot is smooth, and its vertex
 //! gathers buy little. A patch shot is the coarsest level of the
 //! hierarchy (Hanrahan, Salzman & Aupperle 1991): patch to patch, with
-//! the form factors estimated by the patches' own rays, [`PATCH_SHOT_RAYS`]
-//! cosine-weighted from stratified points on each patch's elements, cast
-//! as the ambient term's are (`ambient.rs`). Ray k of patch p landing on patch
+//! the form factors estimated by the patches' own rays, a few a patch
+//! ([`ray_counts`]), cosine-weighted from stratified points on each
+//! patch's elements, cast as the ambient term's are (`ambient.rs`). Ray k of patch p landing on patch
 //! h is a sample of F_ph: p's unshot power Φ_p goes out in equal shares
 //! Φ_p / n_p along its n_p rays, and a share landing on h is received
 //! there,
@@ -52,17 +52,29 @@ use super::ambient::{MISS, PatchLocator, patch_ray, rays_counted};
 use crate::mesh::Mesh;
 use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 
-/// Rays each patch casts, from as many stratified points on its elements.
+/// Rays a zone's patches cast, on average: each casts its share of them
+/// in proportion to the power it will shoot ([`ray_counts`]), between
+/// [`FEWEST_RAYS`] and [`MOST_RAYS`], from as many stratified points on its
+/// elements.
+///
 /// The image's ambient term resolves the patches' further bounces at its
 /// vertices along their own rays (`ambient_sweeps.rs`), so the patches'
 /// noise hardly shows (measured by hand, `isorad render` at the
-/// references' sizes, the golden tests' metric, per-pixel error with 8,
-/// 16, 32 and 64 rays a patch): the cluttered office 2.59, 2.60, 2.59 and
-/// 2.61 %, the furnished office 1.42, 1.44, 1.45 and 1.42 %, `scenes/room`
-/// 1.59, 1.59, 1.60 and 1.59 %, the shipped office 3.84, 3.86, 3.86 and
-/// 3.87 %. 16 office rooms' patch shots took 0.10 s with 16 rays and
-/// 0.36 s with 64, most of it the rays.
-pub(crate) const PATCH_SHOT_RAYS: usize = 16;
+/// references' sizes, the golden tests' metric, per-pixel error with 8
+/// and 16 on average, and with 16 and 64 for every patch): the cluttered
+/// office 2.59, 2.59, 2.60 and 2.61 %, the furnished office 1.43, 1.43,
+/// 1.44 and 1.42 %, `scenes/room` 1.60, 1.61, 1.59 and 1.59 %, the shipped
+/// office 3.86, 3.86, 3.86 and 3.87 %. The rays are most of the patch
+/// shots' time: 16 closed offices cast 144,465 rays with 8 on average
+/// (most of their patches are books, which cast 2), 446,224 with 16 for
+/// every patch (0.10 s) and 1.8 million with 64 (0.36 s).
+const MEAN_RAYS: f64 = 8.0;
+
+/// The fewest rays a patch casts.
+const FEWEST_RAYS: usize = 2;
+
+/// The most rays a patch casts.
+const MOST_RAYS: usize = 32;
 
 /// A zone shoots at most this many sweeps: with reflectances near 1 in a
 /// closed room it would need more to reach its share.
@@ -100,7 +112,7 @@ pub struct PatchShotSummary {
     pub unshot_after: f64,
     /// The most sweeps over its patches a zone took.
     pub sweeps: usize,
-    /// Rays cast, [`PATCH_SHOT_RAYS`] a patch.
+    /// Rays cast, [`MEAN_RAYS`] a patch on average.
     pub rays: u64,
 }
 
@@ -191,7 +203,8 @@ impl ZoneShots {
                 ..ZoneShots::default()
             };
         }
-        let links = Links::cast(input, patches);
+        let counts = ray_counts(input, patches, &unshot);
+        let links = Links::cast(input, patches, &counts);
         let shot = links.shoot(unshot, left_share * before.element_sum());
         // What each patch received, over its area: unbiased, as the ledger
         // counts it. Gathered back along each patch's own rays instead
@@ -218,13 +231,50 @@ impl ZoneShots {
     }
 }
 
+/// The rays each of a zone's `patches` casts: the zone's mean
+/// ([`MEAN_RAYS`]) times its patches' count, shared in proportion to the
+/// power each will shoot, between [`FEWEST_RAYS`] and [`MOST_RAYS`]. The
+/// power a patch sends along n rays reaches each patch it lands on with a
+/// variance of Φ² / n, and the sum of those over the patches is least, for
+/// a given number of rays, where n goes as Φ. A patch will shoot its
+/// `unshot` power and what it reflects of the light to come, which is
+/// taken as ρ A times the zone's mean unshot radiosity: the books on a
+/// shelf, small and dim, cast a few rays each; the floor under a lamp, many.
+fn ray_counts(input: &PatchShotInput, patches: &[u32], unshot: &[Rgb]) -> Vec<usize> {
+    let area = |k: usize| input.areas[patches[k] as usize];
+    let reflectance = |k: usize| {
+        let surface = input.mesh.patches[patches[k] as usize].surface.index();
+        input.reflectance[surface].element_sum() / 3.0
+    };
+    let zone_area: f64 = (0..patches.len()).map(area).sum();
+    let zone_power: f64 = unshot.iter().map(|u| u.element_sum()).sum();
+    let level = if zone_area > 0.0 {
+        zone_power / zone_area
+    } else {
+        0.0
+    };
+    let weights: Vec<f64> = (0..patches.len())
+        .map(|k| unshot[k].element_sum() + reflectance(k) * area(k) * level)
+        .collect();
+    let total: f64 = weights.iter().sum();
+    let rays = MEAN_RAYS * patches.len() as f64;
+    weights
+        .iter()
+        .map(|&w| {
+            let share = if total > 0.0 { rays * w / total } else { 0.0 };
+            (share.round() as usize).clamp(FEWEST_RAYS, MOST_RAYS)
+        })
+        .collect()
+}
+
 /// A zone's patches' rays: where each lands, and what each patch's shares
 /// are over.
 struct Links {
     /// Each ray's landing patch as an index into the zone's list, or
     /// [`MISS`] (none, or a patch of another zone: a leak through a seam);
-    /// [`PATCH_SHOT_RAYS`] a patch, in the list's order.
+    /// patch k's are `hits[starts[k]..starts[k + 1]]`.
     hits: Vec<u32>,
+    starts: Vec<u32>,
     /// The rays each patch's shares are over ([`rays_counted`]).
     counted: Vec<f64>,
     /// Each patch's reflectance.
@@ -241,33 +291,52 @@ struct Swept {
 }
 
 impl Links {
-    /// Casts the rays of the zone of `patches` (ascending).
-    fn cast(input: &PatchShotInput, patches: &[u32]) -> Links {
+    /// Casts the rays of the zone of `patches` (ascending), `counts[k]`
+    /// from patch k.
+    fn cast(input: &PatchShotInput, patches: &[u32], counts: &[usize]) -> Links {
         let parts = (input.scene, input.mesh);
         let (locator, visibility_of) = (input.locator, input.visibility_of);
-        let hits: Vec<u32> = (0..patches.len() * PATCH_SHOT_RAYS)
+        let mut starts = Vec::with_capacity(patches.len() + 1);
+        let mut total = 0u32;
+        starts.push(0);
+        for &count in counts {
+            total += count as u32;
+            starts.push(total);
+        }
+        let rays: Vec<(u32, u32)> = counts
+            .iter()
+            .enumerate()
+            .flat_map(|(k, &count)| (0..count as u32).map(move |ray| (k as u32, ray)))
+            .collect();
+        let hits: Vec<u32> = rays
             .into_par_iter()
-            .map(|i| {
-                let p = patches[i / PATCH_SHOT_RAYS] as usize;
-                let k = i % PATCH_SHOT_RAYS;
-                let h = patch_ray(parts, (p, k, PATCH_SHOT_RAYS), locator, visibility_of);
+            .map(|(k, ray)| {
+                let (p, count) = (patches[k as usize] as usize, counts[k as usize]);
+                let h = patch_ray(parts, (p, ray as usize, count), locator, visibility_of);
                 patches.binary_search(&h).map_or(MISS, |k| k as u32)
             })
             .collect();
         let surface = |k: usize| input.mesh.patches[patches[k] as usize].surface.index();
-        let counted = hits
-            .chunks(PATCH_SHOT_RAYS)
-            .enumerate()
-            .map(|(k, rays)| rays_counted(rays, input.lossless[surface(k)]))
+        let counted = (0..patches.len())
+            .map(|k| {
+                let rays = &hits[starts[k] as usize..starts[k + 1] as usize];
+                rays_counted(rays, input.lossless[surface(k)])
+            })
             .collect();
         let reflectance = (0..patches.len())
             .map(|k| input.reflectance[surface(k)])
             .collect();
         Links {
             hits,
+            starts,
             counted,
             reflectance,
         }
+    }
+
+    /// Patch k's rays.
+    fn of(&self, k: usize) -> &[u32] {
+        &self.hits[self.starts[k] as usize..self.starts[k + 1] as usize]
     }
 
     /// Shoots the patches' `unshot` power along the links, a sweep at a
@@ -282,16 +351,15 @@ impl Links {
             escaped: Rgb::ZERO,
             sweeps: 0,
         };
-        let rays = self.hits.chunks(PATCH_SHOT_RAYS);
         while swept.left.element_sum() > target && swept.sweeps < MAX_SWEEPS {
-            for (k, hits) in rays.clone().enumerate() {
+            for k in 0..unshot.len() {
                 let power = std::mem::replace(&mut unshot[k], Rgb::ZERO);
                 if power == Rgb::ZERO {
                     continue;
                 }
                 let share = power / self.counted[k];
                 let mut landed = 0usize;
-                for &h in hits {
+                for &h in self.of(k) {
                     if h == MISS {
                         continue;
                     }
@@ -317,13 +385,17 @@ mod tests {
     /// Links of patches whose rays land as `targets` says, each patch's
     /// rays alike, every one counted.
     fn links(targets: &[u32], reflectance: &[f64]) -> Links {
+        const RAYS: usize = 8;
         let hits = targets
             .iter()
-            .flat_map(|&t| std::iter::repeat_n(t, PATCH_SHOT_RAYS))
+            .flat_map(|&t| std::iter::repeat_n(t, RAYS))
             .collect();
         Links {
             hits,
-            counted: vec![PATCH_SHOT_RAYS as f64; targets.len()],
+            starts: (0..=targets.len() as u32)
+                .map(|k| k * RAYS as u32)
+                .collect(),
+            counted: vec![RAYS as f64; targets.len()],
             reflectance: reflectance.iter().map(|&r| Rgb::splat(r)).collect(),
         }
     }
@@ -356,7 +428,7 @@ mod tests {
     fn rays_that_land_nowhere_escape() {
         let mut links = links(&[1, 0], &[0.5, 0.5]);
         // Half of the first patch's rays miss.
-        for ray in links.hits.iter_mut().take(PATCH_SHOT_RAYS / 2) {
+        for ray in links.hits.iter_mut().take(4) {
             *ray = MISS;
         }
         let swept = links.shoot(vec![Rgb::ONE, Rgb::ZERO], 0.5);

@@ -57,14 +57,11 @@ fn patch_shots_carry_the_light_left_to_the_tolerance_and_close_the_ledger() {
         escaped.max_element() < 1e-3 * taken.max_element(),
         "{escaped}"
     );
-    // 16 rays a patch, in the zones that hold unshot power (a zone
-    // without any casts none).
+    // 2 to 32 rays a patch, 8 on average in each zone that holds unshot
+    // power (a zone without any casts none).
     let patches = with.mesh().patches.len();
     let rays = summary.rays as usize;
-    assert!(
-        rays.is_multiple_of(16) && rays <= 16 * patches && rays >= 15 * patches,
-        "{rays} rays"
-    );
+    assert!(rays >= 2 * patches && rays <= 32 * patches, "{rays} rays");
 }
 
 /// A shot after the patch shots drops them, since they were made of the
