@@ -112,7 +112,7 @@ pub struct PatchShotSummary {
     pub unshot_after: f64,
     /// The most sweeps over its patches a zone took.
     pub sweeps: usize,
-    /// Rays cast, [`MEAN_RAYS`] a patch on average.
+    /// Rays cast: 8 a patch on average, between 2 and 32.
     pub rays: u64,
 }
 

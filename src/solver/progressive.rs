@@ -946,7 +946,9 @@ impl Solver {
         !self.emission_pending.is_empty() || self.luminaire_shot.contains(&false)
     }
 
-    /// Unshot power over emitted power (sums of channels); 0 for a dark scene.
+    /// Unshot power over emitted power (sums of channels), after the patch
+    /// shots what they left ([`Solver::shoot_patches`]); 0 for a dark
+    /// scene.
     #[must_use]
     pub fn unshot_fraction(&self) -> f64 {
         let emitted = self.emitted_power.element_sum();
@@ -1445,13 +1447,13 @@ impl Solver {
     /// (`solver/patch_shots.rs`), until at most
     /// [`SolverSettings::patch_tolerance`] of the emitted power is left,
     /// every zone counted in full; [`Solver::run_until`] does when it
-    /// converges. The vertices keep the light of their own shots; each
-    /// patch keeps what the patch shots brought it, which the ambient term
-    /// gathers at the vertices of the rooms an image shows and
-    /// [`Solver::solution`] gives every vertex from its elements' patches.
-    /// Nothing is shot while emission is pending, or when no more than the
-    /// tolerance is left. The next shot drops them: they are made again
-    /// from its unshot power.
+    /// converges. The vertices keep the light of their own shots
+    /// ([`Solver::solution`]); each patch keeps the irradiance the patch
+    /// shots brought it, which the ambient term gathers at the vertices
+    /// an image, a probe or an export reads. Nothing is shot while
+    /// emission is pending, or when no more than the tolerance is left.
+    /// The next shot drops them: they are made again from its unshot
+    /// power.
     pub fn shoot_patches(&mut self) {
         self.patch_shots = None;
         let emitted = self.emitted_power.element_sum();

@@ -140,7 +140,9 @@ impl Solver {
             });
         };
         self.release_shot_buffers();
-        if matches!(reason, StopReason::Converged | StopReason::NothingToShoot) {
+        // Patch shots made since the last shot stand: no shot came after.
+        let made = self.patch_shot_summary().is_some();
+        if matches!(reason, StopReason::Converged | StopReason::NothingToShoot) && !made {
             self.shoot_patches();
         }
         reason
