@@ -1213,33 +1213,28 @@ impl Solver {
     /// ([`PatchRays::residual`], zero until they are cast), on the patches
     /// `within` (all, by `None`).
     fn patch_residual(&self, rays: &PatchRays, within: Option<&[u32]>) -> (Vec<Rgb>, Vec<Rgb>) {
-        if let Some(shots) = &self.patch_shots {
-            let residual: Vec<Rgb> = (0..self.mesh.patches.len())
+        let residual = match &self.patch_shots {
+            Some(shots) => (0..self.mesh.patches.len())
                 .into_par_iter()
                 .map(|p| {
                     let surface = self.mesh.patches[p].surface.index();
                     self.surface_reflectance[surface] * shots.irradiance(p)
                 })
-                .collect();
-            let patch_value = self
-                .unshot
-                .iter()
-                .zip(&residual)
-                .map(|(u, a)| *u + *a)
-                .collect();
-            return (residual, patch_value);
-        }
-        let (reflectance, lossless): (Vec<Rgb>, Vec<bool>) = self
-            .mesh
-            .patches
-            .iter()
-            .map(|p| {
-                let surface = self.scene.surface(p.surface);
-                let reflectance = self.scene.material_of(surface).reflectance;
-                (reflectance, self.surface_lossless[p.surface.index()])
-            })
-            .unzip();
-        let residual = rays.residual((&self.unshot, &reflectance, &lossless), within);
+                .collect(),
+            None => {
+                let (reflectance, lossless): (Vec<Rgb>, Vec<bool>) = self
+                    .mesh
+                    .patches
+                    .iter()
+                    .map(|p| {
+                        let surface = self.scene.surface(p.surface);
+                        let reflectance = self.scene.material_of(surface).reflectance;
+                        (reflectance, self.surface_lossless[p.surface.index()])
+                    })
+                    .unzip();
+                rays.residual((&self.unshot, &reflectance, &lossless), within)
+            }
+        };
         let patch_value = self
             .unshot
             .iter()

@@ -146,6 +146,25 @@ fn disc_over_floor_errors(radiosity: &[isorad::Rgb], mesh: &isorad::mesh::Mesh) 
         .collect()
 }
 
+/// `scene` on `mesh` solved to `tolerance` and then shot patch to patch to
+/// `patch_tolerance` (1: not at all), and the unshot fraction its
+/// vertices' shots left.
+fn solved_with_patch_tolerance(
+    scene: Scene,
+    mesh: isorad::mesh::Mesh,
+    tolerance: f64,
+    patch_tolerance: f64,
+) -> (isorad::Solver, f64) {
+    let mut settings = settings(tolerance);
+    settings.patch_tolerance = patch_tolerance;
+    let mut solver = isorad::Solver::with_mesh(scene, mesh, settings).unwrap();
+    solver.run();
+    let unshot = solver
+        .patch_shot_summary()
+        .map_or(solver.unshot_fraction(), |s| s.unshot_before);
+    (solver, unshot)
+}
+
 /// The disc over a floor is open: the floor's reflected light leaves the
 /// scene, so the ambient term for it must add (almost) nothing, whether
 /// it finds the further bounces itself or reads them from the patch
@@ -156,13 +175,7 @@ fn the_ambient_term_of_an_open_scene_adds_only_light_that_lands() {
     for patch_tolerance in [1.0, 1e-4] {
         let scene = disc_over_floor_scene();
         let mesh = mesh(&scene, 0.4, 2.0);
-        let mut settings = settings(0.01);
-        settings.patch_tolerance = patch_tolerance;
-        let mut solver = isorad::Solver::with_mesh(scene, mesh, settings).unwrap();
-        solver.run();
-        let unshot = solver
-            .patch_shot_summary()
-            .map_or(solver.unshot_fraction(), |s| s.unshot_before);
+        let (solver, unshot) = solved_with_patch_tolerance(scene, mesh, 0.01, patch_tolerance);
         assert!(unshot > 1e-3, "light is left unshot");
         assert_eq!(solver.patch_shot_summary().is_some(), patch_tolerance < 1.0);
         let errors = disc_over_floor_errors(&solver.radiosity_with_ambient(), solver.mesh());
@@ -206,13 +219,7 @@ fn the_ambient_term_of_a_closed_scene_is_cohens() {
     for patch_tolerance in [1.0, 0.01] {
         let scene = closed_cube(0.5, 1.0);
         let mesh = mesh(&scene, 0.1, 0.25);
-        let mut settings = settings(0.3);
-        settings.patch_tolerance = patch_tolerance;
-        let mut solver = isorad::Solver::with_mesh(scene, mesh, settings).unwrap();
-        solver.run();
-        let unshot = solver
-            .patch_shot_summary()
-            .map_or(solver.unshot_fraction(), |s| s.unshot_before);
+        let (solver, unshot) = solved_with_patch_tolerance(scene, mesh, 0.3, patch_tolerance);
         assert!(unshot > 0.05, "much light is left unshot");
         assert!(solver.unshot_fraction() <= patch_tolerance);
         let expected = PI / (1.0 - 0.5);
