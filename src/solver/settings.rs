@@ -49,8 +49,9 @@ pub enum ShootFrom {
 pub struct SolverSettings {
     /// Stop when the unshot power falls below this fraction of the emitted
     /// power (5 %), and every emitter has shot its own light: what is left
-    /// is reflected light, which the ambient term gathers for images and
-    /// probes. A closed zone's unshot power counts at
+    /// is reflected light, which the patch shots then carry
+    /// ([`SolverSettings::patch_tolerance`]) and the ambient term gathers
+    /// for images and probes. A closed zone's unshot power counts at
     /// [`SolverSettings::closed_zone_weight`]. 1 % takes about twice the
     /// time for a tenth of a point of per-pixel error against a path tracer
     /// (BENCHMARKS.md, (e)).
