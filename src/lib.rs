@@ -107,6 +107,11 @@
 //!   model and its maximum; the contour mesher to come).
 //! - Y. Ylitie, T. Karras, S. Laine, "Efficient Incoherent Ray Traversal on
 //!   GPUs Through Compressed Wide BVHs", HPG 2017 (obvhs's CWBVH).
+//! - P. Hanrahan, D. Salzman, L. Aupperle, "A Rapid Hierarchical Radiosity
+//!   Algorithm", SIGGRAPH 1991; L. Neumann, M. Feda, M. Kopp, W. Purgathofer,
+//!   "A New Stochastic Radiosity Method for Highly Complex Scenes", EGWR
+//!   1994; P. Bekaert, "Hierarchical and Stochastic Algorithms for
+//!   Radiosity", KU Leuven 1999 (the patch shots along fixed lines).
 
 #![warn(missing_docs)]
 

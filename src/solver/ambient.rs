@@ -39,10 +39,11 @@
 //! is nothing; under the table it is what the underside will still send.
 //! A_h, one value per patch, is then resolved at the vertices by sweeps
 //! along the same rays (`ambient_sweeps.rs`). After a run that converged,
-//! the patch shots have carried the unshot light to a ten-thousandth
+//! the patch shots have carried the unshot light to the patch tolerance
 //! (`patch_shots.rs`), and A_h is ρ_h times the irradiance they brought
-//! patch h: the patches' rays and iteration here serve the images of a
-//! solve under way.
+//! patch h; the patches' rays and iteration here serve the images of a
+//! solve under way, stopped short (cancelled, out of time, at a shot
+//! limit) or made without patch shots (`patch_tolerance` 1).
 //! The term is made room by room, each closed zone's vertices with their
 //! own rays (`ambient_rooms.rs`). The patches' rays are cast once and
 //! kept, and so are the vertices' up to 2²⁴ rays (about 175,000

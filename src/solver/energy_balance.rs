@@ -5,7 +5,10 @@ use crate::scene::Rgb;
 /// Where the emitted power has gone so far, per RGB channel, in watts (or
 /// the scene's length unit squared times W/m²).
 ///
-/// `absorbed + unshot + escaped = emitted` holds at every step.
+/// `absorbed + unshot + escaped = emitted` holds at every step. After
+/// patch shots ([`crate::Solver::shoot_patches`]) each term counts them
+/// too: what the receiving patches absorbed, what they left unshot, and
+/// what landed nowhere.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnergyBalance {
     /// Power emitted by all emitters: Σ E·A.
@@ -17,7 +20,8 @@ pub struct EnergyBalance {
     /// an emitter, that with the curvature of its field: see
     /// `solver/element_power.rs`).
     pub absorbed: Rgb,
-    /// Power waiting to be shot: Σ_p ΔB_p A_p.
+    /// Power waiting to be shot: Σ_p ΔB_p A_p, or what the patch shots
+    /// left of it.
     pub unshot: Rgb,
     /// Power shot that no surface received: it left an open scene or fell
     /// on the black back of a one-sided surface (or is the discretisation

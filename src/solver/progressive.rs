@@ -183,7 +183,7 @@ pub struct Solver {
     /// The element hierarchy of an adaptive solve.
     refiner: Option<Refiner>,
     /// The patch shots of the unshot power the last run left
-    /// (`solver/patch_shots.rs`), until the next shot.
+    /// (`solver/patch_shots.rs`), until the next shot changes it.
     patch_shots: Option<PatchShots>,
 }
 
@@ -414,9 +414,9 @@ impl Solver {
     /// small patches (the slivers of a many-sided disc) could otherwise
     /// carry less power per patch than the floor it lights, and wait.
     pub fn step(&mut self) -> bool {
-        // A shot changes the unshot power the patch shots were made of.
-        self.patch_shots = None;
         if let Some(k) = self.luminaire_shot.iter().position(|&shot| !shot) {
+            // A shot changes the unshot power the patch shots were made of.
+            self.patch_shots = None;
             self.shoot_luminaire(k);
             return true;
         }
@@ -441,6 +441,7 @@ impl Solver {
         if power.is_nan() || power <= 0.0 {
             return false;
         }
+        self.patch_shots = None;
         let delta = std::mem::replace(&mut self.unshot[j], Rgb::ZERO);
         let shot_power = delta * self.mesh.patches[j].area;
         let surface = self.scene.surface(self.mesh.patches[j].surface);
@@ -960,9 +961,11 @@ impl Solver {
     }
 
     /// The unshot fraction [`SolverSettings::tolerance`] is held to: the
-    /// unshot power with each closed zone's counted at
-    /// [`SolverSettings::closed_zone_weight`], over the emitted power (sums
-    /// of channels); 0 for a dark scene.
+    /// unshot power the vertices' shots leave, with each closed zone's
+    /// counted at [`SolverSettings::closed_zone_weight`], over the emitted
+    /// power (sums of channels); 0 for a dark scene. The patch shots do not
+    /// change it: after them [`Solver::unshot_fraction`] reads less, and
+    /// the next shot takes that back to what the vertices' shots leave.
     #[must_use]
     pub fn convergence_fraction(&self) -> f64 {
         let emitted = self.emitted_power.element_sum();
@@ -1075,7 +1078,8 @@ impl Solver {
         };
         // The rooms' patches: the whole mesh's, or those of the rooms
         // asked for (a ray that leaks out of them reads the unshot light
-        // where it lands, without its further bounces).
+        // where it lands, without its further bounces unless the patch
+        // shots hold them).
         let within = only.is_some().then(|| {
             let mut patches: Vec<u32> = rooms
                 .iter()
@@ -1454,7 +1458,9 @@ impl Solver {
         let emitted = self.emitted_power.element_sum();
         let unshot = self.unshot_by_zone.total().element_sum();
         let tolerance = self.settings.patch_tolerance;
-        if self.emission_pending() || emitted <= 0.0 || unshot <= tolerance * emitted {
+        // A NaN unshot power (a broken material) would stop every sweep.
+        let finite = unshot.is_finite() && emitted.is_finite();
+        if self.emission_pending() || !finite || emitted <= 0.0 || unshot <= tolerance * emitted {
             return;
         }
         self.release_shot_buffers();

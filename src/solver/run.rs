@@ -23,10 +23,10 @@ use super::progressive::Solver;
 #[derive(Clone, Copy, Debug, Default)]
 #[non_exhaustive]
 pub struct Until<'c> {
-    /// Stop when the unshot power is at most this fraction of the emitted
-    /// power, closed zones' counted at their weight
-    /// ([`Solver::convergence_fraction`]); `None`: the solver settings'
-    /// tolerance.
+    /// Stop when the unshot power the vertices' shots leave is at most
+    /// this fraction of the emitted power, closed zones' counted at their
+    /// weight ([`Solver::convergence_fraction`], which the patch shots do
+    /// not change); `None`: the solver settings' tolerance.
     pub tolerance: Option<f64>,
     /// Stop when the solver has made this many shots in all (earlier runs
     /// included); `None`: the solver settings' `max_shots`.

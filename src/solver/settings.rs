@@ -61,8 +61,8 @@ pub struct SolverSettings {
     /// to patch until at most this fraction of the emitted power is left,
     /// every zone counted in full (0.0001; `solver/patch_shots.rs`): the
     /// dim reflected light carried at the coarsest level, patches, along
-    /// 16 rays a patch, each sweep over a room's patches one addition a
-    /// ray. The rays are most of the cost, so a ten-thousandth costs about
+    /// a few rays a patch (2 to 32, by the power each will shoot), each
+    /// sweep over a room's patches one addition a ray. The rays are most of the cost, so a ten-thousandth costs about
     /// what a hundredth does (16 closed offices: 0.10 s either way, eight
     /// sweeps a room). The ambient term then reads what each patch
     /// received as what it will still reflect. In (0, 1]; 1 shoots none
