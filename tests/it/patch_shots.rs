@@ -6,7 +6,8 @@ use glam::DVec3;
 use isorad::{Rgb, Settings, Solver, StopReason};
 
 /// Two closed rooms, each with a block on its floor and a lamp under its
-/// ceiling, solved at the default settings but for `patch_tolerance`.
+/// ceiling, meshed at 0.5 m in patches of 1 m and solved at the default
+/// solver settings but for `patch_tolerance`.
 fn two_rooms(patch_tolerance: f64) -> Solver {
     let mut b = SceneBuilder::default();
     let wall = b.material("wall", 0.6, 0.0);
