@@ -208,7 +208,15 @@ impl ZoneShots {
                 ..ZoneShots::default()
             };
         }
-        let counts = ray_counts(input, patches, &unshot_power);
+        let area: Vec<f64> = patches.iter().map(|&p| input.areas[p as usize]).collect();
+        let reflectance: Vec<f64> = patches
+            .iter()
+            .map(|&p| {
+                let surface = input.mesh.patches[p as usize].surface.index();
+                input.reflectance[surface].element_sum() / 3.0
+            })
+            .collect();
+        let counts = ray_counts(&area, &reflectance, &unshot_power);
         let links = Links::cast(input, patches, &counts);
         let shot = links.shoot(unshot_power, left_share * before.element_sum());
         // What each patch received, over its area: unbiased, as the ledger
@@ -236,42 +244,38 @@ impl ZoneShots {
     }
 }
 
-/// The rays each of a zone's `patches` casts: the zone's mean
-/// ([`MEAN_RAYS`]) times its patches' count, shared in proportion to the
-/// power each will shoot, between [`FEWEST_RAYS`] and [`MOST_RAYS`]. The
-/// power a patch sends along n rays reaches each patch it lands on with a
-/// variance of Φ² / n, and the sum of those over the patches is least, for
-/// a given number of rays, where n goes as Φ. A patch will shoot its
-/// `unshot` power and what it reflects of the light to come, which is
-/// taken as ρ A times the zone's mean unshot radiosity: the books on a
-/// shelf, small and dim, cast a few rays each; the floor under a lamp, many.
-fn ray_counts(input: &PatchShotInput, patches: &[u32], unshot_power: &[Rgb]) -> Vec<usize> {
-    let area = |k: usize| input.areas[patches[k] as usize];
-    let reflectance = |k: usize| {
-        let surface = input.mesh.patches[patches[k] as usize].surface.index();
-        input.reflectance[surface].element_sum() / 3.0
-    };
-    let zone_area: f64 = (0..patches.len()).map(area).sum();
+/// The rays each patch of a zone casts, for its `area`, mean
+/// `reflectance` and `unshot_power`: [`MEAN_RAYS`] times the patches'
+/// count, shared in proportion to the power each will shoot, rounded and
+/// held between [`FEWEST_RAYS`] and [`MOST_RAYS`]; none for a patch
+/// without area (all of it under objects), which neither receives nor
+/// shoots. The power a patch sends along n rays reaches each patch it
+/// lands on with a variance of Φ² / n, and the sum of those over the
+/// patches is least, for a given number of rays, where n goes as Φ. A
+/// patch will shoot its unshot power and what it reflects of the light to
+/// come, which is taken as ρ A times the zone's mean unshot radiosity: the
+/// books on a shelf, small and dim, cast a few rays each; the floor under
+/// a lamp, many.
+fn ray_counts(area: &[f64], reflectance: &[f64], unshot_power: &[Rgb]) -> Vec<usize> {
+    let zone_area: f64 = area.iter().sum();
     let zone_power: f64 = unshot_power.iter().map(|u| u.element_sum()).sum();
     let level = if zone_area > 0.0 {
         zone_power / zone_area
     } else {
         0.0
     };
-    let weights: Vec<f64> = (0..patches.len())
-        .map(|k| unshot_power[k].element_sum() + reflectance(k) * area(k) * level)
+    let weights: Vec<f64> = (0..area.len())
+        .map(|k| unshot_power[k].element_sum() + reflectance[k] * area[k] * level)
         .collect();
     let total: f64 = weights.iter().sum();
-    let rays = MEAN_RAYS * patches.len() as f64;
-    // A patch without area (all of it under objects) neither receives nor
-    // shoots: its rays would all miss.
+    let rays = MEAN_RAYS * area.len() as f64;
     weights
         .iter()
-        .enumerate()
-        .map(|(k, &w)| {
+        .zip(area)
+        .map(|(&w, &area)| {
             let share = if total > 0.0 { rays * w / total } else { 0.0 };
             let count = (share.round() as usize).clamp(FEWEST_RAYS, MOST_RAYS);
-            if area(k) > 0.0 { count } else { 0 }
+            if area > 0.0 { count } else { 0 }
         })
         .collect()
 }
@@ -411,6 +415,39 @@ mod tests {
         }
     }
 
+    /// Rays go by the power a patch will shoot: its own unshot power, and
+    /// ρ A times the zone's mean unshot radiosity; rounded and held
+    /// between the fewest and the most, none where there is no area, and
+    /// the fewest where the weights are no number.
+    #[test]
+    fn rays_go_by_the_power_a_patch_will_shoot() {
+        let grey = Rgb::splat;
+        // A lit floor, a dim wall as large, four small books, a hidden patch.
+        let area = [4.0, 4.0, 0.01, 0.01, 0.01, 0.01, 0.0];
+        let reflectance = [0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5];
+        let unshot = [
+            grey(30.0),
+            grey(2.0),
+            Rgb::ZERO,
+            Rgb::ZERO,
+            Rgb::ZERO,
+            Rgb::ZERO,
+            Rgb::ZERO,
+        ];
+        let counts = ray_counts(&area, &reflectance, &unshot);
+        // A budget of 56 rays. The zone's level is 96 / 8.04 = 11.9 W/m²
+        // (channels summed), so the floor weighs 90 + 23.9, the wall
+        // 6 + 23.9 and a book 0.06: the floor's 44 rays are held to the
+        // most, the wall takes 12, the books the fewest.
+        assert_eq!(counts, [MOST_RAYS, 12, FEWEST_RAYS, 2, 2, 2, 0]);
+        assert_eq!(
+            ray_counts(&[1.0, 1.0], &[0.5, 0.5], &[Rgb::ZERO; 2]),
+            [2, 2]
+        );
+        let nan = [Rgb::splat(f64::NAN), Rgb::ZERO];
+        assert_eq!(ray_counts(&[1.0, 1.0], &[0.5, 0.5], &nan), [2, 2]);
+    }
+
     /// Two patches that see only each other, reflectances ρ₀ and ρ₁, the
     /// first holding power 1: the second receives 1 / (1 − ρ₀ρ₁) in all,
     /// the first ρ₁ times that, and the ledger closes.
@@ -449,6 +486,19 @@ mod tests {
         assert_eq!(
             swept.received.iter().map(|r| r.r).collect::<Vec<_>>(),
             [0.25, 0.5]
+        );
+    }
+
+    /// Reflectances of 1 would trade the power back and forth for ever:
+    /// the sweeps stop at the most, with all of it left and none lost.
+    #[test]
+    fn sweeps_stop_at_the_most() {
+        let links = links(&[1, 0], &[1.0, 1.0]);
+        let swept = links.shoot(vec![Rgb::ONE, Rgb::ZERO], 1e-6);
+        assert_eq!(swept.sweeps, MAX_SWEEPS);
+        assert_eq!(
+            (swept.left.r, swept.absorbed.r, swept.escaped.r),
+            (1.0, 0.0, 0.0)
         );
     }
 
