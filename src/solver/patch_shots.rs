@@ -64,9 +64,9 @@ use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 /// The image's ambient term resolves the patches' further bounces at its
 /// vertices along their own rays (`ambient_sweeps.rs`), so the patches'
 /// noise hardly shows (measured by hand, `isorad render` at the
-/// references' sizes, the golden tests' metric, per-pixel error with 8
-/// and 16 a patch's budget, and with 16 and 64 for every patch): the cluttered
-/// office 2.59, 2.59, 2.60 and 2.61 %, the furnished office 1.43, 1.43,
+/// references' sizes, the golden tests' metric, per-pixel error with a
+/// budget of 8 and of 16 rays a patch, and with 16 and 64 for every
+/// patch): the cluttered office 2.59, 2.59, 2.60 and 2.61 %, the furnished office 1.43, 1.43,
 /// 1.44 and 1.42 %, `scenes/room` 1.60, 1.61, 1.59 and 1.59 %, the shipped
 /// office 3.86, 3.86, 3.86 and 3.87 %. The rays are most of the patch
 /// shots' time: 16 closed offices cast 144,465 rays with a budget of 8
