@@ -13,6 +13,7 @@ mod element_power;
 mod energy_balance;
 mod indexed_update;
 mod mesh_settings;
+mod patch_clusters;
 mod patch_reception;
 mod patch_shots;
 mod penumbra;

@@ -51,6 +51,7 @@
 use rayon::prelude::*;
 
 use super::ambient::{MISS, PatchLocator, patch_ray, rays_counted};
+use super::patch_clusters::{Clusters, PatchPlace};
 use crate::mesh::Mesh;
 use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 
@@ -103,6 +104,9 @@ pub(crate) struct PatchShots {
     pub(crate) sweeps: usize,
     /// Rays cast.
     pub(crate) rays: u64,
+    /// Clusters of more than one patch, and the patches in them.
+    pub(crate) clusters: usize,
+    pub(crate) clustered_patches: usize,
 }
 
 /// What [`crate::Solver::shoot_patches`] did.
@@ -116,9 +120,13 @@ pub struct PatchShotSummary {
     pub unshot_after: f64,
     /// The most sweeps over its patches a zone took.
     pub sweeps: usize,
-    /// Rays cast, between 2 and 32 a patch (none in a zone without unshot
-    /// power).
+    /// Rays cast, between 2 and 32 a patch or cluster (none in a zone
+    /// without unshot power).
     pub rays: u64,
+    /// Clusters of small patches that shot and received as one.
+    pub clusters: usize,
+    /// The patches in those clusters.
+    pub clustered_patches: usize,
 }
 
 /// What the patch shots read of a solver.
@@ -136,6 +144,9 @@ pub(crate) struct PatchShotInput<'a, 'v> {
     /// Whether each surface's zone keeps all its light.
     pub(crate) lossless: &'a [bool],
     pub(crate) locator: &'a PatchLocator,
+    /// The longest patch edge, which bounds a cluster's extent
+    /// (`patch_clusters.rs`); zero for no clusters.
+    pub(crate) cluster_edge: f64,
     /// The BVH a ray from a surface traverses: its closed zone's.
     pub(crate) visibility_of: &'a (dyn Fn(SurfaceId) -> &'v Visibility + Sync),
 }
@@ -169,6 +180,8 @@ impl PatchShots {
             shots.escaped += zone.escaped;
             shots.sweeps = shots.sweeps.max(zone.sweeps);
             shots.rays += zone.rays;
+            shots.clusters += zone.clusters;
+            shots.clustered_patches += zone.clustered_patches;
             for (&p, e) in patches.iter().zip(&zone.irradiance) {
                 shots.irradiance[p as usize] = [e.r as f32, e.g as f32, e.b as f32];
             }
@@ -189,6 +202,9 @@ struct ZoneShots {
     escaped: Rgb,
     sweeps: usize,
     rays: u64,
+    /// Clusters of more than one patch, and the patches in them.
+    clusters: usize,
+    clustered_patches: usize,
 }
 
 impl ZoneShots {
@@ -216,22 +232,34 @@ impl ZoneShots {
                 input.reflectance[surface].element_sum() / 3.0
             })
             .collect();
-        let counts = ray_counts(&area, &reflectance, &unshot_power);
-        let links = Links::cast(input, patches, &counts);
-        let shot = links.shoot(unshot_power, left_share * before.element_sum());
-        // What each patch received, over its area: unbiased, as the ledger
-        // counts it. Gathered back along each patch's own rays instead
-        // (the mean of what the patches it sees sent), a patch would read
-        // its own light returned along the very rays that carried it out,
-        // and a closed room of reflectance 0.95 came out 2.3 % bright.
-        let irradiance = patches
-            .iter()
-            .zip(&shot.received)
-            .map(|(&p, &power)| {
-                let area = input.areas[p as usize];
-                if area > 0.0 { power / area } else { Rgb::ZERO }
+        let clusters = ZoneShots::clusters(input, patches);
+        let weights = shooting_weights(&area, &reflectance, &unshot_power);
+        let node_sum = |of: &dyn Fn(usize) -> f64| -> Vec<f64> {
+            (0..clusters.len())
+                .map(|n| clusters.members(n).iter().map(|&k| of(k as usize)).sum())
+                .collect()
+        };
+        let node_rays = ray_counts(&node_sum(&|k| weights[k]), &node_sum(&|k| area[k]));
+        let counts = clusters.member_rays(&node_rays, &weights, &area);
+        let node_power = (0..clusters.len())
+            .map(|n| {
+                clusters
+                    .members(n)
+                    .iter()
+                    .map(|&k| unshot_power[k as usize])
+                    .sum()
             })
             .collect();
+        let links = Links::cast(input, patches, &clusters, &counts);
+        let shot = links.shoot(node_power, left_share * before.element_sum());
+        // What each cluster received, over its area, for each of its
+        // patches: unbiased, as the ledger counts it. Gathered back along
+        // each patch's own rays instead (the mean of what the patches it
+        // sees sent), a patch would read its own light returned along the
+        // very rays that carried it out, and a closed room of reflectance
+        // 0.95 came out 2.3 % bright.
+        let irradiance = pooled_irradiance(&clusters, &shot.received, &area);
+        let (clustered, clustered_patches) = clusters.clustered();
         ZoneShots {
             irradiance,
             before,
@@ -240,23 +268,55 @@ impl ZoneShots {
             escaped: shot.escaped,
             sweeps: shot.sweeps,
             rays: links.hits.len() as u64,
+            clusters: clustered,
+            clustered_patches,
         }
+    }
+
+    /// The zone's patches as shooting nodes: its small patches side by
+    /// side facing one way clustered (`patch_clusters.rs`), unless the
+    /// input has no patch edge.
+    fn clusters(input: &PatchShotInput, patches: &[u32]) -> Clusters {
+        let places: Vec<PatchPlace> = patches
+            .iter()
+            .map(|&p| {
+                let patch = &input.mesh.patches[p as usize];
+                PatchPlace {
+                    area: input.areas[p as usize],
+                    normal: input.scene.surface(patch.surface).normal(),
+                    centre: patch.cell.centre(),
+                }
+            })
+            .collect();
+        Clusters::of(&places, input.cluster_edge)
     }
 }
 
-/// The rays each patch of a zone casts, for its `area`, mean
-/// `reflectance` and `unshot_power`: [`MEAN_RAYS`] times the patches'
-/// count, shared in proportion to the power each will shoot, rounded and
-/// held between [`FEWEST_RAYS`] and [`MOST_RAYS`]; none for a patch
-/// without area (all of it under objects), which neither receives nor
-/// shoots. The power a patch sends along n rays reaches each patch it
-/// lands on with a variance of Φ² / n, and the sum of those over the
-/// patches is least, for a given number of rays, where n goes as Φ. A
-/// patch will shoot its unshot power and what it reflects of the light to
-/// come, which is taken as ρ A times the zone's mean unshot radiosity: the
-/// books on a shelf, small and dim, cast a few rays each; the floor under
-/// a lamp, many.
-fn ray_counts(area: &[f64], reflectance: &[f64], unshot_power: &[Rgb]) -> Vec<usize> {
+/// The irradiance each patch keeps: what its node received over the node's
+/// area, from the power each patch `received` and each patch's `area`. A
+/// cluster receives as one, and its members share its light; a node
+/// without area keeps none.
+fn pooled_irradiance(clusters: &Clusters, received: &[Rgb], area: &[f64]) -> Vec<Rgb> {
+    let mut irradiance = vec![Rgb::ZERO; received.len()];
+    for n in 0..clusters.len() {
+        let members = clusters.members(n);
+        let area: f64 = members.iter().map(|&k| area[k as usize]).sum();
+        let power: Rgb = members.iter().map(|&k| received[k as usize]).sum();
+        if area > 0.0 {
+            for &k in members {
+                irradiance[k as usize] = power / area;
+            }
+        }
+    }
+    irradiance
+}
+
+/// The power each patch of a zone will shoot, for its `area`, mean
+/// `reflectance` and `unshot_power`: its unshot power and what it reflects
+/// of the light to come, which is taken as ρ A times the zone's mean
+/// unshot radiosity (channels summed). The books on a shelf, small and
+/// dim, weigh little; the floor under a lamp, much.
+fn shooting_weights(area: &[f64], reflectance: &[f64], unshot_power: &[Rgb]) -> Vec<f64> {
     let zone_area: f64 = area.iter().sum();
     let zone_power: f64 = unshot_power.iter().map(|u| u.element_sum()).sum();
     let level = if zone_area > 0.0 {
@@ -264,9 +324,21 @@ fn ray_counts(area: &[f64], reflectance: &[f64], unshot_power: &[Rgb]) -> Vec<us
     } else {
         0.0
     };
-    let weights: Vec<f64> = (0..area.len())
+    (0..area.len())
         .map(|k| unshot_power[k].element_sum() + reflectance[k] * area[k] * level)
-        .collect();
+        .collect()
+}
+
+/// The rays each node of a zone (a patch, or a cluster of patches) casts,
+/// for the power it will shoot, `weights` ([`shooting_weights`]), and its
+/// `area`: [`MEAN_RAYS`] times the nodes' count, shared in proportion to
+/// the weights, rounded and held between [`FEWEST_RAYS`] and
+/// [`MOST_RAYS`]; none for a node without area (all of it under
+/// objects), which neither receives nor shoots. The power a node sends
+/// along n rays reaches each patch it lands on with a variance of Φ² / n,
+/// and the sum of those over the patches is least, for a given number of
+/// rays, where n goes as Φ.
+fn ray_counts(weights: &[f64], area: &[f64]) -> Vec<usize> {
     let total: f64 = weights.iter().sum();
     let rays = MEAN_RAYS * area.len() as f64;
     weights
@@ -280,21 +352,24 @@ fn ray_counts(area: &[f64], reflectance: &[f64], unshot_power: &[Rgb]) -> Vec<us
         .collect()
 }
 
-/// A zone's patches' rays: where each lands, and what each patch's shares
-/// are over.
+/// A zone's rays, node by node: where each lands, and what each node's
+/// shares are over.
 struct Links {
     /// Each ray's landing patch as an index into the zone's list, or
     /// [`MISS`] (none, or a patch of another zone: a leak through a seam);
-    /// patch k's are `hits[starts[k]..starts[k + 1]]`.
+    /// node n's are `hits[starts[n]..starts[n + 1]]`.
     hits: Vec<u32>,
     starts: Vec<usize>,
-    /// The rays each patch's shares are over ([`rays_counted`]).
+    /// The rays each node's shares are over ([`rays_counted`]).
     counted: Vec<f64>,
     /// Each patch's reflectance.
     reflectance: Vec<Rgb>,
+    /// Each patch's node.
+    node_of: Vec<u32>,
 }
 
-/// What a zone's sweeps did, power per patch in the zone's order.
+/// What a zone's sweeps did: the power each patch received, in the zone's
+/// order, and the ledger.
 struct Swept {
     received: Vec<Rgb>,
     left: Rgb,
@@ -305,20 +380,31 @@ struct Swept {
 
 impl Links {
     /// Casts the rays of the zone of `patches` (ascending), `counts[k]`
-    /// from patch k. A ray that lands on a patch without area lands
-    /// nowhere: nothing there receives.
-    fn cast(input: &PatchShotInput, patches: &[u32], counts: &[usize]) -> Links {
+    /// from patch k, node by node of `clusters`. A ray that lands on a
+    /// patch without area lands nowhere: nothing there receives.
+    fn cast(
+        input: &PatchShotInput,
+        patches: &[u32],
+        clusters: &Clusters,
+        counts: &[usize],
+    ) -> Links {
         let parts = (input.scene, input.mesh);
         let (locator, visibility_of) = (input.locator, input.visibility_of);
-        let mut starts = Vec::with_capacity(patches.len() + 1);
+        let mut starts = Vec::with_capacity(clusters.len() + 1);
         starts.push(0);
-        for &count in counts {
-            starts.push(starts[starts.len() - 1] + count);
+        for n in 0..clusters.len() {
+            let rays: usize = clusters
+                .members(n)
+                .iter()
+                .map(|&k| counts[k as usize])
+                .sum();
+            starts.push(starts[n] + rays);
         }
-        let hits: Vec<u32> = (0..patches.len())
-            .into_par_iter()
-            .flat_map_iter(|k| {
-                let (p, count) = (patches[k] as usize, counts[k]);
+        let hits: Vec<u32> = clusters
+            .order()
+            .par_iter()
+            .flat_map_iter(|&k| {
+                let (p, count) = (patches[k as usize] as usize, counts[k as usize]);
                 (0..count).map(move |ray| {
                     let h = patch_ray(parts, (p, ray, count), locator, visibility_of);
                     match patches.binary_search(&h) {
@@ -329,64 +415,74 @@ impl Links {
             })
             .collect();
         let surface = |k: usize| input.mesh.patches[patches[k] as usize].surface.index();
-        let counted = (0..patches.len())
-            .map(|k| {
-                let rays = &hits[starts[k]..starts[k + 1]];
-                rays_counted(rays, input.lossless[surface(k)])
+        // A node's patches lie in one zone, which keeps its light or not.
+        let counted = (0..clusters.len())
+            .map(|n| {
+                let rays = &hits[starts[n]..starts[n + 1]];
+                let first = clusters.members(n)[0] as usize;
+                rays_counted(rays, input.lossless[surface(first)])
             })
             .collect();
         let reflectance = (0..patches.len())
             .map(|k| input.reflectance[surface(k)])
             .collect();
+        let mut node_of = vec![0u32; patches.len()];
+        for n in 0..clusters.len() {
+            for &k in clusters.members(n) {
+                node_of[k as usize] = n as u32;
+            }
+        }
         Links {
             hits,
             starts,
             counted,
             reflectance,
+            node_of,
         }
     }
 
-    /// Patch k's rays.
-    fn of(&self, k: usize) -> &[u32] {
-        &self.hits[self.starts[k]..self.starts[k + 1]]
+    /// Node n's rays.
+    fn of(&self, n: usize) -> &[u32] {
+        &self.hits[self.starts[n]..self.starts[n + 1]]
     }
 
-    /// Shoots the patches' `unshot_power` along the links, a sweep at a
-    /// time, each patch its whole unshot power in the list's order, until
-    /// at most `target` (summed over the channels) is left or
-    /// [`MAX_SWEEPS`] sweeps are done.
+    /// Shoots the nodes' `unshot_power` along the links, a sweep at a time,
+    /// each node its whole unshot power in order, until at most `target`
+    /// (summed over the channels) is left or [`MAX_SWEEPS`] sweeps are
+    /// done. A share landing on a patch is received there, and what the
+    /// patch reflects of it joins its node's unshot power.
     fn shoot(&self, mut unshot_power: Vec<Rgb>, target: f64) -> Swept {
         let mut swept = Swept {
-            received: vec![Rgb::ZERO; unshot_power.len()],
+            received: vec![Rgb::ZERO; self.reflectance.len()],
             left: unshot_power.iter().copied().sum(),
             absorbed: Rgb::ZERO,
             escaped: Rgb::ZERO,
             sweeps: 0,
         };
         while swept.left.element_sum() > target && swept.sweeps < MAX_SWEEPS {
-            for k in 0..unshot_power.len() {
-                let power = std::mem::replace(&mut unshot_power[k], Rgb::ZERO);
+            for n in 0..unshot_power.len() {
+                let power = std::mem::replace(&mut unshot_power[n], Rgb::ZERO);
                 if power == Rgb::ZERO {
                     continue;
                 }
-                if self.counted[k] <= 0.0 {
+                if self.counted[n] <= 0.0 {
                     // No rays: nothing of the zone receives it.
                     swept.escaped += power;
                     continue;
                 }
-                let share = power / self.counted[k];
+                let share = power / self.counted[n];
                 let mut landed = 0usize;
-                for &h in self.of(k) {
+                for &h in self.of(n) {
                     if h == MISS {
                         continue;
                     }
                     let (h, reflectance) = (h as usize, self.reflectance[h as usize]);
                     landed += 1;
                     swept.received[h] += share;
-                    unshot_power[h] += reflectance * share;
+                    unshot_power[self.node_of[h] as usize] += reflectance * share;
                     swept.absorbed += (Rgb::ONE - reflectance) * share;
                 }
-                swept.escaped += share * (self.counted[k] - landed as f64);
+                swept.escaped += share * (self.counted[n] - landed as f64);
             }
             swept.left = unshot_power.iter().copied().sum();
             swept.sweeps += 1;
@@ -412,6 +508,7 @@ mod tests {
             starts: (0..=targets.len()).map(|k| k * RAYS).collect(),
             counted: vec![RAYS as f64; targets.len()],
             reflectance: reflectance.iter().map(|&r| Rgb::splat(r)).collect(),
+            node_of: (0..targets.len() as u32).collect(),
         }
     }
 
@@ -434,18 +531,18 @@ mod tests {
             Rgb::ZERO,
             Rgb::ZERO,
         ];
-        let counts = ray_counts(&area, &reflectance, &unshot);
+        let counts = ray_counts(&shooting_weights(&area, &reflectance, &unshot), &area);
         // A budget of 56 rays. The zone's level is 96 / 8.04 = 11.9 W/m²
         // (channels summed), so the floor weighs 90 + 23.9, the wall
         // 6 + 23.9 and a book 0.06: the floor's 44 rays are held to the
         // most, the wall takes 12, the books the fewest.
         assert_eq!(counts, [MOST_RAYS, 12, FEWEST_RAYS, 2, 2, 2, 0]);
-        assert_eq!(
-            ray_counts(&[1.0, 1.0], &[0.5, 0.5], &[Rgb::ZERO; 2]),
-            [2, 2]
-        );
-        let nan = [Rgb::splat(f64::NAN), Rgb::ZERO];
-        assert_eq!(ray_counts(&[1.0, 1.0], &[0.5, 0.5], &nan), [2, 2]);
+        let counts = |unshot: &[Rgb]| {
+            let weights = shooting_weights(&[1.0, 1.0], &[0.5, 0.5], unshot);
+            ray_counts(&weights, &[1.0, 1.0])
+        };
+        assert_eq!(counts(&[Rgb::ZERO; 2]), [2, 2]);
+        assert_eq!(counts(&[Rgb::splat(f64::NAN), Rgb::ZERO]), [2, 2]);
     }
 
     /// Two patches that see only each other, reflectances ρ₀ and ρ₁, the
@@ -467,6 +564,67 @@ mod tests {
         assert!((total.r - 1.0).abs() < 1e-12, "{total:?}");
         assert_eq!(swept.escaped, Rgb::ZERO);
         assert!(swept.left.r <= 1e-12 / 3.0 && swept.sweeps > 10);
+    }
+
+    /// A large patch of reflectance ρ₀ holding power 1 faces a cluster of
+    /// two small ones, ρ₁ and ρ₂, half its rays landing on each; the
+    /// cluster's rays all land back on it. The cluster pools what its
+    /// members reflect, ρ̄ = (ρ₁ + ρ₂) / 2 of what it receives, and shoots
+    /// it as one: it receives 1 / (1 − ρ₀ρ̄) in all, half on each member,
+    /// and the ledger closes.
+    #[test]
+    fn a_cluster_pools_what_its_members_reflect_and_shoots_it_as_one() {
+        let (r0, r1, r2) = (0.5, 0.2, 0.8);
+        let links = Links {
+            hits: vec![1, 2, 1, 2, 0, 0, 0],
+            starts: vec![0, 4, 7],
+            counted: vec![4.0, 3.0],
+            reflectance: [r0, r1, r2].map(Rgb::splat).to_vec(),
+            node_of: vec![0, 1, 1],
+        };
+        let swept = links.shoot(vec![Rgb::ONE, Rgb::ZERO], 1e-12);
+        let cluster = 1.0 / (1.0 - r0 * (r1 + r2) / 2.0);
+        let received: Vec<f64> = swept.received.iter().map(|r| r.r).collect();
+        assert!((received[1] - cluster / 2.0).abs() < 1e-9, "{received:?}");
+        assert!((received[2] - cluster / 2.0).abs() < 1e-9, "{received:?}");
+        assert!((received[0] - (r1 + r2) / 2.0 * cluster).abs() < 1e-9);
+        let total = swept.absorbed + swept.escaped + swept.left;
+        assert!((total.r - 1.0).abs() < 1e-12, "{total:?}");
+    }
+
+    /// A cluster's members share what it received over its area; a patch
+    /// alone keeps its own, and one without area none.
+    #[test]
+    fn a_clusters_members_share_its_irradiance() {
+        let clusters = Clusters::of(
+            &[
+                PatchPlace {
+                    area: 0.01,
+                    normal: glam::DVec3::Z,
+                    centre: glam::DVec3::ZERO,
+                },
+                PatchPlace {
+                    area: 2.0,
+                    normal: glam::DVec3::Z,
+                    centre: glam::DVec3::ZERO,
+                },
+                PatchPlace {
+                    area: 0.03,
+                    normal: glam::DVec3::Z,
+                    centre: glam::DVec3::ZERO,
+                },
+                PatchPlace {
+                    area: 0.0,
+                    normal: glam::DVec3::Z,
+                    centre: glam::DVec3::ZERO,
+                },
+            ],
+            1.0,
+        );
+        let received = [1.0, 4.0, 0.0, 3.0].map(Rgb::splat);
+        let irradiance = pooled_irradiance(&clusters, &received, &[0.01, 2.0, 0.03, 0.0]);
+        let red: Vec<f64> = irradiance.iter().map(|e| e.r).collect();
+        assert_eq!(red, [25.0, 2.0, 25.0, 0.0]);
     }
 
     /// Rays that land nowhere carry their shares out of the zone, and the

@@ -14,6 +14,7 @@ use super::element_power;
 use super::energy_balance::EnergyBalance;
 use super::indexed_update;
 use super::mesh_settings::MeshKind;
+use super::patch_clusters::longest_patch_edge;
 use super::patch_reception::{PatchReception, ReceptionPlan};
 use super::patch_shots::{PatchShotInput, PatchShotSummary, PatchShots};
 use super::refinement::{Refiner, elements_to_split};
@@ -1481,6 +1482,11 @@ impl Solver {
             reflectance: &self.surface_reflectance,
             lossless: &self.surface_lossless,
             locator: &locator,
+            cluster_edge: if self.settings.patch_clusters {
+                longest_patch_edge(&self.mesh)
+            } else {
+                0.0
+            },
             visibility_of: &visibility_of,
         };
         let shots = PatchShots::shoot(&input, tolerance * emitted / unshot);
@@ -1505,6 +1511,8 @@ impl Solver {
             unshot_after: fraction(shots.left),
             sweeps: shots.sweeps,
             rays: shots.rays,
+            clusters: shots.clusters,
+            clustered_patches: shots.clustered_patches,
         })
     }
 

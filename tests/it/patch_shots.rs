@@ -118,3 +118,76 @@ fn only_a_run_that_converges_makes_patch_shots() {
     assert_eq!(solver.run_until(&limit, |_| {}), StopReason::ShotLimit);
     assert!(solver.patch_shot_summary().is_none());
 }
+
+/// One closed room of [`room_with_block`] with its lamp, and a shelf of
+/// 24 books (3 × 25 × 20 cm, two colours) standing on the floor along a
+/// wall, solved at the default settings but for the patch clusters.
+fn room_with_books(patch_clusters: bool) -> Solver {
+    let mut b = SceneBuilder::default();
+    let wall = b.material("wall", 0.6, 0.0);
+    let lamp = b.material("lamp", 0.0, 10.0);
+    let books = [b.material("red", 0.5, 0.0), b.material("cream", 0.8, 0.0)];
+    room_with_block(&mut b, wall, "0", DVec3::ZERO);
+    ceiling_lamp(&mut b, lamp, DVec3::ZERO);
+    for k in 0..24 {
+        let corner = DVec3::new(0.5 + 0.032 * f64::from(k), 0.0, 0.01);
+        for face in box_faces(DVec3::new(0.03, 0.25, 0.2)) {
+            let mut face: Vec<DVec3> = face.into_iter().map(|p| p + corner).collect();
+            face.reverse();
+            b.polygon("book", books[k as usize % 2], face);
+        }
+    }
+    let mut settings = Settings::default();
+    settings.mesh.max_edge = isorad::Length::Absolute(0.5);
+    settings.mesh.patch_max_edge = isorad::Length::Absolute(1.0);
+    settings.solver.patch_clusters = patch_clusters;
+    let mut solver = Solver::new(b.scene, settings).unwrap();
+    assert_eq!(solver.run(), StopReason::Converged);
+    solver
+}
+
+/// The books' small faces shoot and receive as a few clusters (spines,
+/// tops and each side facing one way): the patch shots cast fewer rays
+/// for the same light, and the ledger closes with the clusters' pooled
+/// power.
+#[test]
+fn a_shelf_of_books_shoots_as_a_few_clusters() {
+    let (alone, clustered) = (room_with_books(false), room_with_books(true));
+    let (a, c) = (
+        alone.patch_shot_summary().expect("patch shots"),
+        clustered.patch_shot_summary().expect("patch shots"),
+    );
+    println!("{a:?}\n{c:?}");
+    assert_eq!((a.clusters, a.clustered_patches), (0, 0));
+    // 24 books of three faces in sight each (their bottoms stand on the
+    // floor, their sides 2 mm apart hide each other) in a cluster or two
+    // a direction: the spines, the tops and the backs against the wall
+    // (the row crosses a cube of the patch edge).
+    assert!(c.clustered_patches >= 3 * 24, "{c:?}");
+    assert!(c.clusters <= 6, "{c:?}");
+    assert!(c.rays + 150 < a.rays, "{} against {} rays", c.rays, a.rays);
+    assert!(c.unshot_after <= 1e-4 && a.unshot_after <= 1e-4);
+    let ledger = clustered.energy_balance();
+    let sum = ledger.absorbed + ledger.unshot + ledger.escaped;
+    assert!((sum - ledger.emitted).abs().max_element() < 1e-9 * ledger.emitted.max_element());
+    // The same light, to the noise of the patch shots' few rays: over the
+    // room, and on the books themselves.
+    let mean = |solver: &Solver, of: &dyn Fn(&str) -> bool| {
+        let radiosity = solver.radiosity_with_ambient();
+        let (scene, mesh) = (solver.scene(), solver.mesh());
+        let (sum, count) = mesh
+            .vertices
+            .iter()
+            .zip(&radiosity)
+            .filter(|(v, _)| of(&scene.surface(v.surface).name))
+            .fold((0.0, 0usize), |(s, n), (_, b)| (s + b.element_sum(), n + 1));
+        sum / count as f64
+    };
+    let room = |name: &str| name != "lamp";
+    let book = |name: &str| name == "book";
+    for of in [&room as &dyn Fn(&str) -> bool, &book] {
+        let (a, c) = (mean(&alone, of), mean(&clustered, of));
+        println!("mean radiosity {a:.4} alone, {c:.4} clustered");
+        assert!((a - c).abs() < 0.01 * a, "{a} against {c}");
+    }
+}

@@ -233,10 +233,12 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
     );
     if let Some(shots) = patch_shots {
         eprintln!(
-            "patch shots: unshot {:.3} % after {} sweeps over the patches along {} rays",
+            "patch shots: unshot {:.3} % after {} sweeps over the patches along {} rays ({} clusters of {} small patches shot as one)",
             100.0 * shots.unshot_after,
             shots.sweeps,
-            shots.rays
+            shots.rays,
+            shots.clusters,
+            shots.clustered_patches
         );
     }
     let (interpolated, receptions) = solver.interpolated_receptions();
