@@ -602,6 +602,10 @@ impl Shooter {
 
     /// Whether a shadow ray from the receiver reaches `target` on this patch,
     /// both ends lifted off their surfaces.
+    // Inlined into the strata loops always: called out of line (as the
+    // compiler chose after unrelated changes), the 16 offices' solve took
+    // 3 % longer.
+    #[inline(always)]
     fn is_visible(
         &self,
         receiver: &Receiver,
