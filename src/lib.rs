@@ -112,6 +112,8 @@
 //!   "A New Stochastic Radiosity Method for Highly Complex Scenes", EGWR
 //!   1994; P. Bekaert, "Hierarchical and Stochastic Algorithms for
 //!   Radiosity", KU Leuven 1999 (the patch shots along fixed lines).
+//! - A. Willmott, P. Heckbert, M. Garland, "Face Cluster Radiosity", EGWR
+//!   1999 (the clutter's small patches shot as clusters).
 
 #![warn(missing_docs)]
 
