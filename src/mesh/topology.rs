@@ -149,6 +149,20 @@ impl Mesh {
         (self.vertices.len() - 1) as u32
     }
 
+    /// The longest edge of any patch: the mesher's patch edge
+    /// (`patch_max_edge`), or shorter where no surface is that large.
+    #[must_use]
+    pub fn longest_patch_edge(&self) -> f64 {
+        let longest = |polygon: &[DVec3]| {
+            let edges = polygon.iter().zip(polygon.iter().cycle().skip(1));
+            edges.map(|(a, b)| a.distance(*b)).fold(0.0, f64::max)
+        };
+        self.patches
+            .iter()
+            .map(|patch| longest(patch.cell.polygon()))
+            .fold(0.0, f64::max)
+    }
+
     /// Adds an empty patch of a surface.
     pub fn add_patch(&mut self, surface: SurfaceId, cell: Cell) -> u32 {
         self.patches.push(Patch {

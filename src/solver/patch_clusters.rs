@@ -4,13 +4,14 @@
 //! A shelf of books is hundreds of patches of a few square centimetres:
 //! the cluttered office of `bench/generate_building.py` has 1,085 book
 //! patches among its 1,735. Shot one by one, each casts rays of its own
-//! (`patch_shots.rs`: at least [`super::patch_shots::FEWEST_RAYS`]) and
+//! (`patch_shots.rs`: at least two) and
 //! keeps the few shares that happen to land on it. Seen from across the
 //! room, a row of spines is one surface: a face cluster (Willmott,
 //! Heckbert & Garland 1999) stands for it, with the power and the area of
 //! its members. Here a cluster is the zone's small patches, each of at most
 //! [`SMALL_AREA`] of a full patch's area (a square a quarter of the patch
-//! edge on a side), whose normals agree to [`NORMAL_STEP`] and whose
+//! edge on a side), in one closed zone, whose normals round to one point
+//! of a lattice of step [`NORMAL_STEP`] and whose
 //! centres lie in one cube of the patch edge and in one slab a quarter of
 //! it deep along that normal: spines facing the room on one shelf, the
 //! books' tops under the board above, their sides facing left. Faces that
@@ -37,14 +38,16 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use crate::mesh::Mesh;
+use crate::scene::Rgb;
 
 /// The largest patch a cluster takes, as a share of a full patch's area
 /// (the patch edge squared): a square a quarter of the edge on a side.
 const SMALL_AREA: f64 = 1.0 / 16.0;
 
-/// Normals are compared on a lattice of this step per component: within a
-/// degree or so, and axis-aligned faces exactly.
+/// Normals are rounded to a lattice of this step per component, and only
+/// those that round to one point cluster: normals a degree or so apart,
+/// and axis-aligned faces exactly (two a hair apart may still round to
+/// neighbouring points and stay apart).
 const NORMAL_STEP: f64 = 1.0 / 64.0;
 
 /// The depth of a cluster's slab along its normal, as a share of the
@@ -60,6 +63,9 @@ pub(crate) struct PatchPlace {
     pub(crate) normal: DVec3,
     /// Its cell's centre.
     pub(crate) centre: DVec3,
+    /// The closed zone its surface lies in: a cluster keeps to one, even
+    /// where a solve shoots several rooms as one zone (without the cull).
+    pub(crate) zone: u32,
 }
 
 /// A zone's patches as shooting nodes: each node a cluster of small patches
@@ -74,7 +80,7 @@ pub(crate) struct Clusters {
 
 impl Clusters {
     /// Each of `count` patches a node of its own.
-    pub(crate) fn none(count: usize) -> Clusters {
+    pub(crate) fn singletons(count: usize) -> Clusters {
         Clusters {
             members: (0..count as u32).collect(),
             starts: (0..=count).collect(),
@@ -87,10 +93,10 @@ impl Clusters {
     /// that sweeps over them keep the zone's order.
     pub(crate) fn of(places: &[PatchPlace], patch_edge: f64) -> Clusters {
         if !(patch_edge.is_finite() && patch_edge > 0.0) {
-            return Clusters::none(places.len());
+            return Clusters::singletons(places.len());
         }
         let small = SMALL_AREA * patch_edge * patch_edge;
-        let mut node_of_key: HashMap<[i64; 7], usize> = HashMap::new();
+        let mut node_of_key: HashMap<[i64; 8], usize> = HashMap::new();
         let mut node_of = Vec::with_capacity(places.len());
         let mut nodes = 0usize;
         for place in places {
@@ -136,6 +142,43 @@ impl Clusters {
     /// Every patch, node by node.
     pub(crate) fn order(&self) -> &[u32] {
         &self.members
+    }
+
+    /// Each patch's node.
+    pub(crate) fn node_of(&self) -> Vec<u32> {
+        let mut node_of = vec![0u32; self.members.len()];
+        for n in 0..self.len() {
+            for &k in self.members(n) {
+                node_of[k as usize] = n as u32;
+            }
+        }
+        node_of
+    }
+
+    /// Σ_{k ∈ n} value(k) for each node n, patches indexed as the zone's.
+    pub(crate) fn sum_by_node<T: std::iter::Sum<T>>(&self, value: impl Fn(usize) -> T) -> Vec<T> {
+        (0..self.len())
+            .map(|n| self.members(n).iter().map(|&k| value(k as usize)).sum())
+            .collect()
+    }
+
+    /// The irradiance each patch keeps, E_k = Σ_{m ∈ n} P_m / Σ_{m ∈ n} A_m
+    /// over the members m of its node n, from the power P each patch
+    /// `received` and its `area` A: a cluster receives as one, and its
+    /// members share its light; a patch alone keeps its own; a node
+    /// without area keeps none.
+    pub(crate) fn pooled_irradiance(&self, received: &[Rgb], area: &[f64]) -> Vec<Rgb> {
+        let mut irradiance = vec![Rgb::ZERO; received.len()];
+        let power = self.sum_by_node(|k| received[k]);
+        let node_area = self.sum_by_node(|k| area[k]);
+        for (n, (&power, &node_area)) in power.iter().zip(&node_area).enumerate() {
+            if node_area > 0.0 {
+                for &k in self.members(n) {
+                    irradiance[k as usize] = power / node_area;
+                }
+            }
+        }
+        irradiance
     }
 
     /// The rays each patch casts when node n casts `node_rays[n]`, shared
@@ -191,23 +234,11 @@ impl Clusters {
     }
 }
 
-/// The longest edge of any of `mesh`'s patches: the mesher's patch edge
-/// (`patch_max_edge`), or shorter where no surface is that large.
-pub(crate) fn longest_patch_edge(mesh: &Mesh) -> f64 {
-    let longest = |polygon: &[DVec3]| {
-        let edges = polygon.iter().zip(polygon.iter().cycle().skip(1));
-        edges.map(|(a, b)| a.distance(*b)).fold(0.0, f64::max)
-    };
-    mesh.patches
-        .iter()
-        .map(|patch| longest(patch.cell.polygon()))
-        .fold(0.0, f64::max)
-}
-
 /// Where a small patch clusters: its normal on the lattice, the cube of the
-/// patch edge its centre lies in, and its slab along the normal; `None` for
+/// patch edge its centre lies in, its slab along the normal and its zone;
+/// `None` for
 /// a patch that stays alone (too large, without area, or not a number).
-fn cluster_key(place: &PatchPlace, small: f64, patch_edge: f64) -> Option<[i64; 7]> {
+fn cluster_key(place: &PatchPlace, small: f64, patch_edge: f64) -> Option<[i64; 8]> {
     let finite = place.normal.is_finite() && place.centre.is_finite();
     if !(finite && place.area > 0.0 && place.area <= small) {
         return None;
@@ -217,7 +248,8 @@ fn cluster_key(place: &PatchPlace, small: f64, patch_edge: f64) -> Option<[i64; 
     let depth = place.centre.dot(normal.normalize_or_zero()) / (SLAB * patch_edge);
     let [nx, ny, nz] = normal.to_array().map(|c| c as i64);
     let [cx, cy, cz] = cube.to_array().map(|c| c as i64);
-    Some([nx, ny, nz, cx, cy, cz, depth.floor() as i64])
+    let zone = i64::from(place.zone);
+    Some([nx, ny, nz, cx, cy, cz, depth.floor() as i64, zone])
 }
 
 #[cfg(test)]
@@ -229,6 +261,7 @@ mod tests {
             area,
             normal,
             centre,
+            zone: 0,
         }
     }
 
@@ -291,9 +324,32 @@ mod tests {
         assert_eq!(rays, [2, 0, 6, 5]);
         let rays = clusters.member_rays(&[8, 5], &[0.0; 4], &areas);
         assert_eq!(rays, [2, 2, 4, 5]);
-        let rays = clusters.member_rays(&[3, 0], &[f64::NAN, 1.0, 1.0, 1.0], &areas);
-        assert_eq!(rays.iter().sum::<usize>(), 3);
-        assert_eq!(rays[3], 0);
+        let rays = clusters.member_rays(&[4, 0], &[f64::NAN, 1.0, 1.0, 1.0], &areas);
+        assert_eq!(rays, [1, 1, 2, 0]);
+    }
+
+    /// A cluster's members share what it received over its area; a patch
+    /// alone keeps its own, and one without area none.
+    #[test]
+    fn a_clusters_members_share_its_irradiance() {
+        let areas = [0.01, 2.0, 0.03, 0.0];
+        let places = areas.map(|area| place(area, DVec3::Z, DVec3::ZERO));
+        let clusters = Clusters::of(&places, 1.0);
+        let received = [1.0, 4.0, 0.0, 3.0].map(Rgb::splat);
+        let irradiance = clusters.pooled_irradiance(&received, &areas);
+        let red: Vec<f64> = irradiance.iter().map(|e| e.r).collect();
+        assert_eq!(red, [25.0, 2.0, 25.0, 0.0]);
+        assert_eq!(clusters.node_of(), [0, 1, 0, 2]);
+    }
+
+    /// Patches of different zones stay apart, however close.
+    #[test]
+    fn a_cluster_keeps_to_its_zone() {
+        let mut places = [place(0.01, DVec3::Z, DVec3::splat(0.5)); 3];
+        places[1].zone = 1;
+        let clusters = Clusters::of(&places, 1.0);
+        assert_eq!(clusters.members(0), [0, 2]);
+        assert_eq!(clusters.members(1), [1]);
     }
 
     /// Without a usable patch edge, or with places that are no numbers,
@@ -302,10 +358,10 @@ mod tests {
     fn nothing_clusters_without_a_patch_edge_or_a_number() {
         let places = [place(0.01, DVec3::Z, DVec3::ZERO); 3];
         for edge in [0.0, f64::NAN, f64::INFINITY] {
-            assert_eq!(Clusters::of(&places, edge), Clusters::none(3));
+            assert_eq!(Clusters::of(&places, edge), Clusters::singletons(3));
         }
         let nan = [place(0.01, DVec3::Z, DVec3::splat(f64::NAN)); 2];
-        assert_eq!(Clusters::of(&nan, 1.0), Clusters::none(2));
+        assert_eq!(Clusters::of(&nan, 1.0), Clusters::singletons(2));
         assert_eq!(Clusters::of(&places, 1.0).clustered(), (1, 3));
     }
 }

@@ -8,8 +8,8 @@
 //! work around few rays: a dim reflected shot is smooth, and its vertex
 //! gathers buy little. A patch shot is the coarsest level of the
 //! hierarchy (Hanrahan, Salzman & Aupperle 1991): patch to patch, with
-//! the form factors estimated by the patches' own rays, a few a patch
-//! ([`ray_counts`]), cosine-weighted from stratified points on each
+//! the form factors estimated by the patches' own rays, a few a patch or
+//! cluster ([`ray_counts`]), cosine-weighted from stratified points on each
 //! patch's elements, cast as the ambient term's are (`ambient.rs`). Ray k
 //! of patch p landing on patch h is a sample of F_ph: p's unshot power
 //! Φ_p goes out in equal shares
@@ -25,8 +25,8 @@
 //! least half do: `ambient::rays_counted`), as the zone's vertex shots land
 //! whole. Every share goes somewhere, so the energy ledger closes exactly:
 //! Σ Φ before = absorbed + escaped + Σ Φ left. The patches shoot in sweeps,
-//! each patch its whole unshot power in index order, what it receives
-//! shot at its next turn (Gauss–Seidel: Cohen & Wallace 1993, §5.3; with
+//! each node (a patch, or a cluster below) its whole unshot power in the
+//! order of its first patch, what it receives shot at its next turn (Gauss–Seidel: Cohen & Wallace 1993, §5.3; with
 //! fixed lines, Neumann et al. 1994, Bekaert 1999). A sweep costs one
 //! addition a ray, so a room's few thousand rays carry every bounce.
 //! Zones exchange no light: each casts its own rays, in its own BVH, and
@@ -34,12 +34,14 @@
 //! the same share of its unshot power for every zone.
 //!
 //! A room's small patches that stand side by side facing the same way
-//! (a shelf's spines) shoot and receive as one node, a cluster
+//! (a shelf's spines) shoot and receive as one node N, a cluster
 //! (`patch_clusters.rs`): its rays leave from its members, what lands on
-//! any member joins its pooled unshot power, and each member keeps the
-//! cluster's irradiance. Other patches are nodes alone.
+//! a member h joins N's pooled unshot power, ΔΦ_N += ρ_h Φ_p / n_p, and
+//! each member keeps the cluster's irradiance. Other patches are nodes
+//! alone.
 //!
-//! Each patch keeps the irradiance P_h / A_h it received. The ambient
+//! Each patch keeps the irradiance its node received, Σ_{h ∈ N} P_h /
+//! Σ_{h ∈ N} A_h (a patch alone: P_h / A_h). The ambient
 //! term reads ρ_h times it as what patch h will still reflect, its
 //! residual (`ambient.rs`), and gathers it at the vertices of the rooms an
 //! image, a probe or an export reads; `Solver::solution` keeps the
@@ -69,7 +71,7 @@ use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 /// members). Where most nodes are small and dim, most take the fewest and
 /// the mean falls below the budget. Before clusters, the offices'
 /// patches cast about 5 on average (the furnished office 8.6); with them
-/// the cluttered office's 631 nodes cast 4,957 rays, 2.9 a patch.
+/// the cluttered office's 634 nodes cast 4,971 rays, 2.9 a patch.
 ///
 /// The image's ambient term resolves the patches' further bounces at its
 /// vertices along their own rays (`ambient_sweeps.rs`), so the patches'
@@ -81,7 +83,7 @@ use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 /// office 3.86, 3.86, 3.86 and 3.87 % (before clusters). The rays are
 /// most of the patch shots' time: 16 closed offices cast 144,465 rays
 /// with a budget of 8 a patch (5.2 a patch: most of their patches are
-/// books, which cast 2), 79,888 with the clusters, 446,224 with 16 for
+/// books, which cast 2), 80,363 with the clusters, 446,224 with 16 for
 /// every patch (0.10 s) and 1.8 million with 64 (0.36 s).
 const MEAN_RAYS: f64 = 8.0;
 
@@ -114,8 +116,9 @@ pub(crate) struct PatchShots {
     pub(crate) sweeps: usize,
     /// Rays cast.
     pub(crate) rays: u64,
-    /// Clusters of more than one patch, and the patches in them.
+    /// Clusters of more than one patch.
     pub(crate) clusters: usize,
+    /// The patches in those clusters.
     pub(crate) clustered_patches: usize,
 }
 
@@ -130,8 +133,8 @@ pub struct PatchShotSummary {
     pub unshot_after: f64,
     /// The most sweeps over its patches a zone took.
     pub sweeps: usize,
-    /// Rays cast, between 2 and 32 a patch or cluster (none in a zone
-    /// without unshot power).
+    /// Rays cast: 2 to 32 a patch alone or a cluster, which shares its
+    /// among its members (none in a zone without unshot power).
     pub rays: u64,
     /// Clusters of small patches that shot and received as one.
     pub clusters: usize,
@@ -154,9 +157,11 @@ pub(crate) struct PatchShotInput<'a, 'v> {
     /// Whether each surface's zone keeps all its light.
     pub(crate) lossless: &'a [bool],
     pub(crate) locator: &'a PatchLocator,
+    /// The closed zone of each surface, which a cluster keeps to.
+    pub(crate) surface_zone: &'a [u32],
     /// The longest patch edge, which bounds a cluster's extent
-    /// (`patch_clusters.rs`); zero for no clusters.
-    pub(crate) cluster_edge: f64,
+    /// (`patch_clusters.rs`); `None` for no clusters.
+    pub(crate) cluster_edge: Option<f64>,
     /// The BVH a ray from a surface traverses: its closed zone's.
     pub(crate) visibility_of: &'a (dyn Fn(SurfaceId) -> &'v Visibility + Sync),
 }
@@ -212,8 +217,9 @@ struct ZoneShots {
     escaped: Rgb,
     sweeps: usize,
     rays: u64,
-    /// Clusters of more than one patch, and the patches in them.
+    /// Clusters of more than one patch.
     clusters: usize,
+    /// The patches in those clusters.
     clustered_patches: usize,
 }
 
@@ -242,24 +248,14 @@ impl ZoneShots {
                 input.reflectance[surface].element_sum() / 3.0
             })
             .collect();
-        let clusters = ZoneShots::clusters(input, patches);
+        let clusters = zone_clusters(input, patches);
         let weights = shooting_weights(&area, &reflectance, &unshot_power);
-        let node_sum = |of: &dyn Fn(usize) -> f64| -> Vec<f64> {
-            (0..clusters.len())
-                .map(|n| clusters.members(n).iter().map(|&k| of(k as usize)).sum())
-                .collect()
-        };
-        let node_rays = ray_counts(&node_sum(&|k| weights[k]), &node_sum(&|k| area[k]));
+        let node_rays = ray_counts(
+            &clusters.sum_by_node(|k| weights[k]),
+            &clusters.sum_by_node(|k| area[k]),
+        );
         let counts = clusters.member_rays(&node_rays, &weights, &area);
-        let node_power = (0..clusters.len())
-            .map(|n| {
-                clusters
-                    .members(n)
-                    .iter()
-                    .map(|&k| unshot_power[k as usize])
-                    .sum()
-            })
-            .collect();
+        let node_power = clusters.sum_by_node(|k| unshot_power[k]);
         let links = Links::cast(input, patches, &clusters, &counts);
         let shot = links.shoot(node_power, left_share * before.element_sum());
         // What each cluster received, over its area, for each of its
@@ -268,7 +264,7 @@ impl ZoneShots {
         // sees sent), a patch would read its own light returned along the
         // very rays that carried it out, and a closed room of reflectance
         // 0.95 came out 2.3 % bright.
-        let irradiance = pooled_irradiance(&clusters, &shot.received, &area);
+        let irradiance = clusters.pooled_irradiance(&shot.received, &area);
         let (clustered, clustered_patches) = clusters.clustered();
         ZoneShots {
             irradiance,
@@ -282,43 +278,28 @@ impl ZoneShots {
             clustered_patches,
         }
     }
-
-    /// The zone's patches as shooting nodes: its small patches side by
-    /// side facing one way clustered (`patch_clusters.rs`), unless the
-    /// input has no patch edge.
-    fn clusters(input: &PatchShotInput, patches: &[u32]) -> Clusters {
-        let places: Vec<PatchPlace> = patches
-            .iter()
-            .map(|&p| {
-                let patch = &input.mesh.patches[p as usize];
-                PatchPlace {
-                    area: input.areas[p as usize],
-                    normal: input.scene.surface(patch.surface).normal(),
-                    centre: patch.cell.centre(),
-                }
-            })
-            .collect();
-        Clusters::of(&places, input.cluster_edge)
-    }
 }
 
-/// The irradiance each patch keeps: what its node received over the node's
-/// area, from the power each patch `received` and each patch's `area`. A
-/// cluster receives as one, and its members share its light; a node
-/// without area keeps none.
-fn pooled_irradiance(clusters: &Clusters, received: &[Rgb], area: &[f64]) -> Vec<Rgb> {
-    let mut irradiance = vec![Rgb::ZERO; received.len()];
-    for n in 0..clusters.len() {
-        let members = clusters.members(n);
-        let area: f64 = members.iter().map(|&k| area[k as usize]).sum();
-        let power: Rgb = members.iter().map(|&k| received[k as usize]).sum();
-        if area > 0.0 {
-            for &k in members {
-                irradiance[k as usize] = power / area;
+/// The zone of `patches`' nodes: its small patches side by side facing one
+/// way clustered (`patch_clusters.rs`), unless the input's clusters are
+/// off.
+fn zone_clusters(input: &PatchShotInput, patches: &[u32]) -> Clusters {
+    let places: Vec<PatchPlace> = patches
+        .iter()
+        .map(|&p| {
+            let patch = &input.mesh.patches[p as usize];
+            PatchPlace {
+                area: input.areas[p as usize],
+                normal: input.scene.surface(patch.surface).normal(),
+                centre: patch.cell.centre(),
+                zone: input.surface_zone[patch.surface.index()],
             }
-        }
+        })
+        .collect();
+    match input.cluster_edge {
+        Some(edge) => Clusters::of(&places, edge),
+        None => Clusters::singletons(places.len()),
     }
-    irradiance
 }
 
 /// The power each patch of a zone will shoot, for its `area`, mean
@@ -340,10 +321,9 @@ fn shooting_weights(area: &[f64], reflectance: &[f64], unshot_power: &[Rgb]) -> 
 }
 
 /// The rays each node of a zone (a patch, or a cluster of patches) casts,
-/// for the power it will shoot, `weights` ([`shooting_weights`]), and its
-/// `area`: [`MEAN_RAYS`] times the nodes' count, shared in proportion to
-/// the weights, rounded and held between [`FEWEST_RAYS`] and
-/// [`MOST_RAYS`]; none for a node without area (all of it under
+/// for the power it will shoot, `weights` w ([`shooting_weights`]), and its
+/// `area`: n = clamp(round(8 N w / Σ w), 2, 32) for N nodes
+/// ([`MEAN_RAYS`], [`FEWEST_RAYS`], [`MOST_RAYS`]); none for a node without area (all of it under
 /// objects), which neither receives nor shoots. The power a node sends
 /// along n rays reaches each patch it lands on with a variance of Φ² / n,
 /// and the sum of those over the patches is least, for a given number of
@@ -418,7 +398,7 @@ impl Links {
                 (0..count).map(move |ray| {
                     let h = patch_ray(parts, (p, ray, count), locator, visibility_of);
                     match patches.binary_search(&h) {
-                        Ok(k) if input.areas[h as usize] > 0.0 => k as u32,
+                        Ok(landing) if input.areas[h as usize] > 0.0 => landing as u32,
                         _ => MISS,
                     }
                 })
@@ -436,18 +416,12 @@ impl Links {
         let reflectance = (0..patches.len())
             .map(|k| input.reflectance[surface(k)])
             .collect();
-        let mut node_of = vec![0u32; patches.len()];
-        for n in 0..clusters.len() {
-            for &k in clusters.members(n) {
-                node_of[k as usize] = n as u32;
-            }
-        }
         Links {
             hits,
             starts,
             counted,
             reflectance,
-            node_of,
+            node_of: clusters.node_of(),
         }
     }
 
@@ -600,41 +574,6 @@ mod tests {
         assert!((received[0] - (r1 + r2) / 2.0 * cluster).abs() < 1e-9);
         let total = swept.absorbed + swept.escaped + swept.left;
         assert!((total.r - 1.0).abs() < 1e-12, "{total:?}");
-    }
-
-    /// A cluster's members share what it received over its area; a patch
-    /// alone keeps its own, and one without area none.
-    #[test]
-    fn a_clusters_members_share_its_irradiance() {
-        let clusters = Clusters::of(
-            &[
-                PatchPlace {
-                    area: 0.01,
-                    normal: glam::DVec3::Z,
-                    centre: glam::DVec3::ZERO,
-                },
-                PatchPlace {
-                    area: 2.0,
-                    normal: glam::DVec3::Z,
-                    centre: glam::DVec3::ZERO,
-                },
-                PatchPlace {
-                    area: 0.03,
-                    normal: glam::DVec3::Z,
-                    centre: glam::DVec3::ZERO,
-                },
-                PatchPlace {
-                    area: 0.0,
-                    normal: glam::DVec3::Z,
-                    centre: glam::DVec3::ZERO,
-                },
-            ],
-            1.0,
-        );
-        let received = [1.0, 4.0, 0.0, 3.0].map(Rgb::splat);
-        let irradiance = pooled_irradiance(&clusters, &received, &[0.01, 2.0, 0.03, 0.0]);
-        let red: Vec<f64> = irradiance.iter().map(|e| e.r).collect();
-        assert_eq!(red, [25.0, 2.0, 25.0, 0.0]);
     }
 
     /// Rays that land nowhere carry their shares out of the zone, and the

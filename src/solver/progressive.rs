@@ -14,7 +14,6 @@ use super::element_power;
 use super::energy_balance::EnergyBalance;
 use super::indexed_update;
 use super::mesh_settings::MeshKind;
-use super::patch_clusters::longest_patch_edge;
 use super::patch_reception::{PatchReception, ReceptionPlan};
 use super::patch_shots::{PatchShotInput, PatchShotSummary, PatchShots};
 use super::refinement::{Refiner, elements_to_split};
@@ -89,6 +88,13 @@ pub struct Solver {
     /// end on no front are left out of their source's mean
     /// ([`SolverSettings::conserve_closed_zones`]).
     surface_lossless: Vec<bool>,
+    /// Per surface, the closed zone it lies in (all 0 when the zones were
+    /// not found): a patch cluster keeps to one (`patch_clusters.rs`).
+    surface_zone: Vec<u32>,
+    /// The longest patch edge: the mesh settings' `patch_max_edge` when
+    /// the solver meshed the scene, the mesh's longest patch edge when the
+    /// caller brought it. It bounds a patch cluster's extent.
+    patch_edge: f64,
     /// What meshing found (empty when the caller brought the mesh).
     analysis: MeshAnalysis,
     /// How far each surface's boundary vertices gather inside it, by
@@ -236,6 +242,7 @@ impl Solver {
         let mut solver = Self::with_parts(scene, parts, settings.solver);
         solver.refiner = refiner;
         solver.receiver_insets = receiver_insets;
+        solver.patch_edge = settings.mesh.square_for(&solver.scene).patch_max_edge;
         Ok(solver)
     }
 
@@ -295,23 +302,31 @@ impl Solver {
             None if settings.cull_closed_zones => Some(Zones::new(&scene, &visibility)),
             zones => zones,
         };
-        let surface_lossless = if settings.conserve_closed_zones {
-            // Without the cull, the zones' labels alone (no BVH per zone).
-            let built;
-            let labels = match &zones {
-                Some(zones) => zones.labels(),
-                None => {
-                    built = ZoneLabels::new(&scene, &visibility);
-                    &built
-                }
-            };
-            scene
+        // Without the cull, the zones' labels alone (no BVH per zone).
+        let built;
+        let labels = match &zones {
+            Some(zones) => Some(zones.labels()),
+            None if settings.conserve_closed_zones => {
+                built = ZoneLabels::new(&scene, &visibility);
+                Some(&built)
+            }
+            None => None,
+        };
+        let surface_lossless = match labels {
+            Some(labels) if settings.conserve_closed_zones => scene
                 .surfaces_with_ids()
                 .map(|(id, _)| labels.is_lossless(labels.of(id)))
-                .collect()
-        } else {
-            vec![false; scene.surfaces.len()]
+                .collect(),
+            _ => vec![false; scene.surfaces.len()],
         };
+        let surface_zone = match labels {
+            Some(labels) => scene
+                .surfaces_with_ids()
+                .map(|(id, _)| labels.of(id) as u32)
+                .collect(),
+            None => vec![0; scene.surfaces.len()],
+        };
+        let patch_edge = mesh.longest_patch_edge();
         let zones = zones
             .filter(|zones| settings.cull_closed_zones && zones.count() > 1)
             .map(|zones| (zones, ZoneMembers::default()));
@@ -353,6 +368,8 @@ impl Solver {
             visibility,
             zones,
             surface_lossless,
+            surface_zone,
+            patch_edge,
             analysis,
             receiver_insets,
             settings,
@@ -1482,11 +1499,8 @@ impl Solver {
             reflectance: &self.surface_reflectance,
             lossless: &self.surface_lossless,
             locator: &locator,
-            cluster_edge: if self.settings.patch_clusters {
-                longest_patch_edge(&self.mesh)
-            } else {
-                0.0
-            },
+            surface_zone: &self.surface_zone,
+            cluster_edge: self.settings.patch_clusters.then_some(self.patch_edge),
             visibility_of: &visibility_of,
         };
         let shots = PatchShots::shoot(&input, tolerance * emitted / unshot);

@@ -61,8 +61,10 @@ pub struct SolverSettings {
     /// to patch until at most this fraction of the emitted power is left,
     /// every zone counted in full (0.0001; `solver/patch_shots.rs`): the
     /// dim reflected light carried at the coarsest level, patches, along
-    /// a few rays a patch (2 to 32, by the power each will shoot), each
-    /// sweep over a room's patches one addition a ray. The rays are most of the cost, so a ten-thousandth costs about
+    /// a few rays a patch (2 to 32 a patch or cluster of small patches, by
+    /// the power each will shoot: [`SolverSettings::patch_clusters`]),
+    /// each sweep over a room's patches one addition a ray. The rays are
+    /// most of the cost, so a ten-thousandth costs about
     /// what a hundredth does (16 closed offices: 0.10 s either way, eight
     /// sweeps a room). The ambient term then reads what each patch
     /// received as what it will still reflect. In (0, 1]; 1 shoots none
@@ -74,9 +76,9 @@ pub struct SolverSettings {
     /// and receives for all of them (true; `solver/patch_clusters.rs`):
     /// patches of at most a sixteenth of a full patch's area, normals
     /// within about a degree, centres in one cube of the patch edge and
-    /// one slab a quarter of it deep. The cluttered office's 1,314 small
+    /// one slab a quarter of it deep. The cluttered office's 1,309 small
     /// patches (books, the trays', chairs' and monitors' parts) shoot as
-    /// 210 clusters, and its patch shots cast 4,957 rays instead of 8,987,
+    /// 208 clusters, and its patch shots cast 4,971 rays instead of 8,987,
     /// for the same image to 0.05 % per pixel (BENCHMARKS.md, (e)).
     pub patch_clusters: bool,
     /// Stop after this many shots whatever the unshot power.
