@@ -72,8 +72,9 @@ impl Cell {
     // through memory, x and y in one 16-byte store and z in an 8-byte
     // one, and the shots' strata loop (as compiled after unrelated
     // changes) loaded y and z back in one 16-byte load across the two,
-    // which the processor cannot forward from the stores: that stall cost
-    // the 16 offices' solve 7 % (perf annotate, 2026-12-06).
+    // which the processor cannot forward from the stores: that stall took
+    // 17 % of the loop's samples and 4 % of the 16 offices' solve (perf
+    // annotate, 2026-12-06).
     #[must_use]
     #[inline]
     pub fn point(&self, s: f64, t: f64) -> DVec3 {

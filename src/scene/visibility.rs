@@ -493,10 +493,10 @@ fn shaft_hit_mask(node: &CwBvhNode, shaft: &Shaft, oct_inv4: u32) -> u32 {
 /// the ray reaches (with the ray, whose `tmax` it may shorten to the
 /// nearest hit), until `visit` returns false: obvhs's traversal loop (its
 /// exported `traverse!`, which `ray_traverse` and `ray_traverse_miss`
-/// wrap), inlined into each query. Behind obvhs's call the ray went
-/// through memory, and whether the compiler inlined that call changed
-/// with code elsewhere in the crate: out of line, the shadow rays cost the
-/// 16 offices' solve 4 % more.
+/// wrap), inlined into each query as the shaft query's is. Whether the
+/// compiler inlined obvhs's functions into the queries changed with code
+/// elsewhere in the crate (on 2026-12-06 they went out of line, with the
+/// ray passed through memory); written here, the loop stays in place.
 #[inline(always)]
 fn traverse(bvh: &CwBvh, ray: &mut Ray, mut visit: impl FnMut(&mut Ray, usize) -> bool) {
     let mut state = bvh.new_traversal(ray.direction);

@@ -26,8 +26,9 @@
 //! whole. Every share goes somewhere, so the energy ledger closes exactly:
 //! Σ Φ before = absorbed + escaped + Σ Φ left. The patches shoot in sweeps,
 //! each node (a patch, or a cluster below) its whole unshot power in the
-//! order of its first patch, what it receives shot at its next turn (Gauss–Seidel: Cohen & Wallace 1993, §5.3; with
-//! fixed lines, Neumann et al. 1994, Bekaert 1999). A sweep costs one
+//! order of its first patch, what it receives shot at its next turn
+//! (Gauss–Seidel: Cohen & Wallace 1993, §5.3; with fixed lines, Neumann
+//! et al. 1994, Bekaert 1999). A sweep costs one
 //! addition a ray, so a room's few thousand rays carry every bounce.
 //! Zones exchange no light: each casts its own rays, in its own BVH, and
 //! shoots on its own until it holds at most its share of the tolerance,
@@ -133,8 +134,9 @@ pub struct PatchShotSummary {
     pub unshot_after: f64,
     /// The most sweeps over its patches a zone took.
     pub sweeps: usize,
-    /// Rays cast: 2 to 32 a patch alone or a cluster, which shares its
-    /// among its members (none in a zone without unshot power).
+    /// Rays cast: 2 to 32 for each patch alone and each cluster, which
+    /// shares its rays among its members (none in a zone without unshot
+    /// power).
     pub rays: u64,
     /// Clusters of small patches that shot and received as one.
     pub clusters: usize,
@@ -159,8 +161,8 @@ pub(crate) struct PatchShotInput<'a, 'v> {
     pub(crate) locator: &'a PatchLocator,
     /// The closed zone of each surface, which a cluster keeps to.
     pub(crate) surface_zone: &'a [u32],
-    /// The longest patch edge, which bounds a cluster's extent
-    /// (`patch_clusters.rs`); `None` for no clusters.
+    /// The patch edge the mesh was made for, which bounds a cluster's
+    /// extent (`patch_clusters.rs`); `None` for no clusters.
     pub(crate) cluster_edge: Option<f64>,
     /// The BVH a ray from a surface traverses: its closed zone's.
     pub(crate) visibility_of: &'a (dyn Fn(SurfaceId) -> &'v Visibility + Sync),
@@ -280,9 +282,9 @@ impl ZoneShots {
     }
 }
 
-/// The zone of `patches`' nodes: its small patches side by side facing one
-/// way clustered (`patch_clusters.rs`), unless the input's clusters are
-/// off.
+/// The nodes of the zone of `patches`: its small patches side by side
+/// facing one way clustered (`patch_clusters.rs`), unless the input's
+/// clusters are off; every other patch a node alone.
 fn zone_clusters(input: &PatchShotInput, patches: &[u32]) -> Clusters {
     let places: Vec<PatchPlace> = patches
         .iter()
@@ -323,8 +325,9 @@ fn shooting_weights(area: &[f64], reflectance: &[f64], unshot_power: &[Rgb]) -> 
 /// The rays each node of a zone (a patch, or a cluster of patches) casts,
 /// for the power it will shoot, `weights` w ([`shooting_weights`]), and its
 /// `area`: n = clamp(round(8 N w / Σ w), 2, 32) for N nodes
-/// ([`MEAN_RAYS`], [`FEWEST_RAYS`], [`MOST_RAYS`]); none for a node without area (all of it under
-/// objects), which neither receives nor shoots. The power a node sends
+/// ([`MEAN_RAYS`], [`FEWEST_RAYS`], [`MOST_RAYS`]); none for a node
+/// without area (all of it under objects), which neither receives nor
+/// shoots. The power a node sends
 /// along n rays reaches each patch it lands on with a variance of Φ² / n,
 /// and the sum of those over the patches is least, for a given number of
 /// rays, where n goes as Φ.
@@ -382,13 +385,8 @@ impl Links {
         let (locator, visibility_of) = (input.locator, input.visibility_of);
         let mut starts = Vec::with_capacity(clusters.len() + 1);
         starts.push(0);
-        for n in 0..clusters.len() {
-            let rays: usize = clusters
-                .members(n)
-                .iter()
-                .map(|&k| counts[k as usize])
-                .sum();
-            starts.push(starts[n] + rays);
+        for rays in clusters.sum_by_node(|k| counts[k]) {
+            starts.push(starts[starts.len() - 1] + rays);
         }
         let hits: Vec<u32> = clusters
             .order()
@@ -405,7 +403,8 @@ impl Links {
             })
             .collect();
         let surface = |k: usize| input.mesh.patches[patches[k] as usize].surface.index();
-        // A node's patches lie in one zone, which keeps its light or not.
+        // A node's patches lie in one closed zone (the cluster key holds
+        // it), which keeps its light or not.
         let counted = (0..clusters.len())
             .map(|n| {
                 let rays = &hits[starts[n]..starts[n + 1]];

@@ -604,8 +604,8 @@ impl Shooter {
     /// both ends lifted off their surfaces.
     // Inlined into the strata loops always: called out of line (as the
     // compiler chose after unrelated changes), the 16 offices' solve took
-    // 3 % longer (measured on top of the other two fixes of that day:
-    // `Cell::point` and `Visibility`'s traversal).
+    // about 5 % longer (measured on top of the other two fixes of that
+    // day: `Cell::point` and `Visibility`'s traversal).
     #[inline(always)]
     fn is_visible(
         &self,
