@@ -17,11 +17,17 @@ fn two_rooms(patch_tolerance: f64) -> Solver {
         room_with_block(&mut b, wall, &format!("{room}"), offset);
         ceiling_lamp(&mut b, lamp, offset);
     }
+    solved(b.scene, |solver| solver.patch_tolerance = patch_tolerance)
+}
+
+/// `scene` meshed at 0.5 m in patches of 1 m and solved to convergence at
+/// the default solver settings but for what `adjust` changes.
+fn solved(scene: isorad::Scene, adjust: impl FnOnce(&mut isorad::SolverSettings)) -> Solver {
     let mut settings = Settings::default();
     settings.mesh.max_edge = isorad::Length::Absolute(0.5);
     settings.mesh.patch_max_edge = isorad::Length::Absolute(1.0);
-    settings.solver.patch_tolerance = patch_tolerance;
-    let mut solver = Solver::new(b.scene, settings).unwrap();
+    adjust(&mut settings.solver);
+    let mut solver = Solver::new(scene, settings).unwrap();
     assert_eq!(solver.run(), StopReason::Converged);
     solver
 }
@@ -140,13 +146,7 @@ fn room_with_books(patch_clusters: bool) -> Solver {
             b.polygon("book", books[k as usize % 2], face);
         }
     }
-    let mut settings = Settings::default();
-    settings.mesh.max_edge = isorad::Length::Absolute(0.5);
-    settings.mesh.patch_max_edge = isorad::Length::Absolute(1.0);
-    settings.solver.patch_clusters = patch_clusters;
-    let mut solver = Solver::new(b.scene, settings).unwrap();
-    assert_eq!(solver.run(), StopReason::Converged);
-    solver
+    solved(b.scene, |solver| solver.patch_clusters = patch_clusters)
 }
 
 /// The books' small faces shoot and receive as a few clusters (spines,
