@@ -5,32 +5,34 @@ use std::sync::Mutex;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::ambient::{AmbientEstimate, LandingElement, PatchLocator, PatchRays, VertexRays};
-use super::ambient_irradiance::AmbientIrradiance;
-use super::ambient_rooms::{AmbientCache, LocalIndex, ReadingPlace, Room, zones_read};
-use super::ambient_smoothing;
-use super::ambient_sweeps::{self, UnshotLight};
-use super::element_power;
-use super::energy_balance::EnergyBalance;
-use super::indexed_update;
 use super::mesh_settings::MeshKind;
-use super::patch_reception::{PatchReception, ReceptionPlan};
-use super::patch_shots::{PatchShotInput, PatchShotSummary, PatchShots};
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
-use super::shaft_culling::{ReceiverShafts, ReceivingBoxes};
-use super::shooter::{Gathered, Receiver, Shooter, ShotRadiosity};
-use super::solution::Solution;
-use super::unshot::{FieldScale, PatchField, UnshotCorners};
-use super::unshot_by_zone::UnshotByZone;
-use super::vertex_irradiance::VertexIrradiance;
-use super::visibility_memory::{Recall, VisibilityMemory};
 use super::zones::{ShotPlaces, ZoneLabels, ZoneMembers, Zones};
 use crate::freed_memory::give_back_freed_memory;
 use crate::mesh::{Cell, ElementHierarchy, Mesh, receiver_inset};
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Camera, Rgb, Scene, ShadowCache, SurfaceId, Visibility};
+use crate::solver::ambient::irradiance::AmbientIrradiance;
+use crate::solver::ambient::patch_shots::{PatchShotInput, PatchShotSummary, PatchShots};
+use crate::solver::ambient::rays::{
+    AmbientEstimate, LandingElement, PatchLocator, PatchRays, VertexRays,
+};
+use crate::solver::ambient::rooms::{AmbientCache, LocalIndex, ReadingPlace, Room, zones_read};
+use crate::solver::ambient::smoothing;
+use crate::solver::ambient::sweeps::{self, UnshotLight};
+use crate::solver::light::energy_balance::EnergyBalance;
+use crate::solver::light::indexed_update;
+use crate::solver::light::unshot::{FieldScale, PatchField, UnshotCorners};
+use crate::solver::light::unshot_by_zone::UnshotByZone;
+use crate::solver::light::vertex_irradiance::VertexIrradiance;
+use crate::solver::reading::solution::Solution;
+use crate::solver::shot::element_power;
+use crate::solver::shot::patch_reception::{PatchReception, ReceptionPlan};
+use crate::solver::shot::shaft_culling::{ReceiverShafts, ReceivingBoxes};
+use crate::solver::shot::shooter::{Gathered, Receiver, Shooter, ShotRadiosity};
+use crate::solver::shot::visibility_memory::{Recall, VisibilityMemory};
 
 /// The least and the most a reflected shot's element powers in a closed zone
 /// are scaled by to land whole (see [`Solver::landing_scale`]): the
@@ -89,7 +91,7 @@ pub struct Solver {
     /// ([`SolverSettings::conserve_closed_zones`]).
     surface_lossless: Vec<bool>,
     /// Per surface, the closed zone it lies in (all 0 when the zones were
-    /// not found): a patch cluster keeps to one (`patch_clusters.rs`).
+    /// not found): a patch cluster keeps to one (`solver/ambient/patch_clusters.rs`).
     surface_zone: Vec<u32>,
     /// The longest patch edge: the mesh settings' `patch_max_edge` when
     /// the solver meshed the scene, the mesh's longest patch edge when the
@@ -130,11 +132,11 @@ pub struct Solver {
     shot_power: Rgb,
     received_power: Rgb,
     /// Σ (1 − ρ) P over the power P elements received: the ledger's absorbed
-    /// power, counted as the received power is (see `element_power.rs`).
+    /// power, counted as the received power is (see `solver/shot/element_power.rs`).
     absorbed_power: Rgb,
     /// The rays the ambient term gathers the unshot light along, cast on
     /// first use and kept while the mesh is not too large
-    /// (`solver/ambient_rooms.rs`).
+    /// (`solver/ambient/rooms.rs`).
     ambient_rays: Mutex<AmbientCache>,
     /// Whether each of the scene's photometric luminaires has shot.
     luminaire_shot: Vec<bool>,
@@ -190,7 +192,7 @@ pub struct Solver {
     /// The element hierarchy of an adaptive solve.
     refiner: Option<Refiner>,
     /// The patch shots of the unshot power the last run left
-    /// (`solver/patch_shots.rs`), until the next shot changes it.
+    /// (`solver/ambient/patch_shots.rs`), until the next shot changes it.
     patch_shots: Option<PatchShots>,
 }
 
@@ -423,7 +425,7 @@ impl Solver {
     /// emitting patch with the most emission not yet shot, else the patch
     /// with the most unshot power (in a building of closed rooms, the last
     /// shot's room's strongest while it holds the share
-    /// [`SolverSettings::zone_affinity`] of that: see `unshot_by_zone.rs`).
+    /// [`SolverSettings::zone_affinity`] of that: see `solver/light/unshot_by_zone.rs`).
     /// Returns false when nothing has any.
     ///
     /// Emission goes first because it is direct light: shot, it draws sharp
@@ -739,7 +741,7 @@ impl Solver {
     /// interpolated from their patch's samples: those whose irradiance so
     /// far is at least the shot's bound on their patches over
     /// [`SolverSettings::coarse_reception`], and whose samples agree with
-    /// them (see `solver/patch_reception.rs`).
+    /// them (see `solver/shot/patch_reception.rs`).
     fn reception_plan(&mut self, j: usize, shot_power: Rgb, zone: Option<usize>) -> ReceptionPlan {
         self.reception.refresh(&self.mesh);
         let mut plan = std::mem::take(&mut self.reception_plan_buffer);
@@ -857,7 +859,7 @@ impl Solver {
     /// elements of closed zone `zone` only when given (no other receives).
     /// For the shot of an emitting patch (its polygon and normal), the
     /// elements' received power takes the curvature of its unoccluded field
-    /// (see `element_power.rs`); otherwise it is the corners' mean times the
+    /// (see `solver/shot/element_power.rs`); otherwise it is the corners' mean times the
     /// area, scaled to land whole when `lands_whole` gives the shot's power
     /// (see [`Solver::landing_scale`]). The vertices, the elements' powers
     /// and their corners are updated in parallel, the sums in order, so
@@ -1025,7 +1027,7 @@ impl Solver {
     }
 
     /// Irradiance per vertex (W/m²) from the light shot so far, as a new
-    /// list (the solver keeps it in `f32`: `solver/vertex_irradiance.rs`).
+    /// list (the solver keeps it in `f32`: `solver/light/vertex_irradiance.rs`).
     #[must_use]
     pub fn irradiance(&self) -> Vec<Rgb> {
         self.irradiance.to_vec()
@@ -1050,7 +1052,7 @@ impl Solver {
 
     /// The ambient irradiance G_v of every vertex: the light the unshot
     /// radiosity will still give, gathered along rays (see
-    /// `solver/ambient.rs`), room by room (`solver/ambient_rooms.rs`),
+    /// `solver/ambient/rays.rs`), room by room (`solver/ambient/rooms.rs`),
     /// reporting its progress to `report`; only in zone `only`'s
     /// vertices where given (0 at the others, which it does not hold).
     fn ambient_irradiance(
@@ -1230,7 +1232,7 @@ impl Solver {
     /// Each patch's residual A_h, the unshot light's further bounces at
     /// patch resolution, and ΔB_h + A_h, what a vertex ray reads where it
     /// lands on no element of its room. After patch shots A_h is ρ_h
-    /// times the irradiance they brought h (`solver/patch_shots.rs`);
+    /// times the irradiance they brought h (`solver/ambient/patch_shots.rs`);
     /// otherwise it is found along the patches' `rays`
     /// ([`PatchRays::residual`], zero until they are cast), on the patches
     /// `within` (all, by `None`).
@@ -1268,7 +1270,7 @@ impl Solver {
 
     /// G_v of `room`'s vertices, in its order (`local` has entered it),
     /// from its vertices' `rays` and each patch's residual A_h and
-    /// ΔB_h + A_h (see `solver/ambient.rs`).
+    /// ΔB_h + A_h (see `solver/ambient/rays.rs`).
     fn room_ambient(
         &self,
         (room, local): (&Room, &LocalIndex),
@@ -1321,12 +1323,10 @@ impl Solver {
         let around = self
             .settings
             .smooth_ambient
-            .then(|| ambient_smoothing::Neighbourhood::new(mesh, room, local));
+            .then(|| smoothing::Neighbourhood::new(mesh, room, local));
         let smooth = |gathered: &[AmbientEstimate]| -> Vec<Rgb> {
             match &around {
-                Some(around) => {
-                    ambient_smoothing::smoothed(mesh, (room, around), gathered, &distances)
-                }
+                Some(around) => smoothing::smoothed(mesh, (room, around), gathered, &distances),
                 None => gathered.iter().map(|g| g.irradiance).collect(),
             }
         };
@@ -1342,7 +1342,7 @@ impl Solver {
             per_patch: &self.unshot,
             outside: patch_value,
         };
-        ambient_sweeps::swept(
+        sweeps::swept(
             (rays, mesh),
             (room, local),
             (first, self.settings.ambient_sweeps),
@@ -1361,7 +1361,7 @@ impl Solver {
     /// The solution with the ambient term for the light not yet shot added:
     /// B_v + ρ_v G_v and H_v + G_v, G_v the unshot light gathered along
     /// rays (a coarse final gather of what remains; see
-    /// `solver/ambient.rs`). What images and probes show.
+    /// `solver/ambient/rays.rs`). What images and probes show.
     #[must_use]
     pub fn solution_with_ambient(&self) -> Solution<'_> {
         self.solution_with_ambient_progress(&silent)
@@ -1461,7 +1461,7 @@ impl Solver {
     }
 
     /// Shoots the unshot power the vertices' shots left patch to patch
-    /// (`solver/patch_shots.rs`), until at most
+    /// (`solver/ambient/patch_shots.rs`), until at most
     /// [`SolverSettings::patch_tolerance`] of the emitted power is left,
     /// every zone counted in full; [`Solver::run_until`] does when it
     /// converges. The vertices keep the light of their own shots
@@ -1586,7 +1586,7 @@ impl Solver {
     /// How many of the shadow rays so far ([`Solver::rays`]) were answered
     /// by the few triangles that reach into their shaft, tested one by
     /// one, rather than by a traversal of the BVH (an emitter's shot;
-    /// `solver/shaft_culling.rs`).
+    /// `solver/shot/shaft_culling.rs`).
     #[must_use]
     pub fn listed_rays(&self) -> u64 {
         self.listed_rays

@@ -59,7 +59,7 @@ pub struct SolverSettings {
     /// Once the vertices' shots have converged to
     /// [`SolverSettings::tolerance`], the unshot power left is shot patch
     /// to patch until at most this fraction of the emitted power is left,
-    /// every zone counted in full (0.0001; `solver/patch_shots.rs`): the
+    /// every zone counted in full (0.0001; `solver/ambient/patch_shots.rs`): the
     /// dim reflected light carried at the coarsest level, patches, along
     /// a few rays a patch (2 to 32 a patch or cluster of small patches, by
     /// the power each will shoot: [`SolverSettings::patch_clusters`]),
@@ -73,7 +73,7 @@ pub struct SolverSettings {
     pub patch_tolerance: f64,
     /// The patch shots take a zone's small patches that stand side by side
     /// facing the same way as one cluster, which shoots their pooled power
-    /// and receives for all of them (true; `solver/patch_clusters.rs`):
+    /// and receives for all of them (true; `solver/ambient/patch_clusters.rs`):
     /// patches of at most a sixteenth of a full patch's area, normals
     /// within about a degree, centres in one cube of the patch edge and
     /// one slab a quarter of it deep. The cluttered office's 1,309 small
@@ -109,14 +109,14 @@ pub struct SolverSettings {
     /// all of the shooter: those whose shaft to it (the convex region
     /// between the shooter's cell and the patch's receiving points) no
     /// other surface reaches into (Haines & Wallace 1991; see
-    /// `solver/shaft_culling.rs`). The same radiosity, with fewer rays,
+    /// `solver/shot/shaft_culling.rs`). The same radiosity, with fewer rays,
     /// but that a clear vertex of an emitter's shot takes Lambert's exact
     /// factor, which its samples only estimate (true).
     pub cull_shafts: bool,
     /// A reflected shot from a patch that has shot before casts no rays
     /// from the vertices whose rays to it last time, four or more, were
     /// all unblocked or all blocked: they take all of it or none (see
-    /// `solver/visibility_memory.rs`; true).
+    /// `solver/shot/visibility_memory.rs`; true).
     pub remember_visibility: bool,
     /// Scale the power each element of a closed zone takes from a
     /// reflected shot so that together they receive exactly the shot's
@@ -128,7 +128,7 @@ pub struct SolverSettings {
     /// rooms 0.7–2 % dark against a path tracer. The ambient term's rays
     /// there that end on no front (a crack at a contact) are left out of
     /// their source's mean instead of counted as dark, where at least half
-    /// of its rays land (`solver/ambient.rs`).
+    /// of its rays land (`solver/ambient/rays.rs`).
     /// Zones that lose light for real (open to the sky, or showing the
     /// black back of a one-sided surface) are left alone.
     pub conserve_closed_zones: bool,
@@ -140,7 +140,7 @@ pub struct SolverSettings {
     /// fraction of the irradiance the vertex has received so far (0.01),
     /// and those samples have received between half and twice its light:
     /// dim shots then cost rays per patch rather than per vertex
-    /// (`solver/patch_reception.rs`). 0 gathers every shot at every vertex.
+    /// (`solver/shot/patch_reception.rs`). 0 gathers every shot at every vertex.
     /// Emitters' shots are always gathered at every vertex.
     pub coarse_reception: f64,
     /// In a scene of several closed zones (rooms whose doors are shut),
@@ -151,7 +151,7 @@ pub struct SolverSettings {
     /// have shot more when the solve stops. 1 shoots the strongest of all
     /// at every shot: then the cull of closed zones gives the same
     /// radiosity as no cull, bit for bit. In (0, 1]; see
-    /// `solver/unshot_by_zone.rs`.
+    /// `solver/light/unshot_by_zone.rs`.
     pub zone_affinity: f64,
     /// How much the unshot power of a closed zone that keeps all its light
     /// counts toward [`SolverSettings::tolerance`] (0.1: a closed room
@@ -175,7 +175,7 @@ pub struct SolverSettings {
     /// weighted by their distance over the harmonic mean distance of their
     /// rays (Ward, Rubinstein & Clear 1988) and by how far the estimates
     /// differ over their noise, vertices on a surface's outline left alone
-    /// (true; see `solver/ambient_smoothing.rs`): the term's noise, seen
+    /// (true; see `solver/ambient/smoothing.rs`): the term's noise, seen
     /// pixel by pixel, falls by about three. The cluttered office stopped
     /// at 10 % (the term a tenth of its light) rendered at 2.81 % per pixel
     /// with it, 2.88 % without (BENCHMARKS.md, (e)); closed rooms now leave
@@ -185,7 +185,7 @@ pub struct SolverSettings {
     /// term's further bounces from where its rays land rather than from
     /// each patch's mean (16; they stop when the term changes by less than
     /// 0.5 % on average, after three to five in the offices; 0 keeps the
-    /// patch-level estimate; at most 64; see `solver/ambient_sweeps.rs`).
+    /// patch-level estimate; at most 64; see `solver/ambient/sweeps.rs`).
     /// A patch half hidden behind furniture no longer sends what it will
     /// still reflect evenly from both halves: with 64 rays a vertex, the
     /// cluttered office solved from its lamps' shots alone rendered at

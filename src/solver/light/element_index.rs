@@ -1,7 +1,7 @@
 //! Which elements of a patch lie where: a grid in the patch's plane, so
 //! that the element under a point is found among a few rather than by a
 //! scan of the patch. The same grid over a surface's patches finds the
-//! patch an ambient ray lands on (`ambient.rs`, `PatchLocator`).
+//! patch an ambient ray lands on (`solver/ambient/rays.rs`, `PatchLocator`).
 
 use glam::DVec3;
 

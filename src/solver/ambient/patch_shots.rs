@@ -10,7 +10,7 @@
 //! hierarchy (Hanrahan, Salzman & Aupperle 1991): patch to patch, with
 //! the form factors estimated by the patches' own rays, a few a patch or
 //! cluster ([`ray_counts`]), cosine-weighted from stratified points on each
-//! patch's elements, cast as the ambient term's are (`ambient.rs`). Ray k
+//! patch's elements, cast as the ambient term's are (`solver/ambient/rays.rs`). Ray k
 //! of patch p landing on patch h is a sample of F_ph: p's unshot power
 //! Φ_p goes out in equal shares
 //! Φ_p / n_p along its n_p rays, and a share landing on h is received
@@ -36,7 +36,7 @@
 //!
 //! A room's small patches that stand side by side facing the same way
 //! (a shelf's spines) shoot and receive as one node N, a cluster
-//! (`patch_clusters.rs`): its rays leave from its members, what lands on
+//! (`solver/ambient/patch_clusters.rs`): its rays leave from its members, what lands on
 //! a member h joins N's pooled unshot power, ΔΦ_N += ρ_h Φ_p / n_p, and
 //! each member keeps the cluster's irradiance. Other patches are nodes
 //! alone.
@@ -44,7 +44,7 @@
 //! Each patch keeps the irradiance its node received, Σ_{h ∈ N} P_h /
 //! Σ_{h ∈ N} A_h (a patch alone: P_h / A_h). The ambient
 //! term reads ρ_h times it as what patch h will still reflect, its
-//! residual (`ambient.rs`), and gathers it at the vertices of the rooms an
+//! residual (`solver/ambient/rays.rs`), and gathers it at the vertices of the rooms an
 //! image, a probe or an export reads; `Solver::solution` keeps the
 //! vertices' own shots (pushed down to the vertices as a patch value, it
 //! read a book's spine in its slot 11 % off its mean light).
@@ -59,10 +59,10 @@
 
 use rayon::prelude::*;
 
-use super::ambient::{MISS, PatchLocator, patch_ray, rays_counted};
-use super::patch_clusters::{Clusters, PatchPlace};
 use crate::mesh::Mesh;
 use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
+use crate::solver::ambient::patch_clusters::{Clusters, PatchPlace};
+use crate::solver::ambient::rays::{MISS, PatchLocator, patch_ray, rays_counted};
 
 /// Rays a node of a zone (a patch, or a cluster of small patches) has in
 /// its budget: each casts its share of the zone's in proportion to the
@@ -75,7 +75,7 @@ use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 /// the cluttered office's 634 nodes cast 4,971 rays, 2.9 a patch.
 ///
 /// The image's ambient term resolves the patches' further bounces at its
-/// vertices along their own rays (`ambient_sweeps.rs`), so the patches'
+/// vertices along their own rays (`solver/ambient/sweeps.rs`), so the patches'
 /// noise hardly shows (measured by hand, `isorad render` at the
 /// references' sizes, the golden tests' metric, per-pixel error with a
 /// budget of 8 and of 16 rays a patch, and with 16 and 64 for every
@@ -162,7 +162,7 @@ pub(crate) struct PatchShotInput<'a, 'v> {
     /// The closed zone of each surface, which a cluster keeps to.
     pub(crate) surface_zone: &'a [u32],
     /// The patch edge the mesh was made for, which bounds a cluster's
-    /// extent (`patch_clusters.rs`); `None` for no clusters.
+    /// extent (`solver/ambient/patch_clusters.rs`); `None` for no clusters.
     pub(crate) cluster_edge: Option<f64>,
     /// The BVH a ray from a surface traverses: its closed zone's.
     pub(crate) visibility_of: &'a (dyn Fn(SurfaceId) -> &'v Visibility + Sync),
@@ -283,7 +283,7 @@ impl ZoneShots {
 }
 
 /// The nodes of the zone of `patches`: its small patches side by side
-/// facing one way clustered (`patch_clusters.rs`), unless the input's
+/// facing one way clustered (`solver/ambient/patch_clusters.rs`), unless the input's
 /// clusters are off; every other patch a node alone.
 fn zone_clusters(input: &PatchShotInput, patches: &[u32]) -> Clusters {
     let places: Vec<PatchPlace> = patches

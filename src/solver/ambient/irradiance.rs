@@ -1,5 +1,5 @@
 //! The ambient irradiance G_v a solution adds to the light shot (see
-//! `solver/ambient.rs`): at every vertex, or at the vertices of the rooms
+//! `solver/ambient/rays.rs`): at every vertex, or at the vertices of the rooms
 //! it was gathered in alone.
 //!
 //! An image taken inside one office of a building gathers the term in that

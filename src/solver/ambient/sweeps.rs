@@ -1,6 +1,6 @@
 //! The ambient term's further bounces, resolved at the vertices.
 //!
-//! The ambient term (`ambient.rs`) gathers at each vertex the unshot
+//! The ambient term (`solver/ambient/rays.rs`) gathers at each vertex the unshot
 //! radiosity ΔB where its rays land, plus A_h, the light patch h will still
 //! reflect, found at patch resolution: one value for the whole patch. Where
 //! part of a patch is hidden from most of the room, that is wrong in a way
@@ -25,9 +25,9 @@
 //! noise, is carried one bounce further by every sweep, so it shrinks by ρ
 //! times the share of rays that land and is spread over the surfaces each
 //! vertex sees. Each sweep is smoothed as the first is
-//! (`ambient_smoothing.rs`). The sweeps stop when the mean change of G
+//! (`solver/ambient/smoothing.rs`). The sweeps stop when the mean change of G
 //! over a room's vertices falls below [`SWEEP_CONVERGENCE`] of its mean
-//! (each closed zone is swept on its own, `ambient_rooms.rs`), or
+//! (each closed zone is swept on its own, `solver/ambient/rooms.rs`), or
 //! after the solver's `ambient_sweeps`.
 //!
 //! This is Jacobi iteration for the remaining transport (Cohen & Wallace
@@ -45,10 +45,10 @@
 
 use rayon::prelude::*;
 
-use super::ambient::{AmbientEstimate, LandingElement, VertexRays};
-use super::ambient_rooms::{LocalIndex, Room};
 use crate::mesh::Mesh;
 use crate::scene::{Rgb, SurfaceId};
+use crate::solver::ambient::rays::{AmbientEstimate, LandingElement, VertexRays};
+use crate::solver::ambient::rooms::{LocalIndex, Room};
 
 /// The sweeps stop when the mean absolute change of G over the room's
 /// vertices (channels summed) is below this fraction of G's mean. The
@@ -61,7 +61,7 @@ pub(crate) const SWEEP_CONVERGENCE: f64 = 0.005;
 /// the scale that carries its patch's power (in the room's order), each
 /// patch's mean unshot radiosity (read where a landing point finds no
 /// element), and each patch's ΔB + A at patch resolution (read where a
-/// ray leaves the room through a seam: `ambient_rooms.rs`).
+/// ray leaves the room through a seam: `solver/ambient/rooms.rs`).
 pub(crate) struct UnshotLight<'a> {
     pub(crate) landed: &'a [LandingElement],
     pub(crate) corners: &'a [[Rgb; 4]],

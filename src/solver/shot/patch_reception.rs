@@ -56,9 +56,9 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::vertex_irradiance::VertexIrradiance;
 use crate::mesh::{Cell, Mesh};
 use crate::scene::Rgb;
+use crate::solver::light::vertex_irradiance::VertexIrradiance;
 
 /// The most sample vertices a patch has: one per corner and its centre.
 const SAMPLES: usize = 5;

@@ -11,8 +11,8 @@
 
 use rayon::prelude::*;
 
-use super::indexed_update::par_update_at;
 use crate::scene::Rgb;
+use crate::solver::light::indexed_update::par_update_at;
 
 /// Irradiance H per vertex (W/m²), by vertex index.
 #[derive(Clone, Debug, Default)]

@@ -1,6 +1,6 @@
 //! The ambient term room by room.
 //!
-//! The ambient term (`ambient.rs`) holds, while an image is made, each
+//! The ambient term (`solver/ambient/rays.rs`) holds, while an image is made, each
 //! vertex ray's hit and landing point (6 bytes) and the element under it
 //! (8 more), 96 rays a vertex: 1.3 KB a vertex, most of what a building
 //! needs at that moment (a floor of 16 furnished offices, 175,000
@@ -20,7 +20,7 @@
 //! The rare ray that leaks out of a closed room through a seam (a zone
 //! stays closed while under 1/256 of the rays that find it leave,
 //! `zones.rs`) reads the patch it lands on at patch resolution, its
-//! unshot radiosity and the light it will still reflect (`ambient.rs`);
+//! unshot radiosity and the light it will still reflect (`solver/ambient/rays.rs`);
 //! in the term of some rooms alone, made for readings inside them (a
 //! view, probes, a calculation grid: [`ReadingPlace`],
 //! [`crate::Solver::solution_with_ambient_for`]), its unshot radiosity
@@ -29,11 +29,11 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::ambient::{PatchRays, VERTEX_RAYS, VertexRays};
-use super::solution::locate_probe;
-use super::zones::ZoneLabels;
 use crate::mesh::Mesh;
 use crate::scene::{ProbePoint, Scene, SurfaceId, Visibility};
+use crate::solver::ambient::rays::{PatchRays, VERTEX_RAYS, VertexRays};
+use crate::solver::reading::solution::locate_probe;
+use crate::solver::zones::ZoneLabels;
 
 /// The most vertex rays kept from one image to the next: 2²⁴, about
 /// 175,000 vertices' (96 MiB). A larger mesh's rooms cast theirs for each

@@ -4,12 +4,12 @@ use std::sync::OnceLock;
 
 use glam::DVec3;
 
-use super::settings::FormFactorKernel;
-use super::unshot::{FieldScale, PatchField, SampledField, nearest_point_of};
 use crate::lighting::SampleStream;
 use crate::mesh::Cell;
 use crate::radiometry::{disc_form_factor, polygon_form_factor};
 use crate::scene::{Rgb, ShadowCache, SurfaceId, Visibility};
+use crate::solver::light::unshot::{FieldScale, PatchField, SampledField, nearest_point_of};
+use crate::solver::settings::FormFactorKernel;
 
 /// Strata closer than ten stratum sizes (r² < NEAR_FIELD · A) use Lambert's
 /// exact polygon factor instead of Wallace's disc term. The disc term's
@@ -130,13 +130,13 @@ pub struct Receiver<'a> {
     /// Identifies the receiver in the random streams.
     pub key: u64,
     /// Known to see all of the shooter: no triangle reaches into the shaft
-    /// between them (`solver/shaft_culling.rs`), or every ray of the
-    /// shooter's last shot reached it (`solver/visibility_memory.rs`), so
+    /// between them (`solver/shot/shaft_culling.rs`), or every ray of the
+    /// shooter's last shot reached it (`solver/shot/visibility_memory.rs`), so
     /// its samples need no rays.
     pub clear: bool,
     /// The only triangles of the shot's `Visibility` that can block its
     /// rays to the shooter, when its shaft holds few
-    /// (`solver/shaft_culling.rs`): its rays test those alone.
+    /// (`solver/shot/shaft_culling.rs`): its rays test those alone.
     pub occluders: Option<&'a [u32]>,
 }
 

@@ -4,7 +4,7 @@
 //! A shelf of books is hundreds of patches of a few square centimetres:
 //! the cluttered office of `bench/generate_building.py` has 1,085 book
 //! patches among its 1,735. Shot one by one, each casts rays of its own
-//! (`patch_shots.rs`: at least two) and
+//! (`solver/ambient/patch_shots.rs`: at least two) and
 //! keeps the few shares that happen to land on it. Seen from across the
 //! room, a row of spines is one surface: a face cluster (Willmott,
 //! Heckbert & Garland 1999) stands for it, with the power and the area of
@@ -25,7 +25,7 @@
 //! is the cluster's, its received power over its area. Within one
 //! orientation and a quarter of a patch edge, that is the light the
 //! members share: their further bounces, which the ambient term reads
-//! (`ambient.rs`), not their first, which the vertices' shots resolved.
+//! (`solver/ambient/rays.rs`), not their first, which the vertices' shots resolved.
 //!
 //! # References
 //! A. Willmott, P. Heckbert, M. Garland, "Face Cluster Radiosity", EGWR

@@ -5,10 +5,6 @@ use std::collections::BinaryHeap;
 
 use glam::{DVec2, DVec3};
 
-use super::ambient_irradiance::AmbientIrradiance;
-use super::ambient_rooms::ReadingPlace;
-use super::penumbra::AdaptiveVisibility;
-use super::vertex_irradiance::VertexIrradiance;
 use crate::error::{Error, Result};
 use crate::lighting::SampleStream;
 use crate::mesh::{Cell, Mesh, receiver_inset};
@@ -17,6 +13,10 @@ use crate::scene::{
     ProbePoint, Rgb, Scene, SurfaceId, Visibility, distance_to_boundary, distance_to_segment,
     polygon_contains,
 };
+use crate::solver::ambient::irradiance::AmbientIrradiance;
+use crate::solver::ambient::rooms::ReadingPlace;
+use crate::solver::light::vertex_irradiance::VertexIrradiance;
+use crate::solver::reading::penumbra::AdaptiveVisibility;
 
 /// How a probe reads the solution.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -169,11 +169,11 @@ pub struct Solution<'a> {
     pub luminaires_shot: Vec<bool>,
     /// Irradiance per mesh vertex from the light shot, W/m²: the solver's.
     pub(crate) shot_irradiance: &'a VertexIrradiance,
-    /// The ambient term G_v added to it (`solver/ambient.rs`).
+    /// The ambient term G_v added to it (`solver/ambient/rays.rs`).
     pub(crate) ambient: AmbientIrradiance,
     /// The closed zone of every surface, when the solver found more than
     /// one: an image taken from inside a closed room draws that room alone.
-    pub(crate) zones: Option<&'a super::zones::ZoneLabels>,
+    pub(crate) zones: Option<&'a crate::solver::zones::ZoneLabels>,
     /// How far each surface's boundary vertices gather inside it, by
     /// surface index (the scene's inset past its end).
     pub(crate) receiver_insets: &'a [f64],

@@ -18,7 +18,7 @@ pub struct EnergyBalance {
     /// for a reflected shot in a zone that keeps all its light so that the
     /// zone receives the whole shot, see `Solver::landing_scale`; or, from
     /// an emitter, that with the curvature of its field: see
-    /// `solver/element_power.rs`).
+    /// `solver/shot/element_power.rs`).
     pub absorbed: Rgb,
     /// Power waiting to be shot: Σ_p ΔB_p A_p, or what the patch shots
     /// left of it.

@@ -12,11 +12,11 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::element_index::{ElementIndex, padded_box};
-use super::indexed_update::par_update_at;
-use super::vertex_irradiance::VertexIrradiance;
 use crate::mesh::{Cell, Element, Mesh, Patch};
 use crate::scene::Rgb;
+use crate::solver::light::element_index::{ElementIndex, padded_box};
+use crate::solver::light::indexed_update::par_update_at;
+use crate::solver::light::vertex_irradiance::VertexIrradiance;
 
 /// Unshot radiosity ΔB_v (W/m²) at the corners of every element of a mesh,
 /// by element index (a triangle's fourth entry is unused).
@@ -573,7 +573,7 @@ mod tests {
     use super::*;
     use crate::scene::{Material, Scene, ShadowCache, SurfaceId, Visibility};
     use crate::solver::settings::FormFactorKernel;
-    use crate::solver::shooter::{Receiver, Shooter};
+    use crate::solver::shot::shooter::{Receiver, Shooter};
 
     /// A scene of grey polygons, in order (surface k is polygon k), and
     /// its shadow-ray structure.
@@ -724,7 +724,7 @@ mod tests {
     /// weighted ΔB evenly: 17 % too much beside the patch's dark edge.
     #[test]
     fn a_near_stratum_shoots_its_field_weighted_by_the_kernel() {
-        use crate::solver::shooter::ShotRadiosity;
+        use crate::solver::shot::shooter::ShotRadiosity;
 
         let at = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
         let floor = [
@@ -801,7 +801,7 @@ mod tests {
     #[test]
     fn a_receiver_at_the_foot_of_an_object_standing_on_the_patch_sees_its_light() {
         use crate::radiometry::polygon_form_factor;
-        use crate::solver::shooter::ShotRadiosity;
+        use crate::solver::shot::shooter::ShotRadiosity;
 
         let at = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
         let floor = [

@@ -15,7 +15,7 @@
 //! The stop criterion reads a second total, Σ w_p ΔB_p A_p, with w_p the
 //! setting `closed_zone_weight` (0.1) on the patches of a closed zone that
 //! keeps all its light and 1 elsewhere: there the ambient term places the
-//! residual whole (see `ambient.rs`), so a closed room stops at ten times
+//! residual whole (see `solver/ambient/rays.rs`), so a closed room stops at ten times
 //! the tolerance while an open scene is held to it.
 //!
 //! The zones exchange no light, so the order in which their shots come

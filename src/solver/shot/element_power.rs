@@ -41,10 +41,10 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::zones::ShotPlaces;
 use crate::mesh::Mesh;
 use crate::radiometry::polygon_form_factor;
 use crate::scene::{Rgb, Scene};
+use crate::solver::zones::ShotPlaces;
 
 /// How far the correction may move an element's power: a factor between
 /// 1/`MAX_RATIO` and `MAX_RATIO` (a corner exactly on the emitter's plane

@@ -38,14 +38,14 @@
 //! of uniform ΔB and ρ this is Cohen's ΔB / (1 − ρ); over an open floor it
 //! is nothing; under the table it is what the underside will still send.
 //! A_h, one value per patch, is then resolved at the vertices by sweeps
-//! along the same rays (`ambient_sweeps.rs`). After a run that converged,
+//! along the same rays (`solver/ambient/sweeps.rs`). After a run that converged,
 //! the patch shots have carried the unshot light to the patch tolerance
-//! (`patch_shots.rs`), and A_h is ρ_h times the irradiance they brought
+//! (`solver/ambient/patch_shots.rs`), and A_h is ρ_h times the irradiance they brought
 //! patch h; the patches' rays and iteration here serve the images of a
 //! solve under way, stopped short (cancelled, out of time, at a shot
 //! limit) or made without patch shots (`patch_tolerance` 1).
 //! The term is made room by room, each closed zone's vertices with their
-//! own rays (`ambient_rooms.rs`). The patches' rays are cast once and
+//! own rays (`solver/ambient/rooms.rs`). The patches' rays are cast once and
 //! kept, and so are the vertices' up to 2²⁴ rays (about 175,000
 //! vertices): an intermediate image then repeats only the lookups. A
 //! larger mesh casts each room's rays for each image and drops them
@@ -64,12 +64,12 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::element_index::{ElementIndex, padded_box};
-use super::unshot::{cell_coordinates, interpolated};
-use super::zones::{cosine_direction, cosine_direction_at};
 use crate::lighting::SampleStream;
 use crate::mesh::Mesh;
 use crate::scene::{Rgb, Scene, SurfaceId, Visibility, distance_to_boundary, polygon_contains};
+use crate::solver::light::element_index::{ElementIndex, padded_box};
+use crate::solver::light::unshot::{cell_coordinates, interpolated};
+use crate::solver::zones::{cosine_direction, cosine_direction_at};
 
 /// Rays each patch casts into its hemisphere (8 × 8 strata).
 const PATCH_SIDE: usize = 8;
@@ -120,7 +120,7 @@ pub(crate) type RayValue<'a> = dyn Fn(usize) -> Option<Rgb> + Sync + 'a;
 /// The element a vertex ray landed on and the landing point's coordinates
 /// (s, t) in it ([`crate::mesh::Cell::point`] of the element's cell), or
 /// none: found once per image, then read by the first gather and every
-/// sweep (`ambient_sweeps.rs`) at the cost of an interpolation.
+/// sweep (`solver/ambient/sweeps.rs`) at the cost of an interpolation.
 /// Eight bytes a ray: the coordinates are kept to 1/65,535 of the element.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct LandingElement {
@@ -402,7 +402,7 @@ impl VertexRays {
     /// or the patch's mean where that gives none: a floor patch half under
     /// a desk then sends the desk's underside the light of its dark half
     /// and the ceiling that of its lit half, as its shots do.
-    /// The residual A_h stays the patch's here (`ambient_sweeps.rs` then
+    /// The residual A_h stays the patch's here (`solver/ambient/sweeps.rs` then
     /// resolves it at the vertices). Each estimate comes with a bound on
     /// its standard error, that of the mean of its rays' values summed
     /// over the channels, from its strata collapsed in pairs of
@@ -535,7 +535,7 @@ impl VertexRays {
     /// Each listed vertex's harmonic mean distance to where its rays land,
     /// R_v = N / Σ 1/d_k over the N rays that land on a patch (infinite
     /// where none does): the scale over which its ambient irradiance
-    /// changes (`ambient_smoothing.rs`).
+    /// changes (`solver/ambient/smoothing.rs`).
     #[must_use]
     pub(crate) fn harmonic_distances(&self, mesh: &Mesh) -> Vec<f64> {
         self.vertices

@@ -1,7 +1,7 @@
 //! The ambient term's estimates averaged over each vertex's neighbours.
 //!
 //! A vertex's ambient irradiance G_v is a Monte Carlo estimate over its
-//! 96 rays (see `ambient.rs`), and neighbouring vertices' estimates are
+//! 96 rays (see `solver/ambient/rays.rs`), and neighbouring vertices' estimates are
 //! independent: seen pixel by pixel, the noise of a term that carries
 //! half the light of a closed room (all its reflected light, in the
 //! offices, after their lamps' shots). The light
@@ -47,10 +47,10 @@
 
 use rayon::prelude::*;
 
-use super::ambient::AmbientEstimate;
-use super::ambient_rooms::{LocalIndex, Room};
 use crate::mesh::Mesh;
 use crate::scene::Rgb;
+use crate::solver::ambient::rays::AmbientEstimate;
+use crate::solver::ambient::rooms::{LocalIndex, Room};
 
 /// A neighbour's weight falls to 0 this many times the smaller of its and
 /// the vertex's harmonic mean distance away (4 took the cluttered office

@@ -56,9 +56,9 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::shooter::Shooter;
 use crate::mesh::Mesh;
 use crate::scene::{Scene, SurfaceId, Visibility};
+use crate::solver::shot::shooter::Shooter;
 
 /// A patch is tested only when its vertices would cast at least this many
 /// shadow rays to the shooter in all (vertices times samples per vertex).

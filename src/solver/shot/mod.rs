@@ -1,0 +1,10 @@
+//! One shot: the shooter and its sampling of the source, the shadow rays it
+//! casts to every receiving vertex (with shaft culling and the memory of what
+//! each vertex saw of the same shooter before), the reception of dim shots
+//! patch by patch, and the power each receiving element takes.
+
+pub(super) mod element_power;
+pub(super) mod patch_reception;
+pub(super) mod shaft_culling;
+pub(super) mod shooter;
+pub(super) mod visibility_memory;
