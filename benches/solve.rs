@@ -33,7 +33,7 @@ fn solve(c: &mut Criterion) {
             },
             |mut solver| {
                 solver.run();
-                solver.rays()
+                solver.stats().rays
             },
             BatchSize::LargeInput,
         )

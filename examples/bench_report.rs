@@ -218,8 +218,8 @@ fn solve(scene: &Scene, mesh: &Mesh, settings: &SolverSettings) -> SolveRun {
     solver.run();
     SolveRun {
         vertices: mesh.vertices.len(),
-        shots: solver.shots(),
-        rays: solver.rays(),
+        shots: solver.stats().shots,
+        rays: solver.stats().rays,
     }
 }
 
@@ -434,9 +434,9 @@ fn shot_ray_table(md: &mut String) -> Report {
             in_runs(&|s, cache| visibility.is_unblocked_cached(s.from, s.to, s.end_surfaces, cache))
         });
         let count = segments.len() as f64;
-        let solver_rate = solver.rays() as f64 / solve_seconds;
-        let (_, _, shaft_answers) = solver.shaft_culling();
-        let sample_rate = (solver.rays() + shaft_answers) as f64 / solve_seconds;
+        let solver_rate = solver.stats().rays as f64 / solve_seconds;
+        let shaft_answers = solver.stats().known_visible;
+        let sample_rate = (solver.stats().rays + shaft_answers) as f64 / solve_seconds;
         let raw_rate = count / raw_seconds;
         eprintln!(
             "  {spec}: solver {solver_rate:.3e} rays/s, raw {raw_rate:.3e} on its shots' rays"
@@ -445,8 +445,8 @@ fn shot_ray_table(md: &mut String) -> Report {
             md,
             "| {spec} | {} | {} | {} | {shaft_answers} | {solve_seconds:.3} | {} | {} | {:.0} % | {} | {} | {} | {:.2} | {:.2} |",
             solver.mesh().vertices.len(),
-            solver.shots(),
-            solver.rays(),
+            solver.stats().shots,
+            solver.stats().rays,
             mega(solver_rate),
             segments.len(),
             100.0 * (1.0 - raw_unblocked as f64 / count),

@@ -32,8 +32,8 @@ fn main() -> isorad::Result<()> {
     let stop = solver.run();
     println!(
         "{stop:?} after {} shots, {} shadow rays; unshot {:.2} %",
-        solver.shots(),
-        solver.rays(),
+        solver.stats().shots,
+        solver.stats().rays,
         100.0 * solver.unshot_fraction()
     );
 

@@ -58,7 +58,7 @@ fn main() -> isorad::Result<()> {
         / ledger.emitted.max_element();
     println!(
         "{stop:?} after {} shots at {:.3} % unshot; energy ledger off by {imbalance:.1e}",
-        solver.shots(),
+        solver.stats().shots,
         100.0 * solver.unshot_fraction()
     );
     assert!(imbalance < 1e-9);
@@ -78,7 +78,7 @@ fn main() -> isorad::Result<()> {
     );
     println!(
         "resumed: {stop:?} at {} shots, {:.3} % unshot",
-        solver.shots(),
+        solver.stats().shots,
         100.0 * solver.unshot_fraction()
     );
     assert!(matches!(

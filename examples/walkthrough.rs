@@ -165,8 +165,8 @@ fn main() -> Report {
         "scene": options.scene,
         "vertices": mesh.vertices.len(),
         "elements": mesh.elements.len(),
-        "shots": solver.shots(),
-        "rays": solver.rays(),
+        "shots": solver.stats().shots,
+        "rays": solver.stats().rays,
         "threads": rayon::current_num_threads(),
         "supersampling": render_settings.supersampling,
         "load_seconds": load_seconds,
@@ -190,7 +190,7 @@ fn main() -> Report {
          solve {solve_seconds:.3} s, render {render_seconds:.3} s; {} views in {views_seconds:.3} s",
         options.scene,
         mesh.vertices.len(),
-        solver.shots(),
+        solver.stats().shots,
         cameras.len()
     );
     Ok(())

@@ -4,6 +4,7 @@
 //! gets (`scene_mesh.rs`, where lighting's fields meet the meshers).
 
 mod ambient;
+mod layout;
 mod light;
 mod mesh_settings;
 mod progressive;
@@ -14,6 +15,7 @@ mod scene_mesh;
 mod settings;
 mod settings_file;
 mod shot;
+mod stats;
 mod zones;
 
 #[cfg(test)]
@@ -31,3 +33,4 @@ pub use scene_mesh::{
     scene_receiver_analyses, scene_shadow_boundaries, total_field_layout,
 };
 pub use settings::{FormFactorKernel, Settings, ShootFrom, SolverSettings};
+pub use stats::SolveStats;

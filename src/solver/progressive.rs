@@ -1,7 +1,5 @@
 //! The progressive shooting solver (Cohen, Chen, Wallace, Greenberg 1988).
 
-use std::sync::Mutex;
-
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -9,9 +7,9 @@ use super::mesh_settings::MeshKind;
 use super::refinement::{Refiner, elements_to_split};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
-use super::zones::{ShotPlaces, ZoneLabels, ZoneMembers, Zones};
+use super::zones::{ShotPlaces, Zones};
 use crate::freed_memory::give_back_freed_memory;
-use crate::mesh::{Cell, ElementHierarchy, Mesh, receiver_inset};
+use crate::mesh::{Cell, ElementHierarchy, Mesh};
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Camera, Rgb, Scene, ShadowCache, SurfaceId, Visibility};
 use crate::solver::ambient::irradiance::AmbientIrradiance;
@@ -21,18 +19,20 @@ use crate::solver::ambient::rays::{
 };
 use crate::solver::ambient::rooms::{AmbientCache, LocalIndex, ReadingPlace, Room, zones_read};
 use crate::solver::ambient::smoothing;
+use crate::solver::ambient::state::AmbientState;
 use crate::solver::ambient::sweeps::{self, UnshotLight};
+use crate::solver::layout::{CulledZones, Layout};
 use crate::solver::light::energy_balance::EnergyBalance;
 use crate::solver::light::indexed_update;
-use crate::solver::light::unshot::{FieldScale, PatchField, UnshotCorners};
-use crate::solver::light::unshot_by_zone::UnshotByZone;
-use crate::solver::light::vertex_irradiance::VertexIrradiance;
+use crate::solver::light::state::LightState;
+use crate::solver::light::unshot::{FieldScale, PatchField};
 use crate::solver::reading::solution::Solution;
 use crate::solver::shot::element_power;
-use crate::solver::shot::patch_reception::{PatchReception, ReceptionPlan};
-use crate::solver::shot::shaft_culling::{ReceiverShafts, ReceivingBoxes};
+use crate::solver::shot::patch_reception::ReceptionPlan;
+use crate::solver::shot::scratch::{ShotMemory, ShotScratch};
 use crate::solver::shot::shooter::{Gathered, Receiver, Shooter, ShotRadiosity};
-use crate::solver::shot::visibility_memory::{Recall, VisibilityMemory};
+use crate::solver::shot::visibility_memory::Recall;
+use crate::solver::stats::SolveStats;
 
 /// The least and the most a reflected shot's element powers in a closed zone
 /// are scaled by to land whole (see [`Solver::landing_scale`]): the
@@ -56,6 +56,16 @@ const LANDING_SCALE: (f64, f64) = (0.5, 2.0);
 /// tracer's time to an error goes as about its inverse square, so 0.75
 /// gains at equal error in every scene, and 0.625 no more.
 const SHARE_EXPONENT: f64 = 0.75;
+
+/// A scene's mesh and the structures found with it, which a solver is made
+/// of: the shadow-ray BVH, what meshing found, and the closed zones (None:
+/// found by the solver if it culls them).
+struct MeshedScene {
+    mesh: Mesh,
+    visibility: Visibility,
+    analysis: MeshAnalysis,
+    zones: Option<Zones>,
+}
 
 /// Radiosity at mesh vertices, solved by progressive refinement: the patch
 /// with the most unshot power shoots it to every receiving vertex, until the
@@ -82,118 +92,21 @@ pub struct Solver {
     scene: Scene,
     mesh: Mesh,
     visibility: Visibility,
-    /// The closed zones a shot need not reach beyond (None: not culled),
-    /// with the mesh's members listed zone by zone.
-    zones: Option<(Zones, ZoneMembers)>,
-    /// Per surface, whether its zone keeps all its light: its patches'
-    /// reflected shots are scaled to land whole, and its ambient rays that
-    /// end on no front are left out of their source's mean
-    /// ([`SolverSettings::conserve_closed_zones`]).
-    surface_lossless: Vec<bool>,
-    /// Per surface, the closed zone it lies in (all 0 when the zones were
-    /// not found): a patch cluster keeps to one (`solver/ambient/patch_clusters.rs`).
-    surface_zone: Vec<u32>,
-    /// The longest patch edge: the mesh settings' `patch_max_edge` when
-    /// the solver meshed the scene, the mesh's longest patch edge when the
-    /// caller brought it. It bounds a patch cluster's extent.
-    patch_edge: f64,
-    /// What meshing found (empty when the caller brought the mesh).
-    analysis: MeshAnalysis,
-    /// How far each surface's boundary vertices gather inside it, by
-    /// surface index: a ten-thousandth of its room's diagonal when the
-    /// solver meshed the scene, the scene's (`mesh::receiver_inset`) when
-    /// the caller brought the mesh.
-    receiver_insets: Vec<f64>,
     settings: SolverSettings,
-    /// Irradiance H per vertex (light received), W/m². Its radiosity,
-    /// B = E + ρ H, is found from it when asked ([`Solver::radiosity`]).
-    irradiance: VertexIrradiance,
-    /// Unshot radiosity ΔB per patch: the area-weighted mean of its
-    /// elements' corner means, the ledger's and the shooter choice's measure.
-    unshot: Vec<Rgb>,
-    /// Unshot radiosity at every element's corners: where on each patch the
-    /// unshot light lies.
-    unshot_corners: UnshotCorners,
-    /// Each patch's area, side by side: ΔB_p A_p is the unshot power.
-    patch_areas: Vec<f64>,
-    /// The unshot power ΔB_p A_p zone by zone: the strongest patch of
-    /// each and their totals, counted again where a shot changed them.
-    unshot_by_zone: UnshotByZone,
-    /// Each surface's reflectance, side by side: every shot reads it at
-    /// every element it reaches.
-    surface_reflectance: Vec<Rgb>,
-    /// A shot's irradiance per vertex of its closed zone (or of the mesh),
-    /// at each one's [`ShotPlaces`], kept between shots: a shot in one room
-    /// of a building holds that room's vertices alone.
-    incident: Vec<Rgb>,
-    /// A shot's power per receiving element, kept between shots.
-    element_powers: Vec<Rgb>,
-    emitted_power: Rgb,
-    shot_power: Rgb,
-    received_power: Rgb,
-    /// Σ (1 − ρ) P over the power P elements received: the ledger's absorbed
-    /// power, counted as the received power is (see `solver/shot/element_power.rs`).
-    absorbed_power: Rgb,
-    /// The rays the ambient term gathers the unshot light along, cast on
-    /// first use and kept while the mesh is not too large
-    /// (`solver/ambient/rooms.rs`).
-    ambient_rays: Mutex<AmbientCache>,
-    /// Whether each of the scene's photometric luminaires has shot.
-    luminaire_shot: Vec<bool>,
-    /// The closed zone each photometric luminaire stands in, whose
-    /// vertices alone its light can reach (None: it is not culled).
-    luminaire_zones: Vec<Option<usize>>,
-    /// The emitting patches whose emission has not been shot yet: they
-    /// shoot before any patch that only reflects, and a solve has not
-    /// converged while one is left.
-    emission_pending: Vec<u32>,
-    /// The largest power a single patch or photometric luminaire emits (sum
-    /// of channels): the scale for the number of samples a shot gets.
-    reference_power: f64,
-    shots: usize,
-    rays: u64,
-    /// Each patch's sample vertices for dim shots, and how its other
-    /// vertices are interpolated from them (built on first use).
-    reception: PatchReception,
-    /// Per patch, the irradiance above which its vertices interpolate the
-    /// current shot (all infinite between shots).
-    thresholds: Vec<Rgb>,
-    /// The current shot's thresholds, in the order of its zone's patches.
-    patch_thresholds: Vec<Rgb>,
-    /// Vertex receptions of reflected shots, over all shots: those
-    /// interpolated rather than gathered, and all.
-    receptions: (u64, u64),
-    /// The last shot's reception plan, kept for its buffers.
-    reception_plan_buffer: ReceptionPlan,
-    /// The box of each patch's receiving points, for shaft culling.
-    receiving_boxes: ReceivingBoxes,
-    /// Per vertex: whether it sees all of the current shooter, or which few
-    /// triangles alone can block its rays to it (kept between shots so as
-    /// not to allocate).
-    receiver_shafts: ReceiverShafts,
-    /// Shafts tested and found clear, over all shots.
-    shafts: (u64, u64),
-    /// Visibility samples taken without rays: their receivers were known to
-    /// see all of the shooter (a clear shaft, or the shooter's last shot).
-    known_visible: u64,
-    /// Shadow rays answered by the few triangles in their shaft rather
-    /// than by a traversal of the BVH.
-    listed_rays: u64,
-    /// What each vertex saw of each shooter at its last shot.
-    visibility_memory: VisibilityMemory,
-    /// Vertex views of a shooter recalled from its last shot.
-    recalled: u64,
-    /// Every patch's and every vertex's index, for the plans of a scene
-    /// without closed zones.
-    every_index: (Vec<u32>, Vec<u32>),
-    /// Radiosity shot by each patch in all, Σ ΔB: what new vertices of an
-    /// adaptive mesh gather.
-    shot: Vec<Rgb>,
+    /// Where things are: zones, reflectances, insets, patch areas.
+    layout: Layout,
+    /// The light shot and not yet shot, and the ledger's powers.
+    light: LightState,
+    /// The buffers a shot works in.
+    scratch: ShotScratch,
+    /// What shots remember of the mesh and of earlier shots.
+    memory: ShotMemory,
+    /// What the solve has done so far.
+    stats: SolveStats,
+    /// The ambient term's rays and the last run's patch shots.
+    ambient: AmbientState,
     /// The element hierarchy of an adaptive solve.
     refiner: Option<Refiner>,
-    /// The patch shots of the unshot power the last run left
-    /// (`solver/ambient/patch_shots.rs`), until the next shot changes it.
-    patch_shots: Option<PatchShots>,
 }
 
 impl Solver {
@@ -240,11 +153,16 @@ impl Solver {
         give_back_freed_memory();
         let refiner = (settings.mesh.kind == MeshKind::Adaptive)
             .then(|| Refiner::new(&mesh, settings.mesh.refinement.clone()));
-        let parts = (mesh, visibility, analysis, Some(zones));
+        let parts = MeshedScene {
+            mesh,
+            visibility,
+            analysis,
+            zones: Some(zones),
+        };
         let mut solver = Self::with_parts(scene, parts, settings.solver);
         solver.refiner = refiner;
-        solver.receiver_insets = receiver_insets;
-        solver.patch_edge = settings.mesh.square_for(&solver.scene).patch_max_edge;
+        solver.layout.receiver_insets = receiver_insets;
+        solver.layout.patch_edge = settings.mesh.square_for(&solver.scene).patch_max_edge;
         Ok(solver)
     }
 
@@ -260,156 +178,39 @@ impl Solver {
         settings.validate()?;
         scene.validate()?;
         let visibility = Visibility::new(&scene);
-        let analysis = MeshAnalysis::default();
-        let parts = (mesh, visibility, analysis, None);
+        let parts = MeshedScene {
+            mesh,
+            visibility,
+            analysis: MeshAnalysis::default(),
+            zones: None,
+        };
         Ok(Self::with_parts(scene, parts, settings))
     }
 
     /// Emitters' radiosity set, nothing shot. The closed zones are found
     /// here unless given (and kept only if culled and more than one).
-    fn with_parts(
-        scene: Scene,
-        (mesh, visibility, analysis, zones): (Mesh, Visibility, MeshAnalysis, Option<Zones>),
-        settings: SolverSettings,
-    ) -> Self {
-        let emitted = |surface: SurfaceId| {
-            scene
-                .material_of(scene.surface(surface))
-                .emitted_radiosity()
-        };
-        let unshot: Vec<Rgb> = mesh.patches.iter().map(|p| emitted(p.surface)).collect();
-        let powers = mesh.patches.iter().zip(&unshot).map(|(p, b)| *b * p.area);
-        let emitted_power =
-            powers.clone().sum::<Rgb>() + scene.luminaires.iter().map(|l| l.power()).sum::<Rgb>();
-        let luminaire_shot = vec![false; scene.luminaires.len()];
-        let emission_pending = (0..unshot.len() as u32)
-            .filter(|&p| unshot[p as usize].element_sum() * mesh.patches[p as usize].area > 0.0)
-            .collect();
-        // Photometric luminaires count as emitters: a room lit only by them
-        // scales its shots' samples by their power.
-        let reference_power = powers
-            .map(|p| p.element_sum())
-            .chain(scene.luminaires.iter().map(|l| l.power().element_sum()))
-            .fold(0.0, f64::max);
-        let unshot_len = unshot.len();
-        let irradiance = VertexIrradiance::zeros(mesh.vertices.len());
-        let unshot_corners = UnshotCorners::new(&mesh, &unshot);
-        let patch_areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
-        let surface_reflectance = scene
-            .surfaces
-            .iter()
-            .map(|surface| scene.material_of(surface).reflectance)
-            .collect();
-        let zones = match zones {
-            None if settings.cull_closed_zones => Some(Zones::new(&scene, &visibility)),
-            zones => zones,
-        };
-        // Without the cull, the zones' labels alone (no BVH per zone).
-        let built;
-        let labels = match &zones {
-            Some(zones) => Some(zones.labels()),
-            None if settings.conserve_closed_zones => {
-                built = ZoneLabels::new(&scene, &visibility);
-                Some(&built)
-            }
-            None => None,
-        };
-        let surface_lossless = match labels {
-            Some(labels) if settings.conserve_closed_zones => scene
-                .surfaces_with_ids()
-                .map(|(id, _)| labels.is_lossless(labels.of(id)))
-                .collect(),
-            _ => vec![false; scene.surfaces.len()],
-        };
-        let surface_zone = match labels {
-            Some(labels) => scene
-                .surfaces_with_ids()
-                .map(|(id, _)| labels.of(id) as u32)
-                .collect(),
-            None => vec![0; scene.surfaces.len()],
-        };
-        let patch_edge = mesh.longest_patch_edge();
-        let zones = zones
-            .filter(|zones| settings.cull_closed_zones && zones.count() > 1)
-            .map(|zones| (zones, ZoneMembers::default()));
-        // A luminaire inside a closed room lights that room alone. Its
-        // photometric centre may lie on the ceiling (a recessed fitting):
-        // the zone is found a little way along its aim.
-        let luminaire_zones = scene
-            .luminaires
-            .iter()
-            .map(|luminaire| {
-                let (zones, _) = zones.as_ref()?;
-                let inside =
-                    luminaire.position + luminaire.aim * (16.0 * visibility.surface_offset());
-                zones.labels().enclosing(&scene, &visibility, inside)
-            })
-            .collect();
-        // A closed zone's residual counts toward the tolerance at its weight.
-        let weights = mesh
-            .patches
-            .iter()
-            .map(|p| match surface_lossless[p.surface.index()] {
-                true => settings.closed_zone_weight,
-                false => 1.0,
-            })
-            .collect();
-        let counts = (&unshot[..], &patch_areas[..]);
-        let unshot_by_zone = match &zones {
-            Some((zones, _)) => {
-                let zone_of = mesh.patches.iter().map(|p| zones.of(p.surface));
-                UnshotByZone::new(zone_of, zones.count(), counts, weights)
-            }
-            None => UnshotByZone::new(mesh.patches.iter().map(|_| 0), 1, counts, weights),
-        };
-        // The scene's inset, until `Solver::new` gives each room's.
-        let receiver_insets = vec![receiver_inset(&scene); scene.surfaces.len()];
+    fn with_parts(scene: Scene, parts: MeshedScene, settings: SolverSettings) -> Self {
+        let MeshedScene {
+            mesh,
+            visibility,
+            analysis,
+            zones,
+        } = parts;
+        let mut layout = Layout::new(&scene, &mesh, &visibility, zones, &settings);
+        layout.analysis = analysis;
+        let light = LightState::new(&scene, &mesh, &layout, &settings);
         Solver {
             scene,
             mesh,
             visibility,
-            zones,
-            surface_lossless,
-            surface_zone,
-            patch_edge,
-            analysis,
-            receiver_insets,
             settings,
-            irradiance,
-            unshot,
-            unshot_corners,
-            patch_areas,
-            unshot_by_zone,
-            surface_reflectance,
-            incident: Vec::new(),
-            element_powers: Vec::new(),
-            emitted_power,
-            shot_power: Rgb::ZERO,
-            received_power: Rgb::ZERO,
-            absorbed_power: Rgb::ZERO,
-            ambient_rays: Mutex::new(AmbientCache::default()),
-            luminaire_shot,
-            luminaire_zones,
-            emission_pending,
-            reference_power,
-            shots: 0,
-            rays: 0,
-            reception: PatchReception::default(),
-            thresholds: Vec::new(),
-            patch_thresholds: Vec::new(),
-            receptions: (0, 0),
-            reception_plan_buffer: ReceptionPlan::default(),
-            receiving_boxes: ReceivingBoxes::default(),
-            receiver_shafts: ReceiverShafts::default(),
-            shafts: (0, 0),
-            known_visible: 0,
-            listed_rays: 0,
-            visibility_memory: VisibilityMemory::default(),
-            recalled: 0,
-            every_index: (Vec::new(), Vec::new()),
-            shot: vec![Rgb::ZERO; unshot_len],
+            layout,
+            light,
+            scratch: ShotScratch::default(),
+            memory: ShotMemory::default(),
+            stats: SolveStats::default(),
+            ambient: AmbientState::default(),
             refiner: None,
-            patch_shots: None,
         }
     }
 
@@ -418,7 +219,10 @@ impl Solver {
     /// ([`SolverSettings::cull_closed_zones`]).
     #[must_use]
     pub fn closed_zones(&self) -> usize {
-        self.zones.as_ref().map_or(1, |(zones, _)| zones.count())
+        self.layout
+            .zones
+            .as_ref()
+            .map_or(1, |CulledZones { zones, .. }| zones.count())
     }
 
     /// Shoots the next photometric luminaire not yet shot, else the
@@ -434,24 +238,26 @@ impl Solver {
     /// small patches (the slivers of a many-sided disc) could otherwise
     /// carry less power per patch than the floor it lights, and wait.
     pub fn step(&mut self) -> bool {
-        if let Some(k) = self.luminaire_shot.iter().position(|&shot| !shot) {
+        if let Some(k) = self.light.luminaire_shot.iter().position(|&shot| !shot) {
             // A shot changes the unshot power the patch shots were made of.
-            self.patch_shots = None;
+            self.ambient.patch_shots = None;
             self.shoot_luminaire(k);
             return true;
         }
-        let power = |p: usize| self.unshot[p].element_sum() * self.patch_areas[p];
+        let power = |p: usize| self.light.unshot[p].element_sum() * self.layout.patch_areas[p];
         let pending = self
+            .light
             .emission_pending
             .iter()
             .enumerate()
             .max_by(|a, b| power(*a.1 as usize).total_cmp(&power(*b.1 as usize)));
         let chosen = match pending {
             Some((k, &j)) => {
-                self.emission_pending.swap_remove(k);
+                self.light.emission_pending.swap_remove(k);
                 Some((j as usize, power(j as usize)))
             }
             None => self
+                .light
                 .unshot_by_zone
                 .next_shooter(self.settings.zone_affinity),
         };
@@ -461,8 +267,8 @@ impl Solver {
         if power.is_nan() || power <= 0.0 {
             return false;
         }
-        self.patch_shots = None;
-        let delta = std::mem::replace(&mut self.unshot[j], Rgb::ZERO);
+        self.ambient.patch_shots = None;
+        let delta = std::mem::replace(&mut self.light.unshot[j], Rgb::ZERO);
         let shot_power = delta * self.mesh.patches[j].area;
         let surface = self.scene.surface(self.mesh.patches[j].surface);
         let is_emitter = self.scene.material_of(surface).is_emitter();
@@ -470,19 +276,27 @@ impl Solver {
             ShotRadiosity::Uniform(delta)
         } else {
             let patch = &self.mesh.patches[j];
-            ShotRadiosity::Field(self.unshot_corners.field(&self.mesh, patch, shot_power))
+            ShotRadiosity::Field(
+                self.light
+                    .unshot_corners
+                    .field(&self.mesh, patch, shot_power),
+            )
         };
-        self.unshot_corners.clear(&self.mesh.patches[j]);
+        self.light.unshot_corners.clear(&self.mesh.patches[j]);
         // Only the shooter's closed zone can receive.
-        let zone = self.zones.as_mut().map(|(zones, members)| {
-            members.refresh(zones, &self.mesh);
-            zones.of(self.mesh.patches[j].surface)
-        });
-        let mut incident = std::mem::take(&mut self.incident);
+        let zone = self
+            .layout
+            .zones
+            .as_mut()
+            .map(|CulledZones { zones, members }| {
+                members.refresh(zones, &self.mesh);
+                zones.of(self.mesh.patches[j].surface)
+            });
+        let mut incident = std::mem::take(&mut self.scratch.incident);
         // Reflected light may be received patch by patch where it is dim.
         let coarse = (!is_emitter).then_some(shot_power);
         self.incident_from(j, (power, coarse), radiosity, zone, &mut incident);
-        let lossless = self.surface_lossless[self.mesh.patches[j].surface.index()];
+        let lossless = self.layout.surface_lossless[self.mesh.patches[j].surface.index()];
         let lands_whole = (!is_emitter && lossless).then_some(shot_power);
         let emitter = is_emitter.then(|| {
             let patch = &self.mesh.patches[j];
@@ -490,10 +304,10 @@ impl Solver {
         });
         self.receive(&incident, zone, emitter, lands_whole);
         self.recount_unshot(zone);
-        self.incident = incident;
-        self.shot_power += shot_power;
-        self.shot[j] += delta;
-        self.shots += 1;
+        self.scratch.incident = incident;
+        self.light.shot_power += shot_power;
+        self.light.shot[j] += delta;
+        self.stats.shots += 1;
         // Shadow edges and highlights come from direct light: elements split
         // after the emitters' shots, and new vertices gather only those.
         if is_emitter {
@@ -506,9 +320,9 @@ impl Solver {
     /// E = I(ω) cos θ / r² from its photometric centre, with one shadow ray.
     /// Inside a closed zone, only the zone's vertices receive it.
     fn shoot_luminaire(&mut self, k: usize) {
-        let zone = self.luminaire_zones[k];
-        let vertices: Vec<u32> = match zone.zip(self.zones.as_mut()) {
-            Some((zone, (zones, members))) => {
+        let zone = self.layout.luminaire_zones[k];
+        let vertices: Vec<u32> = match zone.zip(self.layout.zones.as_mut()) {
+            Some((zone, CulledZones { zones, members })) => {
                 members.refresh(zones, &self.mesh);
                 members.vertices[zone].clone()
             }
@@ -517,12 +331,12 @@ impl Solver {
         // In the zone's order: where the shot keeps its vertices' light.
         let incident = self.luminaire_light(k, &vertices);
         let samples = self.scene.luminaires[k].opening_samples().len();
-        self.rays += (vertices.len() * samples) as u64;
+        self.stats.rays += (vertices.len() * samples) as u64;
         self.receive(&incident, zone, None, None);
         self.recount_unshot(zone);
-        self.shot_power += self.scene.luminaires[k].power();
-        self.luminaire_shot[k] = true;
-        self.shots += 1;
+        self.light.shot_power += self.scene.luminaires[k].power();
+        self.light.luminaire_shot[k] = true;
+        self.stats.shots += 1;
         self.refine();
     }
 
@@ -531,7 +345,12 @@ impl Solver {
     /// the rays traverse.
     fn luminaire_light(&self, k: usize, vertices: &[u32]) -> Vec<Rgb> {
         let (scene, mesh) = (&self.scene, &self.mesh);
-        let zone = self.luminaire_zones[k].zip(self.zones.as_ref().map(|(zones, _)| zones));
+        let zone = self.layout.luminaire_zones[k].zip(
+            self.layout
+                .zones
+                .as_ref()
+                .map(|CulledZones { zones, .. }| zones),
+        );
         let visibility = zone
             .and_then(|(zone, zones)| zones.visibility(zone))
             .unwrap_or(&self.visibility);
@@ -578,52 +397,58 @@ impl Solver {
         let (scene, mesh) = (&self.scene, &self.mesh);
         // A closed zone's rays traverse its own, smaller BVH.
         let visibility = zone
-            .zip(self.zones.as_ref())
-            .and_then(|(zone, (zones, _))| zones.visibility(zone))
+            .zip(self.layout.zones.as_ref())
+            .and_then(|(zone, CulledZones { zones, .. })| zones.visibility(zone))
             .unwrap_or(&self.visibility);
         // The receiving patches that see all of the shooter cast no rays,
         // and those whose shafts hold a few triangles test those alone.
-        let mut shafts = std::mem::take(&mut self.receiver_shafts);
+        let mut shafts = std::mem::take(&mut self.scratch.receiver_shafts);
         if self.settings.cull_shafts {
-            self.receiving_boxes.refresh(mesh);
+            self.memory.receiving_boxes.refresh(mesh);
             let receiving_patches = zone
-                .zip(self.zones.as_ref())
-                .map(|(zone, (_, members))| &members.patches[zone][..]);
+                .zip(self.layout.zones.as_ref())
+                .map(|(zone, CulledZones { members, .. })| &members.patches[zone][..]);
             // An emitter's shot reaches vertices on its shadow boundaries,
             // where an occluder's edge grazes the emitter's as seen from
             // them: its shafts keep the whole cell.
             let rim = match coarse {
                 Some(_) => self
+                    .layout
                     .receiver_insets
                     .get(patch.surface.index())
                     .copied()
                     .unwrap_or(0.0),
                 None => 0.0,
             };
-            let (tested, cleared) = self.receiving_boxes.find_occluders(
+            let (tested, cleared) = self.memory.receiving_boxes.find_occluders(
                 (scene, mesh, visibility),
                 (&shooter, self.settings.sample_density, rim),
                 receiving_patches,
                 &mut shafts,
             );
-            self.shafts.0 += tested as u64;
-            self.shafts.1 += cleared as u64;
+            self.stats.shafts_tested += tested as u64;
+            self.stats.shafts_clear += cleared as u64;
         } else {
             shafts.reset(mesh.vertices.len());
         }
         let (density, shot, kernel) = (
             self.settings.sample_density,
-            self.shots as u64,
+            self.stats.shots as u64,
             self.settings.kernel,
         );
         // What each vertex saw of this patch at its last shot, for a
         // reflected shot.
         let remembering = coarse.is_some() && self.settings.remember_visibility;
-        let members = self.zones.as_ref().map(|(_, members)| members);
+        let members = self
+            .layout
+            .zones
+            .as_ref()
+            .map(|CulledZones { members, .. }| members);
         let places = ShotPlaces::new(zone, members);
-        self.visibility_memory
+        self.memory
+            .visibility_memory
             .refresh((mesh.vertices.len(), mesh.patches.len()));
-        let memory = &self.visibility_memory;
+        let memory = &self.memory.visibility_memory;
         let recall = |v: usize| {
             if remembering {
                 memory.recall(j, places.of(v as u32))
@@ -658,9 +483,9 @@ impl Solver {
             });
         incident.clear();
         incident.resize(zone_size, Rgb::ZERO);
-        let vertices = match (&plan, zone.zip(self.zones.as_ref())) {
+        let vertices = match (&plan, zone.zip(self.layout.zones.as_ref())) {
             (Some(plan), _) => Some(&plan.gathered[..]),
-            (None, Some((zone, (_, members)))) => Some(&members.vertices[zone][..]),
+            (None, Some((zone, CulledZones { members, .. }))) => Some(&members.vertices[zone][..]),
             (None, None) => None,
         };
         let every_vertex: Vec<u32>;
@@ -678,19 +503,20 @@ impl Solver {
             }
         };
         for (&v, g) in vertices.iter().zip(&gathered) {
-            self.rays += u64::from(g.rays);
-            self.known_visible += u64::from(g.known_visible);
+            self.stats.rays += u64::from(g.rays);
+            self.stats.known_visible += u64::from(g.known_visible);
             if shafts
                 .occluders_of(v as usize)
                 .is_some_and(|list| !list.is_empty())
             {
-                self.listed_rays += u64::from(g.rays);
+                self.stats.listed_rays += u64::from(g.rays);
             }
-            self.recalled += u64::from(recall(v as usize) != Recall::Unknown);
+            self.stats.recalled_views += u64::from(recall(v as usize) != Recall::Unknown);
             incident[places.of(v)] = g.irradiance;
         }
         if remembering {
-            self.visibility_memory
+            self.memory
+                .visibility_memory
                 .remember((j, zone_size), places, (vertices, &gathered));
         }
         if let Some(plan) = plan {
@@ -699,7 +525,7 @@ impl Solver {
                 centre: shooter.cell.point(0.5, 0.5),
                 normal: self.scene.surface(shooter.surface).normal(),
             };
-            let (scene, mesh, reception) = (&self.scene, &self.mesh, &self.reception);
+            let (scene, mesh, reception) = (&self.scene, &self.mesh, &self.memory.reception);
             let at = |v: u32| {
                 let vertex = &mesh.vertices[v as usize];
                 kernel.at(
@@ -729,11 +555,11 @@ impl Solver {
                 }
             }
             let count = (plan.interpolated.len() + plan.gathered.len()) as u64;
-            self.receptions.0 += plan.interpolated.len() as u64;
-            self.receptions.1 += count;
-            self.reception_plan_buffer = plan;
+            self.stats.interpolated_receptions += plan.interpolated.len() as u64;
+            self.stats.receptions += count;
+            self.scratch.reception_plan = plan;
         }
-        self.receiver_shafts = shafts;
+        self.scratch.receiver_shafts = shafts;
     }
 
     /// Which vertices of the receiving zone (`zone`, or the whole scene)
@@ -743,24 +569,28 @@ impl Solver {
     /// [`SolverSettings::coarse_reception`], and whose samples agree with
     /// them (see `solver/shot/patch_reception.rs`).
     fn reception_plan(&mut self, j: usize, shot_power: Rgb, zone: Option<usize>) -> ReceptionPlan {
-        self.reception.refresh(&self.mesh);
-        let mut plan = std::mem::take(&mut self.reception_plan_buffer);
+        self.memory.reception.refresh(&self.mesh);
+        let mut plan = std::mem::take(&mut self.scratch.reception_plan);
         // Without zones, every patch and vertex, listed once per mesh size.
-        let (every_patch, every_vertex) = &mut self.every_index;
-        if every_patch.len() != self.mesh.patches.len() {
-            *every_patch = (0..self.mesh.patches.len() as u32).collect();
+        let scratch = &mut self.scratch;
+        if scratch.every_patch.len() != self.mesh.patches.len() {
+            scratch.every_patch = (0..self.mesh.patches.len() as u32).collect();
         }
-        if every_vertex.len() != self.mesh.vertices.len() {
-            *every_vertex = (0..self.mesh.vertices.len() as u32).collect();
+        if scratch.every_vertex.len() != self.mesh.vertices.len() {
+            scratch.every_vertex = (0..self.mesh.vertices.len() as u32).collect();
         }
-        let (patches, vertices): (&[u32], &[u32]) = match zone.zip(self.zones.as_ref()) {
-            Some((zone, (_, members))) => (&members.patches[zone], &members.vertices[zone]),
-            None => (&self.every_index.0, &self.every_index.1),
+        let (patches, vertices): (&[u32], &[u32]) = match zone.zip(self.layout.zones.as_ref()) {
+            Some((zone, CulledZones { members, .. })) => {
+                (&members.patches[zone], &members.vertices[zone])
+            }
+            None => (&self.scratch.every_patch, &self.scratch.every_vertex),
         };
         let fraction = self.settings.coarse_reception;
         let never = Rgb::splat(f64::INFINITY);
-        self.thresholds.resize(self.mesh.patches.len(), never);
-        let reception = &self.reception;
+        self.scratch
+            .thresholds
+            .resize(self.mesh.patches.len(), never);
+        let reception = &self.memory.reception;
         let threshold =
             |&p: &u32| reception.interpolation_threshold((p as usize, j), shot_power, fraction);
         // A patch's bound costs about as much as a hundred vertices' updates.
@@ -768,18 +598,24 @@ impl Solver {
             patches
                 .par_iter()
                 .map(threshold)
-                .collect_into_vec(&mut self.patch_thresholds);
+                .collect_into_vec(&mut self.scratch.patch_thresholds);
         } else {
-            self.patch_thresholds.clear();
-            self.patch_thresholds.extend(patches.iter().map(threshold));
+            self.scratch.patch_thresholds.clear();
+            self.scratch
+                .patch_thresholds
+                .extend(patches.iter().map(threshold));
         }
-        for (&p, &t) in patches.iter().zip(&self.patch_thresholds) {
-            self.thresholds[p as usize] = t;
+        for (&p, &t) in patches.iter().zip(&self.scratch.patch_thresholds) {
+            self.scratch.thresholds[p as usize] = t;
         }
-        self.reception
-            .plan(vertices, &self.thresholds, &self.irradiance, &mut plan);
+        self.memory.reception.plan(
+            vertices,
+            &self.scratch.thresholds,
+            &self.light.irradiance,
+            &mut plan,
+        );
         for &p in patches {
-            self.thresholds[p as usize] = never;
+            self.scratch.thresholds[p as usize] = never;
         }
         plan
     }
@@ -790,7 +626,7 @@ impl Solver {
     fn shooter(&self, j: usize, power: f64, radiosity: ShotRadiosity) -> Shooter {
         let patch = &self.mesh.patches[j];
         let surface = self.scene.surface(patch.surface);
-        let share = (power / self.reference_power.max(f64::MIN_POSITIVE)).min(1.0);
+        let share = (power / self.light.reference_power.max(f64::MIN_POSITIVE)).min(1.0);
         let max_side = (self.settings.max_samples as f64).sqrt().floor().max(1.0) as usize;
         let samples = self.settings.direct_samples as f64 * share.powf(SHARE_EXPONENT);
         let min_side = (samples.sqrt().round() as usize).clamp(1, max_side);
@@ -872,10 +708,12 @@ impl Solver {
         lands_whole: Option<Rgb>,
     ) {
         // The zone's lists, taken out of `self` while its fields change.
-        let members = zone.and_then(|zone| Some((zone, self.zones.take()?)));
+        let members = zone.and_then(|zone| Some((zone, self.layout.zones.take()?)));
         let (all_vertices, all_elements): (Vec<u32>, Vec<u32>);
         let (vertices, elements): (&[u32], &[u32]) = match &members {
-            Some((zone, (_, members))) => (&members.vertices[*zone], &members.elements[*zone]),
+            Some((zone, CulledZones { members, .. })) => {
+                (&members.vertices[*zone], &members.elements[*zone])
+            }
             None => {
                 all_vertices = (0..self.mesh.vertices.len() as u32).collect();
                 all_elements = (0..self.mesh.elements.len() as u32).collect();
@@ -883,12 +721,17 @@ impl Solver {
             }
         };
         // The k-th of `vertices` keeps its light at place k.
-        let places = ShotPlaces::new(zone, members.as_ref().map(|(_, (_, members))| members));
+        let places = ShotPlaces::new(
+            zone,
+            members
+                .as_ref()
+                .map(|(_, CulledZones { members, .. })| members),
+        );
         let at = |v: u32| incident[places.of(v)];
-        let (mesh, reflectances) = (&self.mesh, &self.surface_reflectance);
+        let (mesh, reflectances) = (&self.mesh, &self.layout.surface_reflectance);
         let reflectance_of = |surface: SurfaceId| reflectances[surface.index()];
-        self.irradiance.add_at(vertices, incident);
-        let mut powers = std::mem::take(&mut self.element_powers);
+        self.light.irradiance.add_at(vertices, incident);
+        let mut powers = std::mem::take(&mut self.scratch.element_powers);
         match emitter {
             Some((cell, normal)) => {
                 let emitter = (cell.polygon(), normal);
@@ -919,18 +762,21 @@ impl Solver {
                 continue;
             }
             let element = &mesh.elements[e as usize];
-            self.received_power += incident_power;
+            self.light.received_power += incident_power;
             let patch = element.patch as usize;
             let reflectance = reflectance_of(element.surface);
-            self.unshot[patch] += reflectance * incident_power / self.patch_areas[patch];
-            self.absorbed_power += (Rgb::ONE - reflectance) * incident_power;
+            self.light.unshot[patch] +=
+                reflectance * incident_power / self.layout.patch_areas[patch];
+            self.light.absorbed_power += (Rgb::ONE - reflectance) * incident_power;
         }
-        self.unshot_corners.add_shot(mesh, elements, |element, v| {
-            reflectance_of(element.surface) * scale * at(v)
-        });
-        self.element_powers = powers;
+        self.light
+            .unshot_corners
+            .add_shot(mesh, elements, |element, v| {
+                reflectance_of(element.surface) * scale * at(v)
+            });
+        self.scratch.element_powers = powers;
         if let Some((_, zones)) = members {
-            self.zones = Some(zones);
+            self.layout.zones = Some(zones);
         }
     }
 
@@ -941,22 +787,22 @@ impl Solver {
     /// would stand on theirs once a run stops; the next shot makes them
     /// again.
     pub(crate) fn release_shot_buffers(&mut self) {
-        self.incident = Vec::new();
-        self.element_powers = Vec::new();
+        self.scratch.incident = Vec::new();
+        self.scratch.element_powers = Vec::new();
     }
 
     /// Counts the unshot power of closed zone `zone`'s patches again after
     /// a shot changed them, or of every patch.
     fn recount_unshot(&mut self, zone: Option<usize>) {
-        let counts = (&self.unshot[..], &self.patch_areas[..]);
+        let counts = (&self.light.unshot[..], &self.layout.patch_areas[..]);
         match zone {
-            Some(zone) => self.unshot_by_zone.shot_in(zone, counts),
-            None => self.unshot_by_zone.recount_all(counts),
+            Some(zone) => self.light.unshot_by_zone.shot_in(zone, counts),
+            None => self.light.unshot_by_zone.recount_all(counts),
         }
     }
 
     fn reflectance(&self, vertex: usize) -> Rgb {
-        self.surface_reflectance[self.mesh.vertices[vertex].surface.index()]
+        self.layout.surface_reflectance[self.mesh.vertices[vertex].surface.index()]
     }
 
     /// Whether some emission (a photometric luminaire, or an emitting
@@ -964,7 +810,7 @@ impl Solver {
     /// before it has.
     #[must_use]
     pub fn emission_pending(&self) -> bool {
-        !self.emission_pending.is_empty() || self.luminaire_shot.contains(&false)
+        !self.light.emission_pending.is_empty() || self.light.luminaire_shot.contains(&false)
     }
 
     /// Unshot power over emitted power (sums of channels), after the patch
@@ -972,7 +818,7 @@ impl Solver {
     /// scene.
     #[must_use]
     pub fn unshot_fraction(&self) -> f64 {
-        let emitted = self.emitted_power.element_sum();
+        let emitted = self.light.emitted_power.element_sum();
         if emitted > 0.0 {
             self.unshot_power().element_sum() / emitted
         } else {
@@ -988,9 +834,9 @@ impl Solver {
     /// the next shot takes that back to what the vertices' shots leave.
     #[must_use]
     pub fn convergence_fraction(&self) -> f64 {
-        let emitted = self.emitted_power.element_sum();
+        let emitted = self.light.emitted_power.element_sum();
         if emitted > 0.0 {
-            (self.unshot_by_zone.weighted_total() + self.unshot_luminaires().element_sum())
+            (self.light.unshot_by_zone.weighted_total() + self.unshot_luminaires().element_sum())
                 / emitted
         } else {
             0.0
@@ -1000,9 +846,9 @@ impl Solver {
     /// The power not yet shot: what the patch shots left, if the last run
     /// made them, or what the vertices' shots left.
     fn unshot_power(&self) -> Rgb {
-        let unshot = match &self.patch_shots {
+        let unshot = match &self.ambient.patch_shots {
             Some(shots) => shots.left,
-            None => self.unshot_by_zone.total(),
+            None => self.light.unshot_by_zone.total(),
         };
         unshot + self.unshot_luminaires()
     }
@@ -1012,7 +858,7 @@ impl Solver {
         self.scene
             .luminaires
             .iter()
-            .zip(&self.luminaire_shot)
+            .zip(&self.light.luminaire_shot)
             .filter(|(_, shot)| !**shot)
             .map(|(l, _)| l.power())
             .sum()
@@ -1030,7 +876,7 @@ impl Solver {
     /// list (the solver keeps it in `f32`: `solver/light/vertex_irradiance.rs`).
     #[must_use]
     pub fn irradiance(&self) -> Vec<Rgb> {
-        self.irradiance.to_vec()
+        self.light.irradiance.to_vec()
     }
 
     /// Vertex `v`'s irradiance (W/m²) from the light shot so far.
@@ -1039,7 +885,7 @@ impl Solver {
     /// If `v` is not a vertex of the mesh.
     #[must_use]
     pub fn irradiance_at(&self, v: usize) -> Rgb {
-        self.irradiance.at(v)
+        self.light.irradiance.at(v)
     }
 
     /// Radiosity per vertex with the ambient term added: the light not yet
@@ -1074,7 +920,11 @@ impl Solver {
     ) -> AmbientIrradiance {
         // What the shots freed goes back before the term's lists are made.
         give_back_freed_memory();
-        let zones = self.zones.as_ref().map(|(zones, _)| zones);
+        let zones = self
+            .layout
+            .zones
+            .as_ref()
+            .map(|CulledZones { zones, .. }| zones);
         let (rooms, others) = self.ambient_rooms(only, keep);
         // Half a room's vertices count once their rays are cast (or kept),
         // the other half once their light is gathered.
@@ -1085,7 +935,8 @@ impl Solver {
             (n / 2, n - n / 2)
         };
         let mut cache = self
-            .ambient_rays
+            .ambient
+            .rays
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         // A zone's rays traverse the BVH of what lies within its bounds,
@@ -1113,7 +964,7 @@ impl Solver {
         let locator = || locator.get_or_init(|| PatchLocator::new(&self.scene, &self.mesh));
         // After patch shots the patches' further bounces are theirs; else
         // the term finds them along its patches' rays.
-        let uncast = match &self.patch_shots {
+        let uncast = match &self.ambient.patch_shots {
             Some(_) => Vec::new(),
             None => cache.patches.uncast(&self.mesh, within.as_deref()),
         };
@@ -1200,7 +1051,7 @@ impl Solver {
         only: Option<&[usize]>,
         listing_others: bool,
     ) -> (Vec<Room>, Vec<Room>) {
-        let Some((zones, _)) = &self.zones else {
+        let Some(CulledZones { zones, .. }) = &self.layout.zones else {
             return (vec![Room::whole(&self.mesh)], Vec::new());
         };
         let count = zones.count();
@@ -1237,12 +1088,12 @@ impl Solver {
     /// ([`PatchRays::residual`], zero until they are cast), on the patches
     /// `within` (all, by `None`).
     fn patch_residual(&self, rays: &PatchRays, within: Option<&[u32]>) -> (Vec<Rgb>, Vec<Rgb>) {
-        let residual = match &self.patch_shots {
+        let residual = match &self.ambient.patch_shots {
             Some(shots) => (0..self.mesh.patches.len())
                 .into_par_iter()
                 .map(|p| {
                     let surface = self.mesh.patches[p].surface.index();
-                    self.surface_reflectance[surface] * shots.irradiance(p)
+                    self.layout.surface_reflectance[surface] * shots.irradiance(p)
                 })
                 .collect(),
             None => {
@@ -1253,13 +1104,14 @@ impl Solver {
                     .map(|p| {
                         let surface = self.scene.surface(p.surface);
                         let reflectance = self.scene.material_of(surface).reflectance;
-                        (reflectance, self.surface_lossless[p.surface.index()])
+                        (reflectance, self.layout.surface_lossless[p.surface.index()])
                     })
                     .unzip();
-                rays.residual((&self.unshot, &reflectance, &lossless), within)
+                rays.residual((&self.light.unshot, &reflectance, &lossless), within)
             }
         };
         let patch_value = self
+            .light
             .unshot
             .iter()
             .zip(&residual)
@@ -1286,8 +1138,8 @@ impl Solver {
             .par_iter()
             .map(|&p| {
                 let patch = &mesh.patches[p as usize];
-                let power = self.unshot[p as usize] * patch.area;
-                let field = self.unshot_corners.field(mesh, patch, power);
+                let power = self.light.unshot[p as usize] * patch.area;
+                let field = self.light.unshot_corners.field(mesh, patch, power);
                 let scale = field.exact_scale();
                 (field, scale)
             })
@@ -1305,7 +1157,7 @@ impl Solver {
             .elements
             .par_iter()
             .map(|&e| {
-                let corners = self.unshot_corners.of(e as usize);
+                let corners = self.light.unshot_corners.of(e as usize);
                 let patch = mesh.elements[e as usize].patch as usize;
                 local
                     .patch(patch)
@@ -1317,7 +1169,7 @@ impl Solver {
             let i = local.element(landed.element()?)?;
             landed.value(mesh, |_| corners[i])
         };
-        let lossless = |surface: SurfaceId| self.surface_lossless[surface.index()];
+        let lossless = |surface: SurfaceId| self.layout.surface_lossless[surface.index()];
         let gathered = rays.irradiance(mesh, (residual, patch_value), &unshot_at, &lossless);
         let distances = rays.harmonic_distances(mesh);
         let around = self
@@ -1339,7 +1191,7 @@ impl Solver {
         let unshot = UnshotLight {
             landed: &landed,
             corners: &corners,
-            per_patch: &self.unshot,
+            per_patch: &self.light.unshot,
             outside: patch_value,
         };
         sweeps::swept(
@@ -1413,12 +1265,16 @@ impl Solver {
         places: &[ReadingPlace],
         report: PhaseReporter,
     ) -> Solution<'_> {
-        let rooms = self.zones.as_ref().and_then(|(zones, _)| {
-            let labels = zones.labels();
-            (labels.count() > 1)
-                .then(|| zones_read(labels, (&self.scene, &self.visibility), places))
-                .flatten()
-        });
+        let rooms = self
+            .layout
+            .zones
+            .as_ref()
+            .and_then(|CulledZones { zones, .. }| {
+                let labels = zones.labels();
+                (labels.count() > 1)
+                    .then(|| zones_read(labels, (&self.scene, &self.visibility), places))
+                    .flatten()
+            });
         self.solution_with_ambient_in(rooms.as_deref(), report)
     }
 
@@ -1429,7 +1285,7 @@ impl Solver {
         only: Option<&[usize]>,
         report: PhaseReporter,
     ) -> Solution<'_> {
-        if self.unshot.iter().all(|b| *b == Rgb::ZERO) {
+        if self.light.unshot.iter().all(|b| *b == Rgb::ZERO) {
             return self.solution();
         }
         let ambient = self.ambient_irradiance(only, report);
@@ -1447,14 +1303,15 @@ impl Solver {
             scene: &self.scene,
             mesh: &self.mesh,
             visibility: &self.visibility,
-            luminaires_shot: self.luminaire_shot.clone(),
-            shot_irradiance: &self.irradiance,
+            luminaires_shot: self.light.luminaire_shot.clone(),
+            shot_irradiance: &self.light.irradiance,
             ambient,
-            receiver_insets: &self.receiver_insets,
+            receiver_insets: &self.layout.receiver_insets,
             zones: self
+                .layout
                 .zones
                 .as_ref()
-                .map(|(zones, _)| zones.labels())
+                .map(|CulledZones { zones, .. }| zones.labels())
                 .filter(|labels| labels.count() > 1),
             ambient_zones: None,
         }
@@ -1472,9 +1329,9 @@ impl Solver {
     /// The next shot drops them: they are made again from its unshot
     /// power.
     pub fn shoot_patches(&mut self) {
-        self.patch_shots = None;
-        let emitted = self.emitted_power.element_sum();
-        let unshot = self.unshot_by_zone.total().element_sum();
+        self.ambient.patch_shots = None;
+        let emitted = self.light.emitted_power.element_sum();
+        let unshot = self.light.unshot_by_zone.total().element_sum();
         let tolerance = self.settings.patch_tolerance;
         // A NaN unshot power (a broken material) would stop every sweep.
         let finite = unshot.is_finite() && emitted.is_finite();
@@ -1483,7 +1340,11 @@ impl Solver {
         }
         self.release_shot_buffers();
         give_back_freed_memory();
-        let zones = self.zones.as_ref().map(|(zones, _)| zones);
+        let zones = self
+            .layout
+            .zones
+            .as_ref()
+            .map(|CulledZones { zones, .. }| zones);
         let visibility_of = |surface: SurfaceId| {
             zones
                 .and_then(|zones| zones.visibility(zones.of(surface)))
@@ -1493,26 +1354,29 @@ impl Solver {
         let input = PatchShotInput {
             scene: &self.scene,
             mesh: &self.mesh,
-            zones: self.unshot_by_zone.zone_patches(),
-            unshot: &self.unshot,
-            areas: &self.patch_areas,
-            reflectance: &self.surface_reflectance,
-            lossless: &self.surface_lossless,
+            zones: self.light.unshot_by_zone.zone_patches(),
+            unshot: &self.light.unshot,
+            areas: &self.layout.patch_areas,
+            reflectance: &self.layout.surface_reflectance,
+            lossless: &self.layout.surface_lossless,
             locator: &locator,
-            surface_zone: &self.surface_zone,
-            cluster_edge: self.settings.patch_clusters.then_some(self.patch_edge),
+            surface_zone: &self.layout.surface_zone,
+            cluster_edge: self
+                .settings
+                .patch_clusters
+                .then_some(self.layout.patch_edge),
             visibility_of: &visibility_of,
         };
         let shots = PatchShots::shoot(&input, tolerance * emitted / unshot);
-        self.patch_shots = Some(shots);
+        self.ambient.patch_shots = Some(shots);
     }
 
     /// What the last run's patch shots did ([`Solver::shoot_patches`]), or
     /// `None` if it made none (or a shot came after).
     #[must_use]
     pub fn patch_shot_summary(&self) -> Option<PatchShotSummary> {
-        let shots = self.patch_shots.as_ref()?;
-        let emitted = self.emitted_power.element_sum();
+        let shots = self.ambient.patch_shots.as_ref()?;
+        let emitted = self.light.emitted_power.element_sum();
         let fraction = |power: Rgb| {
             if emitted > 0.0 {
                 power.element_sum() / emitted
@@ -1534,14 +1398,15 @@ impl Solver {
     #[must_use]
     pub fn energy_balance(&self) -> EnergyBalance {
         let (absorbed, escaped) = self
+            .ambient
             .patch_shots
             .as_ref()
             .map_or((Rgb::ZERO, Rgb::ZERO), |s| (s.absorbed, s.escaped));
         EnergyBalance {
-            emitted: self.emitted_power,
-            absorbed: self.absorbed_power + absorbed,
+            emitted: self.light.emitted_power,
+            absorbed: self.light.absorbed_power + absorbed,
             unshot: self.unshot_power(),
-            escaped: self.shot_power - self.received_power + escaped,
+            escaped: self.light.shot_power - self.light.received_power + escaped,
         }
     }
 
@@ -1552,52 +1417,11 @@ impl Solver {
         self.refiner.as_ref().map(|r| &r.hierarchy)
     }
 
-    /// Shots made so far.
+    /// What the solve has done so far: shots, shadow rays, and what shaft
+    /// culling, the visibility memory and coarse reception saved.
     #[must_use]
-    pub fn shots(&self) -> usize {
-        self.shots
-    }
-
-    /// Shadow rays cast so far.
-    #[must_use]
-    pub fn rays(&self) -> u64 {
-        self.rays
-    }
-
-    /// How many times so far a vertex received a reflected shot by
-    /// interpolation from its patch's samples rather than by gathering it
-    /// ([`SolverSettings::coarse_reception`]), and how many times a vertex
-    /// received a reflected shot at all.
-    #[must_use]
-    pub fn interpolated_receptions(&self) -> (u64, u64) {
-        self.receptions
-    }
-
-    /// Shaft culling's work so far ([`SolverSettings::cull_shafts`]): the
-    /// shafts tested, those found clear, and the visibility samples taken
-    /// without shadow rays (each a ray saved) by receivers known to see all
-    /// of their shooter, from a clear shaft or from the shooter's last shot
-    /// ([`SolverSettings::remember_visibility`]).
-    #[must_use]
-    pub fn shaft_culling(&self) -> (u64, u64, u64) {
-        (self.shafts.0, self.shafts.1, self.known_visible)
-    }
-
-    /// How many of the shadow rays so far ([`Solver::rays`]) were answered
-    /// by the few triangles that reach into their shaft, tested one by
-    /// one, rather than by a traversal of the BVH (an emitter's shot;
-    /// `solver/shot/shaft_culling.rs`).
-    #[must_use]
-    pub fn listed_rays(&self) -> u64 {
-        self.listed_rays
-    }
-
-    /// How many times a vertex took a reflected shot's visibility from what
-    /// it saw of the same patch's last shot, all or none of it, without
-    /// rays ([`SolverSettings::remember_visibility`]).
-    #[must_use]
-    pub fn recalled_views(&self) -> u64 {
-        self.recalled
+    pub fn stats(&self) -> SolveStats {
+        self.stats
     }
 
     /// The settings in use.
@@ -1628,7 +1452,7 @@ impl Solver {
     /// surfaces (empty for square meshing or a caller's mesh).
     #[must_use]
     pub fn mesh_analysis(&self) -> &MeshAnalysis {
-        &self.analysis
+        &self.layout.analysis
     }
 }
 
@@ -1660,12 +1484,12 @@ impl Solver {
                 break;
             }
             let before = self.incident_power_per_patch();
-            let corners_before = self.unshot_corners.by_vertices(&self.mesh);
+            let corners_before = self.light.unshot_corners.by_vertices(&self.mesh);
             let added = refiner.hierarchy.split(&mut self.mesh, &split);
             let gathered = self.gather_shot_light(&added);
             for (&v, irradiance) in added.iter().zip(gathered) {
-                debug_assert_eq!(v as usize, self.irradiance.len());
-                self.irradiance.push(irradiance);
+                debug_assert_eq!(v as usize, self.light.irradiance.len());
+                self.light.irradiance.push(irradiance);
             }
             self.carry_unshot_corners(&refiner.hierarchy, &corners_before);
             let after = self.incident_power_per_patch();
@@ -1677,9 +1501,9 @@ impl Solver {
                         .scene
                         .material_of(self.scene.surface(patch.surface))
                         .reflectance;
-                    self.unshot[p] += reflectance * change / patch.area;
-                    self.received_power += change;
-                    self.absorbed_power += (Rgb::ONE - reflectance) * change;
+                    self.light.unshot[p] += reflectance * change / patch.area;
+                    self.light.received_power += change;
+                    self.light.absorbed_power += (Rgb::ONE - reflectance) * change;
                 }
             }
             self.recount_unshot(None);
@@ -1687,10 +1511,10 @@ impl Solver {
         self.refiner = Some(refiner);
         // The mesh changed: its members are listed by zone again, and its
         // patches' samples found again.
-        if let Some((_, members)) = &mut self.zones {
+        if let Some(CulledZones { members, .. }) = &mut self.layout.zones {
             members.invalidate();
         }
-        self.reception.invalidate();
+        self.memory.reception.invalidate();
     }
 
     /// The unshot corners of the mesh's new elements after a split (see
@@ -1711,8 +1535,13 @@ impl Solver {
                 .material_of(scene.surface(element.surface))
                 .reflectance
         };
-        self.unshot_corners
-            .after_split(mesh, parent_of, before, &self.irradiance, reflectance);
+        self.light.unshot_corners.after_split(
+            mesh,
+            parent_of,
+            before,
+            &self.light.irradiance,
+            reflectance,
+        );
     }
 
     /// Σ over each patch's elements of the mean irradiance of the element's
@@ -1720,7 +1549,7 @@ impl Solver {
     fn incident_power_per_patch(&self) -> Vec<Rgb> {
         let mut power = vec![Rgb::ZERO; self.mesh.patches.len()];
         for element in &self.mesh.elements {
-            let mean = element.corner_mean(|v| self.irradiance.at(v as usize));
+            let mean = element.corner_mean(|v| self.light.irradiance.at(v as usize));
             power[element.patch as usize] += mean * element.area;
         }
         power
@@ -1731,6 +1560,7 @@ impl Solver {
     /// form factors of the solver's kernel and sampling. Parallel over vertices.
     fn gather_shot_light(&mut self, vertices: &[u32]) -> Vec<Rgb> {
         let shooters: Vec<Shooter> = self
+            .light
             .shot
             .iter()
             .enumerate()
@@ -1741,11 +1571,15 @@ impl Solver {
             })
             .collect();
         let (scene, mesh, visibility) = (&self.scene, &self.mesh, &self.visibility);
-        let zones = self.zones.as_ref().map(|(zones, _)| zones);
+        let zones = self
+            .layout
+            .zones
+            .as_ref()
+            .map(|CulledZones { zones, .. }| zones);
         let (density, kernel, shot) = (
             self.settings.sample_density,
             self.settings.kernel,
-            self.shots as u64,
+            self.stats.shots as u64,
         );
         let gathered: Vec<(Rgb, u64)> = in_shadow_cache_runs(vertices, |&v, cache| {
             let vertex = &mesh.vertices[v as usize];
@@ -1773,12 +1607,12 @@ impl Solver {
             }
             (irradiance, rays)
         });
-        self.rays += gathered.iter().map(|g| g.1).sum::<u64>();
+        self.stats.rays += gathered.iter().map(|g| g.1).sum::<u64>();
         let mut light: Vec<Rgb> = gathered.into_iter().map(|g| g.0).collect();
         for k in 0..self.scene.luminaires.len() {
-            if self.luminaire_shot[k] {
+            if self.light.luminaire_shot[k] {
                 let direct = self.luminaire_light(k, vertices);
-                self.rays += vertices.len() as u64;
+                self.stats.rays += vertices.len() as u64;
                 for (h, d) in light.iter_mut().zip(direct) {
                     *h += d;
                 }
@@ -1947,9 +1781,10 @@ mod tests {
         settings.mesh.max_edge = crate::Length::Absolute(0.5);
         let mut solver = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
         assert!(solver.step());
-        let held = |s: &Solver| s.incident.capacity() + s.element_powers.capacity();
+        let held = |s: &Solver| s.scratch.incident.capacity() + s.scratch.element_powers.capacity();
         assert!(held(&solver) > 0, "a shot keeps its buffers for the next");
-        let (zones, members) = solver.zones.as_ref().expect("two closed rooms");
+        let CulledZones { zones, members } =
+            solver.layout.zones.as_ref().expect("two closed rooms");
         let room = zones.of(solver.mesh.patches[0].surface);
         let room_size = (members.vertices[room].len(), members.elements[room].len());
         assert!(
@@ -1957,12 +1792,15 @@ mod tests {
             "{room_size:?}"
         );
         assert_eq!(
-            (solver.incident.len(), solver.element_powers.len()),
+            (
+                solver.scratch.incident.len(),
+                solver.scratch.element_powers.len()
+            ),
             room_size
         );
         let until = crate::Until::default().total_shots(3);
         solver.run_until(&until, |_| {});
-        assert_eq!((solver.shots(), held(&solver)), (3, 0));
+        assert_eq!((solver.stats().shots, held(&solver)), (3, 0));
     }
 
     /// A gather inside a closed room, on its floor or in its air, tries
@@ -2051,12 +1889,16 @@ mod tests {
         let mut solver = Solver::new(two_closed_rooms(), settings.clone()).expect("a valid scene");
         solver.step();
         solver.step();
-        let zones = solver.zones.as_ref().map(|(z, _)| z.labels().clone());
+        let zones = solver
+            .layout
+            .zones
+            .as_ref()
+            .map(|culled| culled.zones.labels().clone());
         let zones = zones.expect("closed zones");
         let zone_of = |v: usize| zones.of(solver.mesh.vertices[v].surface);
         let room = zone_of(0);
         let one = solver.ambient_irradiance_keeping(true, Some(&[room]), &silent);
-        let rays = |s: &Solver| s.ambient_rays.lock().map(|c| c.rooms.len()).unwrap_or(0);
+        let rays = |s: &Solver| s.ambient.rays.lock().map(|c| c.rooms.len()).unwrap_or(0);
         assert_eq!(rays(&solver), 1, "one room's rays cast");
         let all = solver.ambient_irradiance_keeping(true, None, &silent);
         let kept = rays(&solver);

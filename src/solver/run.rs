@@ -122,7 +122,7 @@ impl Solver {
             if self.convergence_fraction() <= tolerance && !self.emission_pending() {
                 break StopReason::Converged;
             }
-            if self.shots() >= total_shots {
+            if self.stats().shots >= total_shots {
                 break StopReason::ShotLimit;
             }
             if until.time_budget.is_some_and(|b| start.elapsed() >= b) {
@@ -134,8 +134,8 @@ impl Solver {
             progress(&Progress {
                 unshot_fraction: self.unshot_fraction(),
                 convergence_fraction: self.convergence_fraction(),
-                shots: self.shots(),
-                rays: self.rays(),
+                shots: self.stats().shots,
+                rays: self.stats().rays,
                 elapsed: start.elapsed(),
             });
         };

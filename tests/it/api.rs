@@ -182,7 +182,7 @@ fn a_scene_built_in_code_and_loaded_from_obj_solve_identically() {
         assert_eq!(solver.run(), StopReason::Converged);
     }
     let [a, b] = &solvers;
-    assert_eq!(a.shots(), b.shots());
+    assert_eq!(a.stats().shots, b.stats().shots);
     assert_eq!(a.radiosity().len(), b.radiosity().len());
     let worst = a
         .radiosity()
@@ -263,7 +263,7 @@ fn cancelling_half_way_leaves_a_balanced_solution_that_can_resume() {
         }
     });
     assert_eq!(stop, StopReason::Cancelled);
-    assert_eq!(solver.shots(), 25);
+    assert_eq!(solver.stats().shots, 25);
     assert_eq!(seen, (1..=25).collect::<Vec<_>>());
     let unshot = solver.unshot_fraction();
     assert!(unshot > 0.02, "stopped half-way: unshot {unshot}");
@@ -287,7 +287,7 @@ fn cancelling_half_way_leaves_a_balanced_solution_that_can_resume() {
     assert_eq!(solver.run_until(&until, |_| {}), StopReason::Cancelled);
     cancel.store(false, Ordering::Relaxed);
     assert_eq!(solver.run(), StopReason::Converged);
-    assert!(solver.shots() > 25 && solver.convergence_fraction() <= 0.02);
+    assert!(solver.stats().shots > 25 && solver.convergence_fraction() <= 0.02);
     // Converged, it shot what was left patch to patch; cancelled, it did not.
     assert!(solver.patch_shot_summary().is_some());
 }
@@ -296,15 +296,15 @@ fn cancelling_half_way_leaves_a_balanced_solution_that_can_resume() {
 fn run_until_stops_on_shots_time_and_nothing_left() {
     let mut solver = Solver::new(room_in_code(), preview()).unwrap();
     let stop = solver.run_until(&Until::default().time_budget(Duration::ZERO), |_| {});
-    assert_eq!((stop, solver.shots()), (StopReason::TimeBudget, 0));
+    assert_eq!((stop, solver.stats().shots), (StopReason::TimeBudget, 0));
     let stop = solver.run_until(&Until::default().total_shots(7), |_| {});
-    assert_eq!((stop, solver.shots()), (StopReason::ShotLimit, 7));
+    assert_eq!((stop, solver.stats().shots), (StopReason::ShotLimit, 7));
     assert!(solver.step());
-    assert_eq!(solver.shots(), 8);
+    assert_eq!(solver.stats().shots, 8);
     // A tolerance of zero runs until no patch holds any unshot power; a
     // shot limit stands in for that here.
     let stop = solver.run_until(&Until::default().tolerance(0.0).total_shots(30), |_| {});
-    assert_eq!((stop, solver.shots()), (StopReason::ShotLimit, 30));
+    assert_eq!((stop, solver.stats().shots), (StopReason::ShotLimit, 30));
 }
 
 /// A run that stops gives back its shot buffers; resumed, it makes them
@@ -317,7 +317,7 @@ fn a_run_stopped_and_resumed_shoots_the_light_of_one_run() {
     resumed.run_until(&until(12), |_| {});
     let mut whole = Solver::new(room_in_code(), preview()).unwrap();
     whole.run_until(&until(12), |_| {});
-    assert_eq!(resumed.shots(), whole.shots());
+    assert_eq!(resumed.stats().shots, whole.stats().shots);
     for (a, b) in resumed.radiosity().iter().zip(whole.radiosity()) {
         assert!(
             (*a - b).abs().max_element() <= 1e-12 * b.max_element().max(1.0),

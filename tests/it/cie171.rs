@@ -393,7 +393,7 @@ fn case_5_8_inter_reflections_in_a_closed_room() {
              grid {grid_mean:.2} lx ({:+.2} %), {} shots",
             100.0 * (mesh_mean / exact - 1.0),
             100.0 * (grid_mean / exact - 1.0),
-            solver.shots()
+            solver.stats().shots
         );
         assert!(
             (mesh_mean / exact - 1.0).abs() < 0.02,

@@ -212,8 +212,8 @@ fn a_closed_room_lit_by_a_luminaire_keeps_its_ledger_and_lets_nothing_escape() {
     // Shots of reflected light take samples by their share of the
     // luminaire's power, as they would of an emitting face's: a room lit
     // only by a luminaire once gave every shot the most samples there are.
-    let per_vertex_shot =
-        solver.rays() as f64 / (solver.shots() as f64 * solver.mesh().vertices.len() as f64);
+    let per_vertex_shot = solver.stats().rays as f64
+        / (solver.stats().shots as f64 * solver.mesh().vertices.len() as f64);
     assert!(
         per_vertex_shot < 16.0,
         "{per_vertex_shot} rays per vertex and shot"
@@ -470,7 +470,7 @@ fn closed_rooms_lit_by_luminaires_keep_their_zones() {
             settings.solver.cull_closed_zones = cull;
             let mut solver = isorad::Solver::new(scene, settings).unwrap();
             assert!(solver.step(), "the first luminaire shoots");
-            (solver.rays(), solver.radiosity().to_vec())
+            (solver.stats().rays, solver.radiosity().to_vec())
         };
         let ((culled, culled_light), (all, all_light)) = (first_shot(true), first_shot(false));
         println!("a luminaire's shot: {culled} rays against {all}");

@@ -123,7 +123,7 @@ fn only_a_run_that_converges_makes_patch_shots() {
     assert!(solver.patch_shot_summary().is_some());
     let limit = isorad::Until::default()
         .tolerance(0.0)
-        .total_shots(solver.shots() + 1);
+        .total_shots(solver.stats().shots + 1);
     assert_eq!(solver.run_until(&limit, |_| {}), StopReason::ShotLimit);
     assert!(solver.patch_shot_summary().is_none());
 }

@@ -206,7 +206,10 @@ fn every_emitting_patch_shoots_before_a_loose_tolerance_stops_the_solve() {
     assert!(!solver.emission_pending());
     let errors = disc_over_floor_errors(&solver.radiosity(), solver.mesh());
     let worst = errors.iter().copied().fold(0.0, f64::max);
-    println!("tolerance 0.3, {} shots: worst {worst:.2e}", solver.shots());
+    println!(
+        "tolerance 0.3, {} shots: worst {worst:.2e}",
+        solver.stats().shots
+    );
     assert!(errors.len() > 100 && worst < 0.02, "worst {worst}");
 }
 
@@ -368,7 +371,7 @@ fn a_solve_repeats_to_the_bit() {
         settings.solver.tolerance = 0.05;
         let mut solver = isorad::Solver::new(scene, settings).unwrap();
         solver.run();
-        (solver.rays(), solver.radiosity().to_vec())
+        (solver.stats().rays, solver.radiosity().to_vec())
     };
     let (first, second) = (solve(), solve());
     assert_eq!(first.0, second.0);
@@ -393,10 +396,11 @@ fn coarse_reception_casts_fewer_rays_for_the_same_light() {
     };
     let default = isorad::SolverSettings::default().coarse_reception;
     let (gathered, coarse) = (solve(0.0), solve(default));
-    assert_eq!(gathered.interpolated_receptions().0, 0);
-    let (interpolated, receptions) = coarse.interpolated_receptions();
+    assert_eq!(gathered.stats().interpolated_receptions, 0);
+    let stats = coarse.stats();
+    let (interpolated, receptions) = (stats.interpolated_receptions, stats.receptions);
     let share = interpolated as f64 / receptions as f64;
-    let saved = 1.0 - coarse.rays() as f64 / gathered.rays() as f64;
+    let saved = 1.0 - coarse.stats().rays as f64 / gathered.stats().rays as f64;
     let (mut signed, mut absolute, mut count) = (0.0, 0.0, 0.0);
     for (a, b) in gathered.radiosity().iter().zip(coarse.radiosity()) {
         let (a, b) = (a.element_sum(), b.element_sum());
@@ -517,12 +521,12 @@ fn shaft_culling_saves_rays_not_light() {
         let scene = isorad::load_scene("cornell").unwrap().scene;
         let mut solver = isorad::Solver::new(scene, settings).unwrap();
         solver.run();
-        let (_, _, unblocked) = solver.shaft_culling();
+        let unblocked = solver.stats().known_visible;
         (
-            (solver.rays(), solver.listed_rays()),
+            (solver.stats().rays, solver.stats().listed_rays),
             unblocked,
             solver.radiosity().to_vec(),
-            solver.shots(),
+            solver.stats().shots,
         )
     };
     let solve = |cull: bool| solve_with(cull, FormFactorKernel::Wallace);
@@ -576,10 +580,10 @@ fn rays_tested_against_their_shafts_triangles_cast_the_same_shadows() {
         let mut solver = isorad::Solver::new(scene, settings).unwrap();
         // The lamp's shot alone: its shadows are the ones meshed and sampled.
         solver.step();
-        let (_, _, unblocked) = solver.shaft_culling();
+        let unblocked = solver.stats().known_visible;
         (
-            solver.rays() + unblocked,
-            solver.listed_rays(),
+            solver.stats().rays + unblocked,
+            solver.stats().listed_rays,
             solver.radiosity().to_vec(),
         )
     };
@@ -628,8 +632,8 @@ fn remembered_visibility_saves_rays_not_light() {
         let mut solver = isorad::Solver::new(scene, settings).unwrap();
         solver.run();
         (
-            solver.rays(),
-            solver.recalled_views(),
+            solver.stats().rays,
+            solver.stats().recalled_views,
             solver.radiosity().to_vec(),
         )
     };
@@ -781,7 +785,7 @@ fn shots_that_stay_in_a_room_give_the_same_light() {
         settings.solver.zone_affinity = affinity;
         let mut solver = isorad::Solver::new(two_closed_rooms(), settings).unwrap();
         solver.run();
-        (solver.radiosity().to_vec(), solver.shots())
+        (solver.radiosity().to_vec(), solver.stats().shots)
     };
     let (staying, staying_shots) = solve(0.5);
     let (strongest, strongest_shots) = solve(1.0);
@@ -1067,7 +1071,7 @@ fn a_closed_room_counts_its_unshot_power_at_its_weight() {
         weighted.convergence_fraction()
     );
     assert!((weighted.convergence_fraction() - 0.5 * unshot).abs() < 1e-12);
-    assert!(full.unshot_fraction() <= 0.05 && full.shots() > weighted.shots());
+    assert!(full.unshot_fraction() <= 0.05 && full.stats().shots > weighted.stats().shots);
     let (early, late) = (
         received_against_the_closed_room(&weighted),
         received_against_the_closed_room(&full),
@@ -1173,7 +1177,7 @@ fn the_ambient_sweeps_send_a_hidden_face_the_light_it_sees() {
         settings.ambient_sweeps = sweeps;
         let mut solver = isorad::Solver::with_mesh(scene.clone(), mesh.clone(), settings).unwrap();
         solver.run_until(&isorad::Until::default().total_shots(1), |_| {});
-        assert_eq!(solver.shots(), 1);
+        assert_eq!(solver.stats().shots, 1);
         (
             received(&solver) / converged,
             received_against_the_closed_room(&solver),

@@ -100,14 +100,14 @@ fn ledger_closes_with_a_sharp_shadow_on_one_big_patch() {
         .count();
     assert_eq!(floor_patches, 1);
     let mut worst: f64 = 0.0;
-    while solver.shots() < 300 && solver.step() {
+    while solver.stats().shots < 300 && solver.step() {
         let e = solver.energy_balance();
         let sum = e.absorbed + e.unshot + e.escaped;
         worst = worst.max((sum - e.emitted).abs().max_element() / e.emitted.max_element());
     }
     println!(
         "ledger with one floor patch: worst relative imbalance {worst:e} over {} shots",
-        solver.shots()
+        solver.stats().shots
     );
     assert!(worst < 1e-12, "worst relative imbalance {worst:e}");
 }

@@ -228,7 +228,7 @@ pub fn solve_with_cull(scene: Scene, mut settings: isorad::Settings, cull: bool)
     solver.run();
     ZonedSolve {
         zones: solver.closed_zones(),
-        rays: solver.rays(),
+        rays: solver.stats().rays,
         radiosity: solver.radiosity().to_vec(),
     }
 }

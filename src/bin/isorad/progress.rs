@@ -80,7 +80,7 @@ pub fn solve_with_progress(
         let next = match preview_every {
             Some(every) => {
                 let every = usize::try_from(every).unwrap_or(usize::MAX);
-                max_shots.min(solver.shots().saturating_add(every))
+                max_shots.min(solver.stats().shots.saturating_add(every))
             }
             None => max_shots,
         };
@@ -101,7 +101,7 @@ pub fn solve_with_progress(
 /// the scene, or nothing else is there): the image is black but for them.
 fn warn_if_nothing_is_lit(solver: &Solver) {
     let lit = |v: usize| solver.irradiance_at(v).element_sum() > 0.0;
-    if solver.shots() > 0 && !(0..solver.mesh().vertices.len()).any(lit) {
+    if solver.stats().shots > 0 && !(0..solver.mesh().vertices.len()).any(lit) {
         eprintln!(
             "warning: no surface receives light from the emitters: all of it leaves the scene. \
              Faces emit from their front only (vertices counter-clockwise seen from the front); \

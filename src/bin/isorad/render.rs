@@ -148,7 +148,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if stop == StopReason::Cancelled {
         return Err(Interrupted(format!(
             "interrupted: wrote the solution after {} shots (unshot {:.3} %, ambient term added) to {outputs}",
-            solver.shots(),
+            solver.stats().shots,
             100.0 * solver.unshot_fraction()
         ))
         .into());
@@ -204,7 +204,7 @@ fn write_false_colour(
 
 fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
     let (scene, mesh) = (solver.scene(), solver.mesh());
-    let rays = solver.rays();
+    let rays = solver.stats().rays;
     eprintln!(
         "{source}: {} surfaces, {} patches, {} elements, {} vertices",
         scene.surfaces.len(),
@@ -226,7 +226,7 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
     };
     eprintln!(
         "solved: {} shots, {} shadow rays in {solve_seconds:.2} s ({:.2} M rays/s), unshot {:.3} %{counted}",
-        solver.shots(),
+        solver.stats().shots,
         rays,
         rays as f64 / solve_seconds.max(1e-9) / 1e6,
         100.0 * unshot
@@ -241,20 +241,22 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
             shots.clustered_patches
         );
     }
-    let (interpolated, receptions) = solver.interpolated_receptions();
+    let stats = solver.stats();
+    let (interpolated, receptions) = (stats.interpolated_receptions, stats.receptions);
     if interpolated > 0 {
         eprintln!(
             "coarse reception: {:.1} % of the vertices reflected shots visited took them interpolated from patch samples",
             100.0 * interpolated as f64 / receptions as f64
         );
     }
-    let (shafts, clear, unblocked) = solver.shaft_culling();
-    let recalled = solver.recalled_views();
+    let stats = solver.stats();
+    let (shafts, clear, unblocked) = (stats.shafts_tested, stats.shafts_clear, stats.known_visible);
+    let recalled = solver.stats().recalled_views;
     if shafts > 0 || recalled > 0 {
         eprintln!(
             "known visibility: {clear} of {shafts} shafts clear, {recalled} vertices' views of a shooter recalled from its last shot; {unblocked} visibility samples taken without a ray ({:.1} % of all), {} rays tested against their shafts' few triangles",
             100.0 * unblocked as f64 / (unblocked + rays).max(1) as f64,
-            solver.listed_rays()
+            solver.stats().listed_rays
         );
     }
     eprintln!("{}", emitted_flux(scene));

@@ -9,4 +9,5 @@ pub(super) mod patch_shots;
 pub(super) mod rays;
 pub(super) mod rooms;
 pub(super) mod smoothing;
+pub(super) mod state;
 pub(super) mod sweeps;

@@ -6,6 +6,7 @@
 pub(super) mod element_index;
 pub(super) mod energy_balance;
 pub(super) mod indexed_update;
+pub(super) mod state;
 pub(super) mod unshot;
 pub(super) mod unshot_by_zone;
 pub(super) mod vertex_irradiance;

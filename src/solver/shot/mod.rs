@@ -5,6 +5,7 @@
 
 pub(super) mod element_power;
 pub(super) mod patch_reception;
+pub(super) mod scratch;
 pub(super) mod shaft_culling;
 pub(super) mod shooter;
 pub(super) mod visibility_memory;
