@@ -44,7 +44,7 @@ use glam::DVec2;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::isolux::GridPicture;
+use super::grid_picture::{GridPicture, Rect2};
 use super::levels::{format_lux, nice_ceiling};
 use crate::error::Result;
 use crate::font::{FONT_FAMILY, ensure_font_registered};
@@ -358,11 +358,16 @@ impl GridFrame {
     /// larger side [`GRID_SIZE`] pixels, within [`GRID_MARGIN`].
     fn new(picture: &GridPicture) -> GridFrame {
         let half_cell = 0.5 * picture.spacing.abs();
-        let (low, high) = picture
-            .bounds()
-            .map_or((-DVec2::ONE, DVec2::ONE), |(low, high)| {
-                (low - half_cell, high + half_cell)
-            });
+        let Rect2 { low, high } = picture.bounds().map_or(
+            Rect2 {
+                low: -DVec2::ONE,
+                high: DVec2::ONE,
+            },
+            |Rect2 { low, high }| Rect2 {
+                low: low - half_cell,
+                high: high + half_cell,
+            },
+        );
         let extent = (high - low).max_element();
         let pixels_per_metre = if extent > 0.0 && extent.is_finite() {
             GRID_SIZE / extent

@@ -17,7 +17,7 @@ use std::path::Path;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::isolux::GridPicture;
+use super::grid_picture::GridPicture;
 use crate::error::{Error, Result};
 use crate::fs::{io_error, write_atomically};
 use crate::lighting::luminaires;

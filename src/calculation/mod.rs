@@ -24,7 +24,9 @@
 
 mod falsecolor;
 mod grid;
+mod grid_picture;
 mod isolux;
+mod isolux_lines;
 mod levels;
 
 pub use crate::mesh::contour_polylines;
@@ -32,5 +34,6 @@ pub use falsecolor::{FalseColorScale, LOG_DECADES, write_falsecolor_grid, write_
 pub use grid::{
     CalculationGrid, IlluminanceStatistics, MAX_GRID_POINTS, en12464_spacing, illuminance_lux,
 };
-pub use isolux::{GridPicture, write_isolux_plot};
+pub use grid_picture::GridPicture;
+pub use isolux::write_isolux_plot;
 pub use levels::{format_lux, nice_ceiling, nice_levels};
