@@ -23,6 +23,7 @@
 //! with the bundled DejaVu Sans shared with [`study`](crate::study).
 
 mod falsecolor;
+mod falsecolor_scale;
 mod grid;
 mod grid_picture;
 mod isolux;
@@ -30,7 +31,8 @@ mod isolux_lines;
 mod levels;
 
 pub use crate::mesh::contour_polylines;
-pub use falsecolor::{FalseColorScale, LOG_DECADES, write_falsecolor_grid, write_falsecolor_image};
+pub use falsecolor::{write_falsecolor_grid, write_falsecolor_image};
+pub use falsecolor_scale::{FalseColorScale, LOG_DECADES};
 pub use grid::{
     CalculationGrid, IlluminanceStatistics, MAX_GRID_POINTS, en12464_spacing, illuminance_lux,
 };
