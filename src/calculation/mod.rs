@@ -25,6 +25,7 @@
 mod falsecolor;
 mod falsecolor_scale;
 mod grid;
+mod grid_layout;
 mod grid_picture;
 mod isolux;
 mod isolux_lines;
@@ -33,9 +34,8 @@ mod levels;
 pub use crate::mesh::contour_polylines;
 pub use falsecolor::{write_falsecolor_grid, write_falsecolor_image};
 pub use falsecolor_scale::{FalseColorScale, LOG_DECADES};
-pub use grid::{
-    CalculationGrid, IlluminanceStatistics, MAX_GRID_POINTS, en12464_spacing, illuminance_lux,
-};
+pub use grid::{CalculationGrid, IlluminanceStatistics, illuminance_lux};
+pub use grid_layout::{MAX_GRID_POINTS, en12464_spacing};
 pub use grid_picture::GridPicture;
 pub use isolux::write_isolux_plot;
 pub use levels::{format_lux, nice_ceiling, nice_levels};
