@@ -3,8 +3,9 @@
 //! glibc's allocator keeps the small blocks a program frees, in the middle
 //! of its heaps, for the program's own later use: resident memory does not
 //! fall when they are freed. Loading a million quads' OBJ (its text, faces
-//! and the coplanar merge) freed 684 MiB that stayed resident through the
-//! whole solve, beside what meshing's per-surface lists freed. `malloc_trim`
+//! and the coplanar merge) frees about 684 MiB that would otherwise stay
+//! resident through the whole solve, beside what meshing's per-surface
+//! lists free. `malloc_trim`
 //! returns every free page of every heap; it takes 10–60 ms on a building,
 //! so it is asked for only between phases, where a large one ends: after
 //! loading, after the rooms are found, after meshing, and before an

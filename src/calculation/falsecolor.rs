@@ -3,25 +3,8 @@
 //! a legend beside the picture with one swatch per band and the values
 //! between them.
 //!
-//! **The palette** is viridis (van der Walt and Smith, matplotlib 2.0), a
-//! ramp from dark blue-violet through teal and green to yellow whose
-//! lightness rises evenly, so equal steps of value read as equal steps of
-//! colour and the picture survives printing in grey; it is kept as nine
-//! colours 1/8 apart and interpolated linearly between them. Radiance's
-//! default blue–green–yellow–red palette is not used.
-//!
-//! **The scale** ([`FalseColorScale`]) has `steps` bands of equal width,
-//! on a linear scale from 0 to `maximum`, or on a log scale over the
-//! [`LOG_DECADES`] decades below `maximum`. A value v falls in band
-//!
-//! b = ⌊t · steps⌋, clamped to 0 … steps − 1, with t = v / maximum
-//! (linear) or t = 1 + log₁₀(v / maximum) / [`LOG_DECADES`] (log),
-//!
-//! and gets the palette's colour at b / (steps − 1): the lowest band the
-//! palette's first colour, the band holding the maximum its last. Values
-//! above the maximum get the top band's colour, values at or below the
-//! bottom the lowest band's; missing values (NaN) are painted dark grey
-//! `[40, 40, 40]`, the colour of the picture's background.
+//! The scale and its palette ([`FalseColorScale`], viridis) are in the
+//! `falsecolor_scale` module; this one composes the pictures.
 //!
 //! **The pictures.** [`write_falsecolor_image`] paints a raster one pixel
 //! per value (a camera view of luminance); [`write_falsecolor_grid`] paints
@@ -32,10 +15,7 @@
 //! pixels each, labelled at their boundaries), and write PNG.
 //!
 //! # References
-//! - S. van der Walt, N. Smith, "A Better Default Colormap for Matplotlib",
-//!   SciPy 2015 (viridis).
-//! - G. Ward, `falsecolor`(1), Radiance (the banded scale, its legend and
-//!   its `-log` decades).
+//! - G. Ward, `falsecolor`(1), Radiance (the picture and its legend).
 
 use std::path::Path;
 
@@ -44,31 +24,13 @@ use glam::DVec2;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::isolux::GridPicture;
-use super::levels::{format_lux, nice_ceiling};
+use super::falsecolor_scale::{FalseColorScale, NO_DATA};
+use super::grid_picture::{GridPicture, Rect2};
+use super::levels::format_lux;
 use crate::error::Result;
 use crate::font::{FONT_FAMILY, ensure_font_registered};
 use crate::fs::{output_error, write_atomically};
 
-/// The decades below the maximum a logarithmic scale spans: its bottom is
-/// maximum / 10³.
-pub const LOG_DECADES: f64 = 3.0;
-
-/// Viridis at 0, 1/8, …, 1 (matplotlib's values, as R's `viridis(9)`).
-const VIRIDIS: [[u8; 3]; 9] = [
-    [68, 1, 84],
-    [71, 45, 123],
-    [59, 82, 139],
-    [44, 114, 142],
-    [33, 144, 140],
-    [39, 173, 129],
-    [93, 200, 99],
-    [170, 220, 50],
-    [253, 231, 37],
-];
-
-/// Missing values and the picture's background.
-const NO_DATA: [u8; 3] = [40, 40, 40];
 /// Text on the background.
 const TEXT: RGBColor = RGBColor(230, 230, 230);
 /// Height of the title band, pixels.
@@ -81,140 +43,12 @@ const SWATCH_HEIGHT: u32 = 24;
 const SWATCH_WIDTH: u32 = 28;
 /// Room above the swatches for the unit, pixels.
 const LEGEND_HEADER: u32 = 36;
-/// Steps a scale may have.
-const STEPS: std::ops::RangeInclusive<usize> = 2..=32;
 /// The larger side of a grid's picture, pixels (before its margin).
 const GRID_SIZE: f64 = 720.0;
 /// Pixels around a grid's picture.
 const GRID_MARGIN: u32 = 24;
 /// Largest raster side [`write_falsecolor_image`] takes, pixels.
 const MAX_RASTER: u32 = 16_384;
-
-/// The viridis colour at `t` in [0, 1] (clamped; NaN counts as 0).
-fn viridis(t: f64) -> [u8; 3] {
-    let scaled = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) } * 8.0;
-    let below = (scaled.floor() as usize).min(7);
-    let f = scaled - below as f64;
-    std::array::from_fn(|channel| {
-        let (a, b) = (
-            f64::from(VIRIDIS[below][channel]),
-            f64::from(VIRIDIS[below + 1][channel]),
-        );
-        (a + f * (b - a)).round() as u8
-    })
-}
-
-/// A banded false-colour scale from 0 (or, logarithmic, from
-/// maximum / 10^[`LOG_DECADES`]) to `maximum`; see the module notes for the
-/// bands and the palette.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FalseColorScale {
-    /// The top of the scale, in the values' unit (lux, cd/m²); finite and
-    /// positive for the writers.
-    pub maximum: f64,
-    /// Whether the bands are equal on a log scale over the
-    /// [`LOG_DECADES`] decades below the maximum (else equal in value).
-    pub logarithmic: bool,
-    /// The number of bands and swatches; held within 2 … 32.
-    pub steps: usize,
-}
-
-impl FalseColorScale {
-    /// A linear scale of 8 bands (Radiance's default) up to the largest
-    /// finite value rounded up to a round number ([`nice_ceiling`]), or up
-    /// to 1 when no value is finite and positive.
-    #[must_use]
-    pub fn fitted(values: &[f64]) -> FalseColorScale {
-        FalseColorScale::fitted_to_quantile(values, 1.0)
-    }
-
-    /// As [`FalseColorScale::fitted`], up to the `quantile` (0 … 1) of the
-    /// finite values rather than their largest: a camera view with a lamp
-    /// in it keeps its bands for the room (0.99 clips the brightest 1 %
-    /// of pixels into the top band, as Radiance's fixed scale would).
-    #[must_use]
-    pub fn fitted_to_quantile(values: &[f64], quantile: f64) -> FalseColorScale {
-        let mut finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
-        let top = if finite.is_empty() {
-            f64::NAN
-        } else {
-            let rank = ((quantile.clamp(0.0, 1.0) * finite.len() as f64).ceil() as usize)
-                .clamp(1, finite.len());
-            *finite.select_nth_unstable_by(rank - 1, f64::total_cmp).1
-        };
-        FalseColorScale {
-            maximum: nice_ceiling(top).unwrap_or(1.0),
-            logarithmic: false,
-            steps: 8,
-        }
-    }
-
-    /// The number of bands used: `steps` held within 2 … 32.
-    fn bands(&self) -> usize {
-        self.steps.clamp(*STEPS.start(), *STEPS.end())
-    }
-
-    /// The band of a value that is not NaN: ⌊t · steps⌋ clamped to the
-    /// bands, t as in the module notes.
-    fn band(&self, value: f64) -> usize {
-        let t = if self.logarithmic {
-            1.0 + (value / self.maximum).log10() / LOG_DECADES
-        } else {
-            value / self.maximum
-        };
-        let bands = self.bands();
-        if t.is_nan() {
-            return 0;
-        }
-        ((t * bands as f64).floor().max(0.0) as usize).min(bands - 1)
-    }
-
-    /// The colour of band `band`: viridis at band / (steps − 1).
-    fn band_colour(&self, band: usize) -> [u8; 3] {
-        viridis(band as f64 / (self.bands() - 1) as f64)
-    }
-
-    /// The colour of `value`: its band's, or dark grey `[40, 40, 40]` when
-    /// it is NaN.
-    #[must_use]
-    pub fn colour(&self, value: f64) -> [u8; 3] {
-        if value.is_nan() {
-            NO_DATA
-        } else {
-            self.band_colour(self.band(value))
-        }
-    }
-
-    /// The values between the bands, from the bottom of the scale to its
-    /// maximum (steps + 1 of them): maximum · i / steps (linear), or
-    /// maximum · 10^(−[`LOG_DECADES`] · (1 − i / steps)) (log).
-    #[must_use]
-    pub fn boundaries(&self) -> Vec<f64> {
-        let bands = self.bands();
-        (0..=bands)
-            .map(|i| {
-                let t = i as f64 / bands as f64;
-                if self.logarithmic {
-                    self.maximum * 10_f64.powf(-LOG_DECADES * (1.0 - t))
-                } else {
-                    self.maximum * t
-                }
-            })
-            .collect()
-    }
-
-    /// Why the writers cannot use the scale, if they cannot.
-    fn check(&self) -> std::result::Result<(), String> {
-        if self.maximum.is_finite() && self.maximum > 0.0 {
-            Ok(())
-        } else {
-            Err(format!(
-                "the false-colour scale's maximum {} is not finite and positive",
-                self.maximum
-            ))
-        }
-    }
-}
 
 /// Writes a false-colour picture of a raster of `values` (`width` ×
 /// `height`, row-major, top row first; NaN = no data, painted dark grey) to
@@ -358,11 +192,16 @@ impl GridFrame {
     /// larger side [`GRID_SIZE`] pixels, within [`GRID_MARGIN`].
     fn new(picture: &GridPicture) -> GridFrame {
         let half_cell = 0.5 * picture.spacing.abs();
-        let (low, high) = picture
-            .bounds()
-            .map_or((-DVec2::ONE, DVec2::ONE), |(low, high)| {
-                (low - half_cell, high + half_cell)
-            });
+        let Rect2 { low, high } = picture.bounds().map_or(
+            Rect2 {
+                low: -DVec2::ONE,
+                high: DVec2::ONE,
+            },
+            |Rect2 { low, high }| Rect2 {
+                low: low - half_cell,
+                high: high + half_cell,
+            },
+        );
         let extent = (high - low).max_element();
         let pixels_per_metre = if extent > 0.0 && extent.is_finite() {
             GRID_SIZE / extent
@@ -524,54 +363,13 @@ fn save_png(path: &Path, picture: &RgbImage) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::calculation::falsecolor_scale::VIRIDIS;
 
     const SCALE: FalseColorScale = FalseColorScale {
         maximum: 1000.0,
         logarithmic: false,
         steps: 8,
     };
-
-    #[test]
-    fn colours_follow_the_bands() {
-        assert_eq!(SCALE.colour(0.0), VIRIDIS[0]);
-        assert_eq!(SCALE.colour(-5.0), VIRIDIS[0]);
-        assert_eq!(SCALE.colour(1000.0), VIRIDIS[8]);
-        assert_eq!(SCALE.colour(5000.0), VIRIDIS[8]);
-        assert_eq!(SCALE.colour(f64::INFINITY), VIRIDIS[8]);
-        assert_eq!(SCALE.colour(f64::NAN), NO_DATA);
-        // 8 bands of 125: 499 is in band 3, 500 in band 4.
-        assert_eq!(SCALE.colour(499.0), viridis(3.0 / 7.0));
-        assert_eq!(SCALE.colour(500.0), viridis(4.0 / 7.0));
-        assert_ne!(SCALE.colour(499.0), SCALE.colour(500.0));
-        assert_eq!(SCALE.boundaries()[4], 500.0);
-    }
-
-    #[test]
-    fn log_scales_span_three_decades() {
-        let scale = FalseColorScale {
-            logarithmic: true,
-            steps: 6,
-            ..SCALE
-        };
-        let boundaries = scale.boundaries();
-        assert!((boundaries[0] - 1.0).abs() < 1e-9);
-        assert!((boundaries[2] - 10.0).abs() < 1e-9);
-        assert!((boundaries[6] - 1000.0).abs() < 1e-9);
-        assert_eq!(scale.colour(0.0), VIRIDIS[0]);
-        assert_eq!(scale.colour(10.5), viridis(2.0 / 5.0));
-        assert_eq!(scale.colour(999.0), VIRIDIS[8]);
-    }
-
-    #[test]
-    fn fitted_scales_round_the_maximum_up() {
-        assert_eq!(
-            FalseColorScale::fitted(&[3.0, 412.0, f64::NAN]).maximum,
-            500.0
-        );
-        assert_eq!(FalseColorScale::fitted(&[f64::NAN]).maximum, 1.0);
-        assert_eq!(FalseColorScale::fitted(&[]).maximum, 1.0);
-        assert_eq!(FalseColorScale::fitted(&[-3.0]).maximum, 1.0);
-    }
 
     #[test]
     fn images_have_a_legend_and_grey_holes() {

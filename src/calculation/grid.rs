@@ -2,14 +2,12 @@
 //! surface, or on the work plane a height above it, with the statistics a
 //! lighting standard asks for.
 //!
-//! The grid follows EN 12464-1:2021, §4.4 and Annex: the largest cell size
-//! is p = 0.2 · 5^log₁₀(d) m, with d the longer side of the area in metres;
-//! each side is cut into ⌈side / p⌉ equal cells and the points sit at the
-//! cells' centres, so none lies on the boundary. Points outside the
-//! surface's outline are left out. A point on the surface is read by the
-//! solution's gather probe; a point of a raised work plane lies in free
-//! space, where the gather is evaluated on a small horizontal receiver
-//! ([`Solution::irradiance_in_space`]), not interpolated on a mesh.
+//! The points are laid out as EN 12464-1 spaces them
+//! ([`CalculationGrid::on_surface`], in the `grid_layout` module). A point
+//! on the surface is read by the solution's gather probe; a point of a
+//! raised work plane lies in free space, where the gather is evaluated on a
+//! small horizontal receiver ([`Solution::irradiance_in_space`]), not
+//! interpolated on a mesh.
 
 use std::io::Write;
 use std::path::Path;
@@ -17,25 +15,13 @@ use std::path::Path;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::isolux::GridPicture;
-use crate::error::{Error, Result};
+use super::grid_picture::GridPicture;
+use crate::error::Result;
 use crate::fs::{io_error, write_atomically};
 use crate::lighting::luminaires;
 use crate::photometry::LUMENS_PER_WATT;
-use crate::scene::{PlaneFrame, ProbePoint, Rgb, Scene, SurfaceId, Visibility, polygon_contains};
+use crate::scene::{PlaneFrame, ProbePoint, Rgb, Scene, SurfaceId, Visibility};
 use crate::solver::{ProbeMode, ReadingPlace, Solution};
-
-/// The most points a grid may have: a million (a metre-wide grid at
-/// one-millimetre spacing), far beyond what a standard asks for.
-pub const MAX_GRID_POINTS: usize = 1_000_000;
-
-/// The largest grid spacing EN 12464-1 allows on an area whose longer side
-/// is `longer_side` metres: p = 0.2 · 5^log₁₀(d), and at most 10 m. For a
-/// 10 m room that is 1 m; for a 1 m desk, 0.2 m.
-#[must_use]
-pub fn en12464_spacing(longer_side: f64) -> f64 {
-    (0.2 * 5f64.powf(longer_side.max(f64::MIN_POSITIVE).log10())).min(10.0)
-}
 
 /// A calculation grid: points on a plane over a surface's outline.
 #[derive(Clone, Debug, PartialEq)]
@@ -122,138 +108,6 @@ pub fn illuminance_lux(irradiance: Rgb) -> f64 {
 }
 
 impl CalculationGrid {
-    /// The grid on the surfaces named `name`, or on the plane `height` above
-    /// them, with points at most `spacing` apart (EN 12464-1's spacing for
-    /// the area when `None`).
-    ///
-    /// A name may cover several polygons (an OBJ object split into faces);
-    /// the grid takes those in the plane of the largest, facing its way.
-    ///
-    /// # Errors
-    /// [`Error::InvalidSetting`] when no surface has the name, when
-    /// `height` is negative or not finite or puts the plane beyond the
-    /// scene's bounding box, when `spacing` is not positive, or when the
-    /// grid would pass [`MAX_GRID_POINTS`].
-    pub fn on_surface(
-        scene: &Scene,
-        name: &str,
-        height: f64,
-        spacing: Option<f64>,
-    ) -> Result<CalculationGrid> {
-        let invalid = |field: &str, message: String| Error::InvalidSetting {
-            name: field.into(),
-            message,
-        };
-        if !(height.is_finite() && height >= 0.0) {
-            return Err(invalid("height", format!("{height} must be ≥ 0")));
-        }
-        if let Some(spacing) = spacing
-            && !(spacing.is_finite() && spacing > 0.0)
-        {
-            return Err(invalid("spacing", format!("{spacing} must be > 0")));
-        }
-        let named: Vec<SurfaceId> = scene
-            .surfaces_with_ids()
-            .filter(|(_, s)| s.name == name)
-            .map(|(id, _)| id)
-            .collect();
-        let Some(&largest) = named.iter().max_by(|a, b| {
-            scene
-                .surface(**a)
-                .area()
-                .total_cmp(&scene.surface(**b).area())
-        }) else {
-            return Err(invalid("surface", unknown_surface_message(scene, name)));
-        };
-        let base = scene.surface(largest);
-        let normal = base.normal();
-        let tolerance = 1e-4 * scene.diagonal();
-        let covered: Vec<SurfaceId> = named
-            .into_iter()
-            .filter(|&id| {
-                let s = scene.surface(id);
-                s.normal().dot(normal) > 0.9999
-                    && base.frame().height(s.frame().origin).abs() <= tolerance
-            })
-            .collect();
-        let frame = plan_frame(base.frame().origin + normal * height, normal);
-        // The scene's highest point over the surface (its bounding box's
-        // corners): a work plane above it lies outside the scene.
-        let (low, high) = scene.bounds();
-        let reach = (0..8)
-            .map(|k| {
-                let corner = DVec3::new(
-                    if k & 1 == 0 { low.x } else { high.x },
-                    if k & 2 == 0 { low.y } else { high.y },
-                    if k & 4 == 0 { low.z } else { high.z },
-                );
-                base.frame().height(corner)
-            })
-            .fold(f64::NEG_INFINITY, f64::max);
-        if height > reach + tolerance {
-            return Err(invalid(
-                "height",
-                format!(
-                    "{} puts the work plane above `{name}` outside the scene, \
-                     which reaches {} above it",
-                    short_number(height),
-                    short_number(reach)
-                ),
-            ));
-        }
-        let outlines: Vec<Vec<DVec2>> = covered
-            .iter()
-            .map(|&id| {
-                let s = scene.surface(id);
-                s.vertices().iter().map(|&p| frame.to_plane(p)).collect()
-            })
-            .collect();
-        let (low, high) = outlines
-            .iter()
-            .flatten()
-            .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(low, high), &p| {
-                (low.min(p), high.max(p))
-            });
-        let size = high - low;
-        let largest_spacing = spacing.unwrap_or_else(|| en12464_spacing(size.max_element()));
-        let cells = |side: f64| ((side / largest_spacing).ceil() as usize).max(1);
-        let (columns, rows) = (cells(size.x), cells(size.y));
-        if columns.saturating_mul(rows) > MAX_GRID_POINTS {
-            return Err(invalid(
-                "spacing",
-                format!(
-                    "{largest_spacing} gives {columns} × {rows} points on `{name}`, \
-                     more than {MAX_GRID_POINTS}"
-                ),
-            ));
-        }
-        let spacing = DVec2::new(size.x / columns as f64, size.y / rows as f64);
-        let origin = low + spacing / 2.0;
-        let points = (0..rows * columns)
-            .map(|k| {
-                let p = origin + DVec2::new((k % columns) as f64, (k / columns) as f64) * spacing;
-                let (inside, _) = covered
-                    .iter()
-                    .zip(&outlines)
-                    .find(|(_, outline)| polygon_contains(outline, p))?;
-                Some((frame.to_world(p), *inside))
-            })
-            .collect();
-        let axes = [axis_name(frame.u), axis_name(frame.v)];
-        Ok(CalculationGrid {
-            axes,
-            name: name.to_owned(),
-            height,
-            frame,
-            origin,
-            spacing,
-            columns,
-            rows,
-            outlines,
-            points,
-        })
-    }
-
     /// The illuminance at every point, lx, row-major; NaN outside the
     /// outline. On the surface (height 0) each point is a gather probe of
     /// the surface under it; above it, a gather in free space facing the
@@ -273,7 +127,7 @@ impl CalculationGrid {
                 let Some((position, _)) = *point else {
                     return f64::NAN;
                 };
-                if self.is_inside_an_object(position, (solution.scene, solution.visibility)) {
+                if self.is_inside_an_object(position, solution.scene, solution.visibility) {
                     return f64::NAN;
                 }
                 let irradiance = if self.height > 0.0 {
@@ -300,7 +154,7 @@ impl CalculationGrid {
     /// as `# name = value`. The file is written atomically.
     ///
     /// # Errors
-    /// [`Error::Io`] when the file cannot be written.
+    /// [`Error::Io`](crate::Error::Io) when the file cannot be written.
     pub fn write_csv(&self, path: &Path, lux: &[f64]) -> Result<()> {
         write_atomically(path, |out| {
             let io = |error| io_error(path, error);
@@ -439,7 +293,7 @@ impl CalculationGrid {
             .par_iter()
             .filter_map(|point| {
                 let (position, _) = (*point)?;
-                if self.is_inside_an_object(position, (scene, visibility)) {
+                if self.is_inside_an_object(position, scene, visibility) {
                     return None;
                 }
                 if self.height > 0.0 {
@@ -464,13 +318,14 @@ impl CalculationGrid {
     /// ([`inside_an_object`]); on the surface itself (height 0), the test
     /// runs a hair above it: a point under a cabinet standing there is
     /// inside the cabinet.
-    fn is_inside_an_object(&self, position: DVec3, parts: (&Scene, &Visibility)) -> bool {
+    fn is_inside_an_object(&self, position: DVec3, scene: &Scene, visibility: &Visibility) -> bool {
         let lift = if self.height > 0.0 {
             0.0
         } else {
-            10.0 * parts.1.surface_offset()
+            10.0 * visibility.surface_offset()
         };
-        inside_an_object(parts, position + self.frame.normal * lift, &self.frame)
+        let lifted = position + self.frame.normal * lift;
+        inside_an_object(scene, visibility, lifted, &self.frame)
     }
 
     /// Plane coordinates of point `index` (row-major).
@@ -490,11 +345,7 @@ impl CalculationGrid {
 /// surface, where the two tie. A point under a table top sees the top's
 /// back above it but the room's walls sideways, so it is not inside; a
 /// point in open air whose rays escape is not either.
-fn inside_an_object(
-    (scene, visibility): (&Scene, &Visibility),
-    x: DVec3,
-    frame: &PlaneFrame,
-) -> bool {
+fn inside_an_object(scene: &Scene, visibility: &Visibility, x: DVec3, frame: &PlaneFrame) -> bool {
     let reach = 2.0 * scene.diagonal();
     let (n, u, v) = (frame.normal, frame.u, frame.v);
     // Each ray leans a little off its axis, so that a grid point over a
@@ -516,81 +367,9 @@ fn inside_an_object(
     })
 }
 
-/// The name of a unit axis as a world axis with its unit: `x (m)`,
-/// `−z (m)`, …, or `in-plane (m)` where it is oblique.
-fn axis_name(axis: DVec3) -> String {
-    for (name, world) in [("x", DVec3::X), ("y", DVec3::Y), ("z", DVec3::Z)] {
-        if axis.dot(world) > 0.9999 {
-            return format!("{name} (m)");
-        }
-        if axis.dot(world) < -0.9999 {
-            return format!("−{name} (m)");
-        }
-    }
-    "in-plane (m)".to_owned()
-}
-
-/// The frame a plan shows: for a horizontal surface (|n_y| > 0.9), u along
-/// +x and v = n × u (−z on a floor seen from above); otherwise v up (+y
-/// projected onto the plane) and u = v × n, a wall seen from its front.
-/// The origin is the plane's point nearest the world's origin, so that
-/// plane coordinates along world axes are world coordinates.
-fn plan_frame(point: DVec3, normal: DVec3) -> PlaneFrame {
-    let origin = normal * normal.dot(point);
-    let (u, v) = if normal.y.abs() > 0.9 {
-        let u = (DVec3::X - normal * normal.x).normalize();
-        (u, normal.cross(u))
-    } else {
-        let v = (DVec3::Y - normal * normal.y).normalize();
-        (v.cross(normal), v)
-    };
-    PlaneFrame {
-        origin,
-        u,
-        v,
-        normal,
-    }
-}
-
-/// A number as a message shows it: plain when of everyday size, else in
-/// scientific notation (1e300, not three hundred digits).
-fn short_number(value: f64) -> String {
-    if value == 0.0 || (1e-3..1e6).contains(&value.abs()) {
-        format!("{value}")
-    } else {
-        format!("{value:e}")
-    }
-}
-
-/// "no surface is named `x`", with the names there are (the first 20).
-fn unknown_surface_message(scene: &Scene, name: &str) -> String {
-    let mut names: Vec<&str> = scene.surfaces.iter().map(|s| s.name.as_str()).collect();
-    names.sort_unstable();
-    names.dedup();
-    let more = names.len().saturating_sub(20);
-    names.truncate(20);
-    let mut message = format!(
-        "no surface is named `{name}`; the scene has {}",
-        names.join(", ")
-    );
-    if more > 0 {
-        message.push_str(&format!(" and {more} more"));
-    }
-    message
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn en12464_spacing_follows_the_formula() {
-        assert!((en12464_spacing(10.0) - 1.0).abs() < 1e-12);
-        assert!((en12464_spacing(1.0) - 0.2).abs() < 1e-12);
-        assert!((en12464_spacing(100.0) - 5.0).abs() < 1e-12);
-        assert!((en12464_spacing(1e6) - 10.0).abs() < 1e-12);
-        assert!(en12464_spacing(0.0) > 0.0);
-    }
 
     #[test]
     fn statistics_skip_points_outside() {
@@ -603,16 +382,5 @@ mod tests {
         assert!((stats.uniformity() - 0.5).abs() < 1e-12);
         assert!((stats.diversity() - 1.0 / 3.0).abs() < 1e-12);
         assert!(IlluminanceStatistics::of(&[f64::NAN]).is_none());
-    }
-
-    #[test]
-    fn a_floor_plan_is_seen_from_above() {
-        let frame = plan_frame(DVec3::ZERO, DVec3::Y);
-        assert_eq!(frame.u, DVec3::X);
-        assert!((frame.v + DVec3::Z).length() < 1e-12);
-        assert!((frame.u.cross(frame.v) - frame.normal).length() < 1e-12);
-        let wall = plan_frame(DVec3::ZERO, DVec3::Z);
-        assert!((wall.v - DVec3::Y).length() < 1e-12);
-        assert!((wall.u.cross(wall.v) - wall.normal).length() < 1e-12);
     }
 }

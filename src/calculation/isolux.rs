@@ -10,11 +10,13 @@
 //!   scales (a metre is as long across as up), fitted to the outline, the
 //!   grid and the luminaires with a margin of 6 % of their extent.
 //! - **Outline.** The surface's polygon, closed, in black.
-//! - **Iso-lux lines.** One per level, from [`contour_polylines`] over the
-//!   grid (points outside the outline carry NaN, so lines stop at the grid's
-//!   edge of data), coloured from blue (lowest level) to red (highest). Each
+//! - **Iso-lux lines.** One per level, from
+//!   [`contour_polylines`](super::contour_polylines) over the grid (points
+//!   outside the outline carry NaN, so lines stop at the grid's edge of
+//!   data), coloured from blue (lowest level) to red (highest). Each
 //!   polyline at least three labels long is labelled with its level
-//!   ([`format_lux`], "lx" after it) halfway along, on a white backdrop.
+//!   ([`format_lux`](super::format_lux), "lx" after it) halfway along, on a
+//!   white backdrop. They are drawn by the `isolux_lines` module.
 //! - **Luminaires.** A circle with a cross (the symbol of a luminaire on a
 //!   lighting plan) at each position, its label beside it.
 //! - **Title** at the top.
@@ -51,110 +53,15 @@ use std::path::Path;
 use ::image::RgbImage;
 use glam::DVec2;
 use plotters::coord::Shift;
-use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::levels::{format_lux, nice_levels};
+use super::grid_picture::{GridPicture, Rect2};
+use super::isolux_lines::{PlaneChart, draw_contours, draw_label};
+use super::levels::nice_levels;
 use crate::error::Result;
 use crate::font::{FONT_FAMILY, ensure_font_registered};
 use crate::fs::{io_error, output_error, write_atomically};
-use crate::mesh::contour_polylines;
-
-/// A calculation grid on a plane, ready to be drawn: regularly spaced
-/// points with their illuminance, the surface's outline and the luminaires,
-/// all in the plane's coordinates (metres, y up).
-#[derive(Clone, Copy, Debug)]
-pub struct GridPicture<'a> {
-    /// Plane coordinates (metres) of point (0, 0); point (column, row) is at origin + (column·spacing.x, row·spacing.y).
-    pub origin: DVec2,
-    /// Distance between neighbouring points along x (columns) and y (rows),
-    /// metres; finite and non-zero.
-    pub spacing: DVec2,
-    /// Points per row.
-    pub columns: usize,
-    /// Rows of points.
-    pub rows: usize,
-    /// Illuminance in lux, row-major (row * columns + column); NaN where the point lies outside the outline.
-    pub values: &'a [f64],
-    /// The outlines of the surface's polygons in the same plane coordinates
-    /// (closed polygons, first point not repeated).
-    pub outlines: &'a [Vec<DVec2>],
-    /// Luminaires projected onto the plane, with their labels.
-    pub luminaires: &'a [(DVec2, String)],
-    /// Title, e.g. "floor at 0.80 m: Eavg 512 lx, U0 0.61".
-    pub title: &'a str,
-    /// The names of the plane's axes, with units, e.g. `["x (m)", "−z (m)"]`.
-    pub axes: [&'a str; 2],
-}
-
-impl GridPicture<'_> {
-    /// The plane coordinates of a point in grid coordinates (fractional
-    /// column, row): origin + (column · spacing.x, row · spacing.y).
-    #[must_use]
-    pub fn plane_point(&self, grid: DVec2) -> DVec2 {
-        self.origin + grid * self.spacing
-    }
-
-    /// The least and greatest finite value, or None when there is none.
-    #[must_use]
-    pub fn value_range(&self) -> Option<(f64, f64)> {
-        self.values
-            .iter()
-            .copied()
-            .filter(|v| v.is_finite())
-            .fold(None, |range, v| match range {
-                None => Some((v, v)),
-                Some((low, high)) => Some((v.min(low), v.max(high))),
-            })
-    }
-
-    /// What is inconsistent about the grid, if anything: a non-finite
-    /// origin, a spacing that is not finite and non-zero, or a number of
-    /// values other than columns · rows.
-    pub(super) fn check(&self) -> std::result::Result<(), String> {
-        if !self.origin.is_finite() {
-            return Err(format!("the grid's origin {} is not finite", self.origin));
-        }
-        if !self.spacing.is_finite() || self.spacing.x == 0.0 || self.spacing.y == 0.0 {
-            return Err(format!(
-                "the grid's spacing {} is not finite and non-zero",
-                self.spacing
-            ));
-        }
-        match self.columns.checked_mul(self.rows) {
-            Some(count) if count == self.values.len() => Ok(()),
-            _ => Err(format!(
-                "a grid of {} × {} points has {} values",
-                self.columns,
-                self.rows,
-                self.values.len()
-            )),
-        }
-    }
-
-    /// The box (low, high corners) holding the grid's points, the outline
-    /// and the luminaires, finite ones only; None when there is none.
-    pub(super) fn bounds(&self) -> Option<(DVec2, DVec2)> {
-        let corners = (self.columns > 0 && self.rows > 0).then(|| {
-            let last = DVec2::new(
-                self.columns.saturating_sub(1) as f64,
-                self.rows.saturating_sub(1) as f64,
-            );
-            [self.plane_point(DVec2::ZERO), self.plane_point(last)]
-        });
-        corners
-            .into_iter()
-            .flatten()
-            .chain(self.outlines.iter().flatten().copied())
-            .chain(self.luminaires.iter().map(|(position, _)| *position))
-            .filter(|p| p.is_finite())
-            .fold(None, |bounds, p| match bounds {
-                None => Some((p, p)),
-                Some((low, high)) => Some((low.min(p), high.max(p))),
-            })
-    }
-}
 
 /// Width of an isolux plot, pixels (SVG user units).
 const PLOT_WIDTH: u32 = 1000;
@@ -170,13 +77,6 @@ const TITLE_HEIGHT: u32 = 50;
 const DATA_MARGIN: f64 = 0.06;
 /// The largest extent of the data drawn, metres.
 const MAX_EXTENT: f64 = 1e300;
-
-/// Level colours from the lowest level to the highest, interpolated:
-/// blue, teal, orange, red (dark enough to read on white).
-const LEVEL_COLOURS: [[u8; 3]; 4] = [[33, 102, 172], [0, 140, 130], [225, 130, 0], [200, 30, 30]];
-
-/// The plane coordinates of the plotting area.
-type PlaneChart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// Writes an isolux plot of `picture` to `path` (see the module notes):
 /// SVG when the extension is `.svg`, PNG when it is `.png`
@@ -263,9 +163,12 @@ fn chosen_levels(picture: &GridPicture, levels: &[f64]) -> Vec<f64> {
 /// of its coordinates, 0.5 m at the origin), or −1..1 m without data; None when
 /// it is too large to draw (its extent beyond 10³⁰⁰ m, where plotters'
 /// ticks overflow).
-fn framed_bounds(picture: &GridPicture) -> Option<(DVec2, DVec2)> {
-    let Some((low, high)) = picture.bounds() else {
-        return Some((DVec2::splat(-1.0), DVec2::ONE));
+fn framed_bounds(picture: &GridPicture) -> Option<Rect2> {
+    let Some(Rect2 { low, high }) = picture.bounds() else {
+        return Some(Rect2 {
+            low: DVec2::splat(-1.0),
+            high: DVec2::ONE,
+        });
     };
     let extent = (high - low).max_element();
     if !extent.is_finite() || extent > MAX_EXTENT {
@@ -275,13 +178,16 @@ fn framed_bounds(picture: &GridPicture) -> Option<(DVec2, DVec2)> {
     let magnitude = low.abs().max(high.abs()).max_element();
     let margin = (DATA_MARGIN * extent).max(1e-9 * magnitude);
     let margin = if margin > 0.0 { margin } else { 0.5 };
-    Some((low - DVec2::splat(margin), high + DVec2::splat(margin)))
+    Some(Rect2 {
+        low: low - DVec2::splat(margin),
+        high: high + DVec2::splat(margin),
+    })
 }
 
 /// The canvas: [`PLOT_WIDTH`] wide, and as high as a plotting area of the
 /// data's aspect needs, that area held between [`PLOT_AREA_HEIGHTS`].
-fn canvas_size((low, high): (DVec2, DVec2)) -> (u32, u32) {
-    let extent = high - low;
+fn canvas_size(bounds: Rect2) -> (u32, u32) {
+    let extent = bounds.high - bounds.low;
     let area_width = f64::from(PLOT_WIDTH - 2 * MARGIN - LABEL_AREAS.1);
     let aspect = extent.y / extent.x;
     let area_height = if aspect.is_finite() {
@@ -298,8 +204,9 @@ fn canvas_size((low, high): (DVec2, DVec2)) -> (u32, u32) {
 /// chart with the same layout, then the ranges widened to fill it.
 fn equal_aspect_chart<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
-    (low, high): (DVec2, DVec2),
+    bounds: Rect2,
 ) -> std::result::Result<PlaneChart<'a, DB>, String> {
+    let Rect2 { low, high } = bounds;
     let build = |x: std::ops::Range<f64>, y: std::ops::Range<f64>| {
         ChartBuilder::on(area)
             .margin(MARGIN)
@@ -324,7 +231,7 @@ fn equal_aspect_chart<'a, DB: DrawingBackend>(
 fn draw_isolux<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     picture: &GridPicture,
-    bounds: (DVec2, DVec2),
+    bounds: Rect2,
     levels: &[f64],
 ) -> std::result::Result<(), String> {
     let text = |size: u32| (FONT_FAMILY, size).into_font();
@@ -393,123 +300,6 @@ fn draw_isolux<DB: DrawingBackend>(
     Ok(())
 }
 
-/// A level's value placed on its line, in pixels.
-struct Label {
-    text: String,
-    centre: (i32, i32),
-    colour: RGBColor,
-}
-
-/// The colour of level `index` of `count`, from blue (0) to red (the last).
-fn level_colour(index: usize, count: usize) -> RGBColor {
-    let t = if count > 1 {
-        index as f64 / (count - 1) as f64
-    } else {
-        0.0
-    };
-    let scaled = t.clamp(0.0, 1.0) * (LEVEL_COLOURS.len() - 1) as f64;
-    let below = (scaled.floor() as usize).min(LEVEL_COLOURS.len() - 2);
-    let f = scaled - below as f64;
-    let mix = |channel: usize| {
-        let (a, b) = (
-            f64::from(LEVEL_COLOURS[below][channel]),
-            f64::from(LEVEL_COLOURS[below + 1][channel]),
-        );
-        (a + f * (b - a)).round() as u8
-    };
-    RGBColor(mix(0), mix(1), mix(2))
-}
-
-/// Draws every level's polylines and returns a label for each polyline
-/// long enough to carry one: at least three times the label's width in
-/// pixels, labelled halfway along its length.
-fn draw_contours<DB: DrawingBackend>(
-    chart: &mut PlaneChart<'_, DB>,
-    picture: &GridPicture,
-    levels: &[f64],
-) -> std::result::Result<Vec<Label>, String> {
-    let mut labels = Vec::new();
-    for (index, &level) in levels.iter().enumerate() {
-        let colour = level_colour(index, levels.len());
-        let text = format!("{} lx", format_lux(level));
-        let text_width = 9 * text.chars().count() as i32;
-        for line in contour_polylines(picture.values, picture.columns, picture.rows, level) {
-            let plane: Vec<(f64, f64)> = line
-                .iter()
-                .map(|&p| picture.plane_point(p))
-                .map(|p| (p.x, p.y))
-                .collect();
-            let pixels: Vec<(i32, i32)> = plane.iter().map(|p| chart.backend_coord(p)).collect();
-            chart
-                .draw_series(std::iter::once(PathElement::new(
-                    plane,
-                    colour.stroke_width(2),
-                )))
-                .map_err(|e| e.to_string())?;
-            if let Some(centre) = halfway(&pixels, f64::from(3 * text_width)) {
-                labels.push(Label {
-                    text: text.clone(),
-                    centre,
-                    colour,
-                });
-            }
-        }
-    }
-    Ok(labels)
-}
-
-/// The point halfway along a pixel polyline, when it is at least
-/// `min_length` pixels long.
-fn halfway(pixels: &[(i32, i32)], min_length: f64) -> Option<(i32, i32)> {
-    let point = |&(x, y): &(i32, i32)| DVec2::new(f64::from(x), f64::from(y));
-    let lengths: Vec<f64> = pixels
-        .windows(2)
-        .map(|w| point(&w[0]).distance(point(&w[1])))
-        .collect();
-    let total: f64 = lengths.iter().sum();
-    if total < min_length {
-        return None;
-    }
-    let mut left = total / 2.0;
-    for (segment, length) in pixels.windows(2).zip(lengths) {
-        if left <= length && length > 0.0 {
-            let p = point(&segment[0]).lerp(point(&segment[1]), left / length);
-            return Some((p.x.round() as i32, p.y.round() as i32));
-        }
-        left -= length;
-    }
-    pixels.last().copied()
-}
-
-/// A label's text in its level's colour on a white box, centred on its
-/// point.
-fn draw_label<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    label: &Label,
-) -> std::result::Result<(), String> {
-    let style = (FONT_FAMILY, 14).into_font();
-    let (width, height) = root
-        .estimate_text_size(&label.text, &TextStyle::from(style.clone()))
-        .map_err(|e| e.to_string())?;
-    let (half_width, half_height) = (width as i32 / 2 + 3, height as i32 / 2 + 2);
-    let (x, y) = label.centre;
-    root.draw(&Rectangle::new(
-        [
-            (x - half_width, y - half_height),
-            (x + half_width, y + half_height),
-        ],
-        WHITE.filled(),
-    ))
-    .map_err(|e| e.to_string())?;
-    let centred = Pos::new(HPos::Center, VPos::Center);
-    root.draw_text(
-        &label.text,
-        &style.color(&label.colour).pos(centred),
-        (x, y),
-    )
-    .map_err(|e| e.to_string())
-}
-
 /// Each luminaire with a finite position: a circle with a cross, its label
 /// to the upper right.
 fn draw_luminaires<DB: DrawingBackend>(
@@ -535,6 +325,7 @@ fn draw_luminaires<DB: DrawingBackend>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::calculation::isolux_lines::level_colour;
 
     /// A 4 m × 3 m floor with a 20 × 15 grid, lit by one luminaire over
     /// (1.5, 1.5): E = 1000 / (1 + d²) lux.
@@ -761,13 +552,5 @@ mod tests {
             assert!(error.to_string().contains(".svg or .png"), "{error}");
             assert!(!path.exists());
         }
-    }
-
-    #[test]
-    fn labels_go_halfway_along_long_lines() {
-        let line = [(0, 0), (100, 0), (100, 100)];
-        assert_eq!(halfway(&line, 150.0), Some((100, 0)));
-        assert_eq!(halfway(&line, 250.0), None);
-        assert_eq!(halfway(&[(5, 5), (5, 5)], 0.0), Some((5, 5)));
     }
 }

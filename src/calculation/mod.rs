@@ -23,14 +23,19 @@
 //! with the bundled DejaVu Sans shared with [`study`](crate::study).
 
 mod falsecolor;
+mod falsecolor_scale;
 mod grid;
+mod grid_layout;
+mod grid_picture;
 mod isolux;
+mod isolux_lines;
 mod levels;
 
 pub use crate::mesh::contour_polylines;
-pub use falsecolor::{FalseColorScale, LOG_DECADES, write_falsecolor_grid, write_falsecolor_image};
-pub use grid::{
-    CalculationGrid, IlluminanceStatistics, MAX_GRID_POINTS, en12464_spacing, illuminance_lux,
-};
-pub use isolux::{GridPicture, write_isolux_plot};
+pub use falsecolor::{write_falsecolor_grid, write_falsecolor_image};
+pub use falsecolor_scale::{FalseColorScale, LOG_DECADES};
+pub use grid::{CalculationGrid, IlluminanceStatistics, illuminance_lux};
+pub use grid_layout::{MAX_GRID_POINTS, en12464_spacing};
+pub use grid_picture::GridPicture;
+pub use isolux::write_isolux_plot;
 pub use levels::{format_lux, nice_ceiling, nice_levels};

@@ -40,6 +40,27 @@ pub struct LuminousOpening {
     pub height: f64,
 }
 
+/// An intensity I(C, γ) with its partial derivatives, as
+/// [`IntensityDistribution::intensity_with_derivatives`] gives them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IntensityWithDerivatives {
+    /// I(C, γ), candela.
+    pub intensity: f64,
+    /// ∂I/∂C, candela per degree.
+    pub d_c: f64,
+    /// ∂I/∂γ, candela per degree.
+    pub d_gamma: f64,
+}
+
+impl IntensityWithDerivatives {
+    /// No intensity and no slope: outside the tabulated range.
+    const ZERO: IntensityWithDerivatives = IntensityWithDerivatives {
+        intensity: 0.0,
+        d_c: 0.0,
+        d_gamma: 0.0,
+    };
+}
+
 /// An intensity distribution on the full C-γ sphere: `c_angles` from 0° to
 /// 360° ascending (the last plane equal to the first), `gamma_angles`
 /// ascending within [0°, 180°], and the intensities in candela, plane after
@@ -74,91 +95,20 @@ impl IntensityDistribution {
                 opening,
             };
         }
-        let stored = |c: f64| -> Vec<f64> { plane_at(c_angles, candela, c) };
-        // Mirror images of the stored planes fill the rest of [0°, 360°].
-        let mirror: &dyn Fn(f64) -> f64 = match symmetry {
-            Symmetry::Rotational => &|_| 0.0,
-            Symmetry::Quadrant => &|c: f64| {
-                let c = c.rem_euclid(360.0);
-                let c = if c > 180.0 { 360.0 - c } else { c };
-                if c > 90.0 { 180.0 - c } else { c }
-            },
-            Symmetry::AboutC0C180 => &|c: f64| {
-                let c = c.rem_euclid(360.0);
-                if c > 180.0 { 360.0 - c } else { c }
-            },
-            Symmetry::AboutC90C270 => &|c: f64| {
-                // Fold onto [90°, 270°] across the C90–C270 plane.
-                let c = c.rem_euclid(360.0);
-                if (90.0..=270.0).contains(&c) {
-                    c
-                } else {
-                    (540.0 - c).rem_euclid(360.0)
-                }
-            },
-            Symmetry::None => &|c: f64| c.rem_euclid(360.0),
-        };
-        let mut angles: Vec<f64> = match symmetry {
-            Symmetry::Rotational => vec![0.0],
-            _ => {
-                let mut all = Vec::new();
-                for &c in c_angles {
-                    let c = c.rem_euclid(360.0);
-                    all.extend([c, 360.0 - c, 180.0 - c, 180.0 + c]);
-                }
-                all.into_iter()
-                    .map(|c| c.rem_euclid(360.0))
-                    .filter(|&c| mirror(c).is_finite())
-                    .collect()
-            }
-        };
-        angles.sort_by(f64::total_cmp);
-        angles.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
-        // Keep only the angles whose mirror is a stored plane (or the whole
-        // range for a full web): the planes the file defines.
-        let defined = |c: f64| {
-            let m = mirror(c);
-            symmetry == Symmetry::Rotational
-                || c_angles
-                    .iter()
-                    .any(|&s| (s.rem_euclid(360.0) - m).abs() < 1e-9)
-        };
-        angles.retain(|&c| defined(c));
+        // The planes the file defines: the stored ones and their mirror
+        // images, each a copy of the stored plane it mirrors.
+        let mut angles = defined_angles(symmetry, c_angles);
         let mut planes: Vec<Vec<f64>> = angles
             .iter()
             .map(|&c| {
                 if symmetry == Symmetry::Rotational {
                     candela[0].clone()
                 } else {
-                    stored(mirror(c))
+                    plane_at(c_angles, candela, mirror(symmetry, c))
                 }
             })
             .collect();
-        // Close the circle: the plane at 360° is the one at 0°.
-        if angles.first().is_none_or(|&c| c > 1e-9) {
-            // No plane at 0° (a full web starting later): interpolate
-            // between the last and the first across 360°.
-            let (first, last) = (angles[0], angles[angles.len() - 1]);
-            let span = first + 360.0 - last;
-            let w = if span > 0.0 {
-                (360.0 - last) / span
-            } else {
-                0.0
-            };
-            let at_zero: Vec<f64> = planes[planes.len() - 1]
-                .iter()
-                .zip(&planes[0])
-                .map(|(a, b)| a + (b - a) * w)
-                .collect();
-            angles.insert(0, 0.0);
-            planes.insert(0, at_zero);
-        }
-        if angles.last().is_some_and(|&c| c < 360.0 - 1e-9) {
-            angles.push(360.0);
-            planes.push(planes[0].clone());
-        } else if let Some(last) = angles.last_mut() {
-            *last = 360.0;
-        }
+        close_the_circle(&mut angles, &mut planes);
         IntensityDistribution {
             c_angles: angles,
             gamma_angles: gamma_angles.to_vec(),
@@ -173,7 +123,7 @@ impl IntensityDistribution {
     /// sends nothing upwards).
     #[must_use]
     pub fn intensity(&self, c: f64, gamma: f64) -> f64 {
-        self.intensity_with_derivatives(c, gamma).0
+        self.intensity_with_derivatives(c, gamma).intensity
     }
 
     /// I(C, γ) (see [`IntensityDistribution::intensity`]) and its partial
@@ -189,13 +139,13 @@ impl IntensityDistribution {
     /// On a tabulated angle the cell above it is used (the interpolant has a
     /// kink there); zero derivatives outside the tabulated range.
     #[must_use]
-    pub fn intensity_with_derivatives(&self, c: f64, gamma: f64) -> (f64, f64, f64) {
+    pub fn intensity_with_derivatives(&self, c: f64, gamma: f64) -> IntensityWithDerivatives {
         let n = self.gamma_angles.len();
         let (Some(&g0), Some(&g1)) = (self.gamma_angles.first(), self.gamma_angles.last()) else {
-            return (0.0, 0.0, 0.0);
+            return IntensityWithDerivatives::ZERO;
         };
         if !(c.is_finite() && gamma.is_finite()) || gamma < g0 - 1e-9 || gamma > g1 + 1e-9 {
-            return (0.0, 0.0, 0.0);
+            return IntensityWithDerivatives::ZERO;
         }
         let (j, tg) = bracket(&self.gamma_angles, gamma.clamp(g0, g1));
         let (i, tc) = bracket(&self.c_angles, c.rem_euclid(360.0));
@@ -223,13 +173,21 @@ impl IntensityDistribution {
         };
         let (a, step_a) = along(i);
         if self.c_angles.len() == 1 {
-            return (a, 0.0, per_gamma(step_a));
+            return IntensityWithDerivatives {
+                intensity: a,
+                d_c: 0.0,
+                d_gamma: per_gamma(step_a),
+            };
         }
         let (b, step_b) = along(i + 1);
         let c_span = self.c_angles[i + 1] - self.c_angles[i];
         let d_c = if c_span > 0.0 { (b - a) / c_span } else { 0.0 };
         let d_gamma = per_gamma(step_a + (step_b - step_a) * tc);
-        (a + (b - a) * tc, d_c, d_gamma)
+        IntensityWithDerivatives {
+            intensity: a + (b - a) * tc,
+            d_c,
+            d_gamma,
+        }
     }
 
     /// The tabulated γ angles, degrees.
@@ -289,6 +247,95 @@ fn bracket(xs: &[f64], x: f64) -> (usize, f64) {
         0.0
     };
     (i, t)
+}
+
+/// The stored angle whose plane `symmetry` mirrors to C = `c`: C modulo
+/// 360° folded onto the stored range (0° for one rotational plane).
+fn mirror(symmetry: Symmetry, c: f64) -> f64 {
+    match symmetry {
+        Symmetry::Rotational => 0.0,
+        Symmetry::Quadrant => {
+            let c = c.rem_euclid(360.0);
+            let c = if c > 180.0 { 360.0 - c } else { c };
+            if c > 90.0 { 180.0 - c } else { c }
+        }
+        Symmetry::AboutC0C180 => {
+            let c = c.rem_euclid(360.0);
+            if c > 180.0 { 360.0 - c } else { c }
+        }
+        Symmetry::AboutC90C270 => {
+            // Fold onto [90°, 270°] across the C90–C270 plane.
+            let c = c.rem_euclid(360.0);
+            if (90.0..=270.0).contains(&c) {
+                c
+            } else {
+                (540.0 - c).rem_euclid(360.0)
+            }
+        }
+        Symmetry::None => c.rem_euclid(360.0),
+    }
+}
+
+/// The C angles the file defines, modulo 360° and ascending: the stored
+/// `c_angles` and their mirror images across the C0–C180 and C90–C270
+/// planes, those whose mirror is a stored plane (0° alone for a
+/// rotational web).
+fn defined_angles(symmetry: Symmetry, c_angles: &[f64]) -> Vec<f64> {
+    let mut angles: Vec<f64> = match symmetry {
+        Symmetry::Rotational => vec![0.0],
+        _ => {
+            let mut all = Vec::new();
+            for &c in c_angles {
+                let c = c.rem_euclid(360.0);
+                all.extend([c, 360.0 - c, 180.0 - c, 180.0 + c]);
+            }
+            all.into_iter()
+                .map(|c| c.rem_euclid(360.0))
+                .filter(|&c| mirror(symmetry, c).is_finite())
+                .collect()
+        }
+    };
+    angles.sort_by(f64::total_cmp);
+    angles.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    // Keep only the angles whose mirror is a stored plane (or the whole
+    // range for a full web): the planes the file defines.
+    let defined = |c: f64| {
+        let m = mirror(symmetry, c);
+        symmetry == Symmetry::Rotational
+            || c_angles
+                .iter()
+                .any(|&s| (s.rem_euclid(360.0) - m).abs() < 1e-9)
+    };
+    angles.retain(|&c| defined(c));
+    angles
+}
+
+/// Closes the circle of `planes` at `angles`: the plane at 360° is the one
+/// at 0°. Without a plane at 0° (a full web starting later), the plane
+/// there is interpolated between the last and the first across 360°.
+fn close_the_circle(angles: &mut Vec<f64>, planes: &mut Vec<Vec<f64>>) {
+    if angles.first().is_none_or(|&c| c > 1e-9) {
+        let (first, last) = (angles[0], angles[angles.len() - 1]);
+        let span = first + 360.0 - last;
+        let w = if span > 0.0 {
+            (360.0 - last) / span
+        } else {
+            0.0
+        };
+        let at_zero: Vec<f64> = planes[planes.len() - 1]
+            .iter()
+            .zip(&planes[0])
+            .map(|(a, b)| a + (b - a) * w)
+            .collect();
+        angles.insert(0, 0.0);
+        planes.insert(0, at_zero);
+    }
+    if angles.last().is_some_and(|&c| c < 360.0 - 1e-9) {
+        angles.push(360.0);
+        planes.push(planes[0].clone());
+    } else if let Some(last) = angles.last_mut() {
+        *last = 360.0;
+    }
 }
 
 /// The stored plane at angle `c` (one of `c_angles` modulo 360°).

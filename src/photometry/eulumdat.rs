@@ -27,7 +27,7 @@
 //! format's description by LIGHTTOOLS/Relux (1990).
 
 use super::distribution::{IntensityDistribution, LuminousOpening, Symmetry};
-use super::ies::{MAX_CANDELA, ParseProblem, push_increasing, scaled_intensity};
+use super::problem::{MAX_CANDELA, ParseProblem, push_increasing, scaled_intensity};
 
 /// The most C planes or γ angles a file may give (real files give at most
 /// a few hundred).
@@ -65,25 +65,142 @@ pub fn parse_eulumdat(text: &str) -> Result<EulumdatFile, ParseProblem> {
     let lines = Lines {
         lines: text.lines().collect(),
     };
-    let company = lines.text(1)?.to_owned();
-    let ityp = lines.integer(2, "type indicator Ityp", 0, 3)?;
-    let isym = lines.integer(3, "symmetry indicator Isym", 0, 4)?;
-    let mc = lines.integer(4, "number of C planes Mc", 1, MAX_ANGLES)?;
-    let ng = lines.integer(6, "number of intensities per C plane Ng", 1, MAX_ANGLES)?;
-    let _ = ityp;
-    let luminaire = lines.text(9)?.to_owned();
-    let area_length = lines.number(16, "length or diameter of the luminous area")?;
-    let area_width = lines.number(17, "width of the luminous area")?;
-    let area_height = lines.number(18, "height of the luminous area")?;
-    let light_output_ratio = lines.number(23, "light output ratio")?;
-    let conversion = lines.number(24, "conversion factor for luminous intensities")?;
-    if conversion <= 0.0 {
+    let header = Header::read(&lines)?;
+    let (mc, ng, isym) = (header.mc, header.ng, header.isym);
+    let lamp_flux = lamp_flux(&lines, header.sets)?;
+    // Ten direct ratios follow the lamp sets, then the angles.
+    let c_start = 27 + 6 * header.sets + 10;
+    let c_angles = lines.angles(c_start, mc, "C", 0.0, 360.0)?;
+    let g_start = c_start + mc;
+    let g_angles = lines.angles(g_start, ng, "γ", 0.0, 180.0)?;
+    let stored = StoredPlanes::of(isym, mc)?;
+    check_stored_angles(isym, mc, &c_angles, c_start)?;
+    let conversion = header.conversion;
+    let scale = lamp_flux / 1000.0 * conversion;
+    if !(scale.is_finite() && scale <= MAX_CANDELA) {
         return Err(ParseProblem::at(
             24,
-            format!("conversion factor {conversion}: must be positive"),
+            format!("lamp flux {lamp_flux} lm × conversion factor {conversion}: out of range"),
         ));
     }
-    let sets = lines.integer(26, "number of lamp sets", 1, MAX_LAMP_SETS)?;
+    // The intensities, Ng per stored plane, from the line after the γ angles.
+    let mut planes: Vec<(f64, Vec<f64>)> = Vec::with_capacity(stored.indices.len());
+    let mut line = g_start + ng;
+    for &plane in &stored.indices {
+        let mut values = Vec::with_capacity(ng);
+        for _ in 0..ng {
+            let value = lines.number(line, "luminous intensity")?;
+            let what = || format!("intensity {value} cd/klm");
+            values.push(scaled_intensity(value, scale, line, &what)?);
+            line += 1;
+        }
+        let angle = if isym == 1 { 0.0 } else { c_angles[plane] };
+        planes.push((angle, values));
+    }
+    if stored.symmetry == Symmetry::AboutC90C270 {
+        // Stored C270 … C90; their mirror images across the C90–C270 plane,
+        // C ↦ 180° − C, are the same planes on the C90 … C270 side.
+        for plane in &mut planes {
+            plane.0 = (180.0 - plane.0).rem_euclid(360.0);
+        }
+        planes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    let angles: Vec<f64> = planes.iter().map(|p| p.0).collect();
+    let values: Vec<Vec<f64>> = planes.into_iter().map(|p| p.1).collect();
+    Ok(EulumdatFile {
+        distribution: IntensityDistribution::from_planes(
+            stored.symmetry,
+            &angles,
+            &g_angles,
+            &values,
+            header.opening(),
+        ),
+        company: header.company,
+        luminaire: header.luminaire,
+        lamp_flux,
+        light_output_ratio: header.light_output_ratio,
+    })
+}
+
+/// The 26 header lines' fields that isorad uses.
+struct Header {
+    /// Company identification (line 1).
+    company: String,
+    /// The symmetry indicator Isym (line 3).
+    isym: usize,
+    /// The number of C planes Mc (line 4).
+    mc: usize,
+    /// The number of γ angles Ng (line 6).
+    ng: usize,
+    /// Luminaire name (line 9).
+    luminaire: String,
+    /// The luminous area's length or diameter, width and height, mm
+    /// (lines 16–18).
+    area_length: f64,
+    area_width: f64,
+    area_height: f64,
+    /// Light output ratio, % (line 23).
+    light_output_ratio: f64,
+    /// Conversion factor for intensities (line 24), positive.
+    conversion: f64,
+    /// The number of lamp sets (line 26).
+    sets: usize,
+}
+
+impl Header {
+    /// Reads the header; an error when a field is missing, not a number or
+    /// out of range.
+    fn read(lines: &Lines) -> Result<Header, ParseProblem> {
+        let company = lines.text(1)?.to_owned();
+        let _ityp = lines.integer(2, "type indicator Ityp", 0, 3)?;
+        let isym = lines.integer(3, "symmetry indicator Isym", 0, 4)?;
+        let mc = lines.integer(4, "number of C planes Mc", 1, MAX_ANGLES)?;
+        let ng = lines.integer(6, "number of intensities per C plane Ng", 1, MAX_ANGLES)?;
+        let luminaire = lines.text(9)?.to_owned();
+        let area_length = lines.number(16, "length or diameter of the luminous area")?;
+        let area_width = lines.number(17, "width of the luminous area")?;
+        let area_height = lines.number(18, "height of the luminous area")?;
+        let light_output_ratio = lines.number(23, "light output ratio")?;
+        let conversion = lines.number(24, "conversion factor for luminous intensities")?;
+        if conversion <= 0.0 {
+            return Err(ParseProblem::at(
+                24,
+                format!("conversion factor {conversion}: must be positive"),
+            ));
+        }
+        let sets = lines.integer(26, "number of lamp sets", 1, MAX_LAMP_SETS)?;
+        Ok(Header {
+            company,
+            isym,
+            mc,
+            ng,
+            luminaire,
+            area_length,
+            area_width,
+            area_height,
+            light_output_ratio,
+            conversion,
+            sets,
+        })
+    }
+
+    /// The luminous opening, metres. EULUMDAT gives a circular area as its
+    /// diameter with zero width; the opening says circular as LM-63 does,
+    /// by a negative width.
+    fn opening(&self) -> LuminousOpening {
+        let (area_length, area_width) = (self.area_length, self.area_width);
+        let circular = area_width == 0.0 && area_length > 0.0;
+        LuminousOpening {
+            width: if circular { -area_length } else { area_width } * MM,
+            length: if circular { 0.0 } else { area_length } * MM,
+            height: self.area_height * MM,
+        }
+    }
+}
+
+/// The total flux of the `sets` lamp sets, lm (the third of each set's six
+/// lines); an error when one is negative or the total is 0.
+fn lamp_flux(lines: &Lines, sets: usize) -> Result<f64, ParseProblem> {
     let mut lamp_flux = 0.0;
     for set in 0..sets {
         let line = 27 + 6 * set + 2;
@@ -102,34 +219,58 @@ pub fn parse_eulumdat(text: &str) -> Result<EulumdatFile, ParseProblem> {
             "the lamps' total flux is 0: intensities in cd/klm cannot be scaled",
         ));
     }
-    // Ten direct ratios follow the lamp sets, then the angles.
-    let c_start = 27 + 6 * sets + 10;
-    let c_angles = lines.angles(c_start, mc, "C", 0.0, 360.0)?;
-    let g_start = c_start + mc;
-    let g_angles = lines.angles(g_start, ng, "γ", 0.0, 180.0)?;
-    let (stored, symmetry) = match isym {
-        0 => ((0..mc).collect::<Vec<_>>(), Symmetry::None),
-        1 => (vec![0], Symmetry::Rotational),
-        2 | 3 if mc % 2 != 0 => {
-            return Err(ParseProblem::at(
-                4,
-                format!("Mc {mc} is odd: Isym {isym} stores half of the planes"),
-            ));
-        }
-        2 => ((0..=mc / 2).collect(), Symmetry::AboutC0C180),
-        3 => (
-            (0..=mc / 2).map(|k| (3 * mc / 4 + k) % mc).collect(),
-            Symmetry::AboutC90C270,
-        ),
-        _ if mc % 4 != 0 => {
-            return Err(ParseProblem::at(
-                4,
-                format!("Mc {mc} is not a multiple of 4: Isym 4 stores a quarter of the planes"),
-            ));
-        }
-        _ => ((0..=mc / 4).collect(), Symmetry::Quadrant),
-    };
-    // The stored planes must be the ones Isym names.
+    Ok(lamp_flux)
+}
+
+/// The C planes a file stores, as Isym says (see the module docs).
+struct StoredPlanes {
+    /// Indices of the stored planes into the Mc C angles, in the file's
+    /// order.
+    indices: Vec<usize>,
+    /// The symmetry that gives the other planes.
+    symmetry: Symmetry,
+}
+
+impl StoredPlanes {
+    /// The planes Isym `isym` stores of `mc`; an error (on line 4) when Mc
+    /// does not divide as Isym needs.
+    fn of(isym: usize, mc: usize) -> Result<StoredPlanes, ParseProblem> {
+        let (indices, symmetry) = match isym {
+            0 => ((0..mc).collect::<Vec<_>>(), Symmetry::None),
+            1 => (vec![0], Symmetry::Rotational),
+            2 | 3 if !mc.is_multiple_of(2) => {
+                return Err(ParseProblem::at(
+                    4,
+                    format!("Mc {mc} is odd: Isym {isym} stores half of the planes"),
+                ));
+            }
+            2 => ((0..=mc / 2).collect(), Symmetry::AboutC0C180),
+            3 => (
+                (0..=mc / 2).map(|k| (3 * mc / 4 + k) % mc).collect(),
+                Symmetry::AboutC90C270,
+            ),
+            _ if !mc.is_multiple_of(4) => {
+                return Err(ParseProblem::at(
+                    4,
+                    format!(
+                        "Mc {mc} is not a multiple of 4: Isym 4 stores a quarter of the planes"
+                    ),
+                ));
+            }
+            _ => ((0..=mc / 4).collect(), Symmetry::Quadrant),
+        };
+        Ok(StoredPlanes { indices, symmetry })
+    }
+}
+
+/// Checks that the planes at the ends of the stored range lie at the
+/// angles Isym `isym` names; `c_angles` were read from line `c_start` on.
+fn check_stored_angles(
+    isym: usize,
+    mc: usize,
+    c_angles: &[f64],
+    c_start: usize,
+) -> Result<(), ParseProblem> {
     let check_plane = |index: usize, angle: f64| {
         if (c_angles[index] - angle).abs() > 1e-6 {
             return Err(ParseProblem::at(
@@ -158,53 +299,7 @@ pub fn parse_eulumdat(text: &str) -> Result<EulumdatFile, ParseProblem> {
         }
         _ => {}
     }
-    let scale = lamp_flux / 1000.0 * conversion;
-    if !(scale.is_finite() && scale <= MAX_CANDELA) {
-        return Err(ParseProblem::at(
-            24,
-            format!("lamp flux {lamp_flux} lm × conversion factor {conversion}: out of range"),
-        ));
-    }
-    let mut planes: Vec<(f64, Vec<f64>)> = Vec::with_capacity(stored.len());
-    let mut line = g_start + ng;
-    for &plane in &stored {
-        let mut values = Vec::with_capacity(ng);
-        for _ in 0..ng {
-            let value = lines.number(line, "luminous intensity")?;
-            let what = || format!("intensity {value} cd/klm");
-            values.push(scaled_intensity(value, scale, line, &what)?);
-            line += 1;
-        }
-        let angle = if isym == 1 { 0.0 } else { c_angles[plane] };
-        planes.push((angle, values));
-    }
-    if symmetry == Symmetry::AboutC90C270 {
-        // Stored C270 … C90; their mirror images across the C90–C270 plane,
-        // C ↦ 180° − C, are the same planes on the C90 … C270 side.
-        for plane in &mut planes {
-            plane.0 = (180.0 - plane.0).rem_euclid(360.0);
-        }
-        planes.sort_by(|a, b| a.0.total_cmp(&b.0));
-    }
-    let angles: Vec<f64> = planes.iter().map(|p| p.0).collect();
-    let values: Vec<Vec<f64>> = planes.into_iter().map(|p| p.1).collect();
-    // EULUMDAT gives a circular area as its diameter with zero width; the
-    // opening says circular as LM-63 does, by a negative width.
-    let circular = area_width == 0.0 && area_length > 0.0;
-    let opening = LuminousOpening {
-        width: if circular { -area_length } else { area_width } * MM,
-        length: if circular { 0.0 } else { area_length } * MM,
-        height: area_height * MM,
-    };
-    Ok(EulumdatFile {
-        distribution: IntensityDistribution::from_planes(
-            symmetry, &angles, &g_angles, &values, opening,
-        ),
-        company,
-        luminaire,
-        lamp_flux,
-        light_output_ratio,
-    })
+    Ok(())
 }
 
 /// The file's lines, addressed 1-based.
@@ -299,7 +394,7 @@ mod tests {
             "Test luminaire".into(),
             "T-1".into(),
             "test.ldt".into(),
-            "2026-12-01".into(),
+            "date/user".into(),
             "600".into(),
             "600".into(),
             "80".into(),

@@ -26,15 +26,13 @@
 //! and LM-63-02 (2002).
 
 use super::distribution::{IntensityDistribution, LuminousOpening, Symmetry};
+use super::problem::{MAX_CANDELA, ParseProblem, push_increasing, scaled_intensity};
 
 /// The most angles of either kind a file may give (every 0.05° of γ or
 /// 0.1° of C; real files give at most a few hundred).
 const MAX_ANGLES: usize = 3600;
 /// The most candela values a file may give.
 const MAX_VALUES: usize = 10_000_000;
-/// The largest intensity a file may give, candela (a lighthouse gives
-/// about 10⁷).
-pub(super) const MAX_CANDELA: f64 = 1e12;
 /// Feet per metre's inverse: LM-63 units type 1 is feet.
 const FOOT: f64 = 0.3048;
 
@@ -56,31 +54,6 @@ pub struct IesFile {
     pub input_watts: f64,
 }
 
-/// A problem in a photometric file, with its 1-based line where known.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct ParseProblem {
-    /// 1-based line.
-    pub line: Option<usize>,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl ParseProblem {
-    pub(super) fn at(line: usize, message: impl Into<String>) -> ParseProblem {
-        ParseProblem {
-            line: Some(line),
-            message: message.into(),
-        }
-    }
-
-    pub(super) fn anywhere(message: impl Into<String>) -> ParseProblem {
-        ParseProblem {
-            line: None,
-            message: message.into(),
-        }
-    }
-}
-
 /// Reads an LM-63 file's text (see the module docs).
 ///
 /// # Errors
@@ -90,143 +63,287 @@ impl ParseProblem {
 pub fn parse_ies(text: &str) -> Result<IesFile, ParseProblem> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let lines: Vec<&str> = text.lines().collect();
-    let mut format = "LM-63-1986".to_owned();
-    let mut keywords: Vec<(String, String)> = Vec::new();
-    let mut tilt_line = None;
-    for (index, raw) in lines.iter().enumerate() {
-        let line = raw.trim();
-        if index == 0 && (line.starts_with("IESNA") || line.starts_with("IES:")) {
-            format = line.to_owned();
-            continue;
-        }
-        if let Some(value) = line
-            .strip_prefix("TILT")
-            .and_then(|rest| rest.trim_start().strip_prefix('='))
-        {
-            let value = value.trim();
-            match value.to_ascii_uppercase().as_str() {
-                "NONE" => {}
-                "INCLUDE" => {
-                    return Err(ParseProblem::at(
-                        index + 1,
-                        "TILT=INCLUDE: tilt factors (output against the lamp's burning angle) \
-                         are not supported; give the file with TILT=NONE",
-                    ));
-                }
-                "" => return Err(ParseProblem::at(index + 1, "TILT= without a value")),
-                _ => {
-                    return Err(ParseProblem::at(
-                        index + 1,
-                        format!(
-                            "TILT={value}: tilt data in another file is not supported; \
-                             give the file with TILT=NONE"
-                        ),
-                    ));
-                }
-            }
-            tilt_line = Some(index);
-            break;
-        }
-        if let Some((key, value)) = line.strip_prefix('[').and_then(|r| r.split_once(']')) {
-            let (key, value) = (key.trim().to_ascii_uppercase(), value.trim().to_owned());
-            match (key.as_str(), keywords.last_mut()) {
-                ("MORE", Some(last)) => {
-                    last.1.push('\n');
-                    last.1.push_str(&value);
-                }
-                _ => keywords.push((key, value)),
-            }
-        }
-    }
-    let tilt_line =
-        tilt_line.ok_or_else(|| ParseProblem::anywhere("no TILT= line: not an IES LM-63 file"))?;
-    let mut numbers = Numbers::new(&lines, tilt_line + 1);
-    let lamps = numbers.next("number of lamps")?;
-    let lumens_per_lamp = numbers.next("lumens per lamp")?;
-    let multiplier = numbers.positive("candela multiplier")?;
-    let n_vertical = numbers.count("number of vertical angles")?;
-    let n_horizontal = numbers.count("number of horizontal angles")?;
-    let (photometric_type, type_line) = numbers.next_with_line("photometric type")?;
-    let (units, units_line) = numbers.next_with_line("units type")?;
-    let width = numbers.next("luminous width")?;
-    let length = numbers.next("luminous length")?;
-    let height = numbers.next("luminous height")?;
-    let ballast = numbers.positive("ballast factor")?;
-    let _future_use = numbers.next("future use (ballast-lamp photometric factor)")?;
-    let input_watts = numbers.next("input watts")?;
-    match photometric_type {
-        1.0 => {}
-        t if t == 2.0 || t == 3.0 => {
-            let kind = if t == 2.0 { "B" } else { "A" };
-            return Err(ParseProblem::at(
-                type_line,
-                format!(
-                    "photometric type {kind} ({t}) is not supported: isorad reads type C \
-                     (1), the photometry of architectural luminaires"
-                ),
-            ));
-        }
-        t => {
-            return Err(ParseProblem::at(
-                type_line,
-                format!("photometric type {t}: must be 1 (C), 2 (B) or 3 (A)"),
-            ));
-        }
-    }
-    let scale = if units == 1.0 {
-        FOOT
-    } else if units == 2.0 {
-        1.0
-    } else {
+    let header = Header::read(&lines)?;
+    let mut numbers = Numbers::new(&lines, header.tilt_line + 1);
+    let parameters = Parameters::read(&mut numbers)?;
+    let scale = parameters.check(&numbers)?;
+    let web = Web::read(&mut numbers, &parameters)?;
+    let factor = parameters.candela_factor(header.tilt_line)?;
+    let planes = read_candela(&mut numbers, &web, parameters.n_vertical, factor)?;
+    if let Some(line) = numbers.remaining_line() {
         return Err(ParseProblem::at(
-            units_line,
-            format!("units type {units}: must be 1 (feet) or 2 (metres)"),
+            line,
+            "values after the candela table: the counts do not match the data",
         ));
+    }
+    let opening = LuminousOpening {
+        width: parameters.width * scale,
+        length: parameters.length * scale,
+        height: parameters.height * scale,
     };
-    if n_vertical.saturating_mul(n_horizontal) > MAX_VALUES {
-        return Err(ParseProblem::at(
-            numbers.line(),
-            format!("{n_vertical} × {n_horizontal} candela values: more than {MAX_VALUES}"),
-        ));
+    Ok(IesFile {
+        distribution: IntensityDistribution::from_planes(
+            web.symmetry,
+            &web.horizontal,
+            &web.vertical,
+            &planes,
+            opening,
+        ),
+        format: header.format,
+        keywords: header.keywords,
+        lumens_per_lamp: parameters.lumens_per_lamp,
+        lamps: parameters.lamps,
+        input_watts: parameters.input_watts,
+    })
+}
+
+/// The lines before the numbers: the format line, the keywords and the
+/// `TILT=` line.
+struct Header {
+    /// The format line, or `LM-63-1986` when absent.
+    format: String,
+    /// Keyword lines, `[MORE]` lines joined to the one before.
+    keywords: Vec<(String, String)>,
+    /// The 0-based index of the `TILT=NONE` line.
+    tilt_line: usize,
+}
+
+impl Header {
+    /// Reads the lines up to `TILT=`; an error when there is none or it
+    /// names tilt data.
+    fn read(lines: &[&str]) -> Result<Header, ParseProblem> {
+        let mut format = "LM-63-1986".to_owned();
+        let mut keywords: Vec<(String, String)> = Vec::new();
+        for (index, raw) in lines.iter().enumerate() {
+            let line = raw.trim();
+            if index == 0 && (line.starts_with("IESNA") || line.starts_with("IES:")) {
+                format = line.to_owned();
+                continue;
+            }
+            if let Some(value) = line
+                .strip_prefix("TILT")
+                .and_then(|rest| rest.trim_start().strip_prefix('='))
+            {
+                check_tilt(value.trim(), index + 1)?;
+                return Ok(Header {
+                    format,
+                    keywords,
+                    tilt_line: index,
+                });
+            }
+            if let Some((key, value)) = line.strip_prefix('[').and_then(|r| r.split_once(']')) {
+                let (key, value) = (key.trim().to_ascii_uppercase(), value.trim().to_owned());
+                match (key.as_str(), keywords.last_mut()) {
+                    ("MORE", Some(last)) => {
+                        last.1.push('\n');
+                        last.1.push_str(&value);
+                    }
+                    _ => keywords.push((key, value)),
+                }
+            }
+        }
+        Err(ParseProblem::anywhere(
+            "no TILT= line: not an IES LM-63 file",
+        ))
     }
-    let (vertical, vertical_line) = numbers.angles(n_vertical, "vertical")?;
-    let (horizontal, horizontal_line) = numbers.angles(n_horizontal, "horizontal")?;
-    let (first_v, last_v) = (vertical[0], vertical[n_vertical - 1]);
-    if !(first_v == 0.0 || first_v == 90.0) || !(last_v == 90.0 || last_v == 180.0) {
-        return Err(ParseProblem::at(
-            vertical_line,
+}
+
+/// Accepts `TILT=NONE` (the value at 1-based `line`); refuses tilt data,
+/// included or in another file, and an empty value.
+fn check_tilt(value: &str, line: usize) -> Result<(), ParseProblem> {
+    match value.to_ascii_uppercase().as_str() {
+        "NONE" => Ok(()),
+        "INCLUDE" => Err(ParseProblem::at(
+            line,
+            "TILT=INCLUDE: tilt factors (output against the lamp's burning angle) \
+             are not supported; give the file with TILT=NONE",
+        )),
+        "" => Err(ParseProblem::at(line, "TILT= without a value")),
+        _ => Err(ParseProblem::at(
+            line,
             format!(
-                "vertical angles run from {first_v}° to {last_v}°: type C files start at 0° or \
-                 90° and end at 90° or 180°"
+                "TILT={value}: tilt data in another file is not supported; \
+                 give the file with TILT=NONE"
             ),
-        ));
+        )),
     }
-    let (first_h, last_h) = (horizontal[0], horizontal[n_horizontal - 1]);
-    let symmetry = match (first_h, last_h) {
-        (f, l) if f == 0.0 && l == 0.0 => Symmetry::Rotational,
-        (f, l) if f == 0.0 && l == 90.0 => Symmetry::Quadrant,
-        (f, l) if f == 0.0 && l == 180.0 => Symmetry::AboutC0C180,
-        (f, l) if f == 90.0 && l == 270.0 => Symmetry::AboutC90C270,
-        (f, l) if f == 0.0 && l == 360.0 => Symmetry::None,
-        (f, l) => {
+}
+
+/// The thirteen numbers after the `TILT=` line, in the file's order.
+struct Parameters {
+    lamps: f64,
+    lumens_per_lamp: f64,
+    multiplier: f64,
+    n_vertical: usize,
+    n_horizontal: usize,
+    photometric_type: f64,
+    /// The line of the photometric type.
+    type_line: usize,
+    units: f64,
+    /// The line of the units type.
+    units_line: usize,
+    width: f64,
+    length: f64,
+    height: f64,
+    ballast: f64,
+    input_watts: f64,
+}
+
+impl Parameters {
+    /// Reads the thirteen numbers; an error when one is missing, not a
+    /// number, or (multiplier, ballast factor, counts) out of range.
+    fn read(numbers: &mut Numbers) -> Result<Parameters, ParseProblem> {
+        let lamps = numbers.next("number of lamps")?;
+        let lumens_per_lamp = numbers.next("lumens per lamp")?;
+        let multiplier = numbers.positive("candela multiplier")?;
+        let n_vertical = numbers.count("number of vertical angles")?;
+        let n_horizontal = numbers.count("number of horizontal angles")?;
+        let (photometric_type, type_line) = numbers.next_with_line("photometric type")?;
+        let (units, units_line) = numbers.next_with_line("units type")?;
+        let width = numbers.next("luminous width")?;
+        let length = numbers.next("luminous length")?;
+        let height = numbers.next("luminous height")?;
+        let ballast = numbers.positive("ballast factor")?;
+        let _future_use = numbers.next("future use (ballast-lamp photometric factor)")?;
+        let input_watts = numbers.next("input watts")?;
+        Ok(Parameters {
+            lamps,
+            lumens_per_lamp,
+            multiplier,
+            n_vertical,
+            n_horizontal,
+            photometric_type,
+            type_line,
+            units,
+            units_line,
+            width,
+            length,
+            height,
+            ballast,
+            input_watts,
+        })
+    }
+
+    /// Checks the photometric type (C only), the units type and the size
+    /// of the candela table (the error at the next value's line); returns
+    /// metres per unit of the luminous opening.
+    fn check(&self, numbers: &Numbers) -> Result<f64, ParseProblem> {
+        match self.photometric_type {
+            1.0 => {}
+            t if t == 2.0 || t == 3.0 => {
+                let kind = if t == 2.0 { "B" } else { "A" };
+                return Err(ParseProblem::at(
+                    self.type_line,
+                    format!(
+                        "photometric type {kind} ({t}) is not supported: isorad reads type C \
+                         (1), the photometry of architectural luminaires"
+                    ),
+                ));
+            }
+            t => {
+                return Err(ParseProblem::at(
+                    self.type_line,
+                    format!("photometric type {t}: must be 1 (C), 2 (B) or 3 (A)"),
+                ));
+            }
+        }
+        let units = self.units;
+        let scale = if units == 1.0 {
+            FOOT
+        } else if units == 2.0 {
+            1.0
+        } else {
             return Err(ParseProblem::at(
-                horizontal_line,
+                self.units_line,
+                format!("units type {units}: must be 1 (feet) or 2 (metres)"),
+            ));
+        };
+        let (n_vertical, n_horizontal) = (self.n_vertical, self.n_horizontal);
+        if n_vertical.saturating_mul(n_horizontal) > MAX_VALUES {
+            return Err(ParseProblem::at(
+                numbers.line(),
+                format!("{n_vertical} × {n_horizontal} candela values: more than {MAX_VALUES}"),
+            ));
+        }
+        Ok(scale)
+    }
+
+    /// Candela multiplier × ballast factor, what each tabulated value is
+    /// multiplied by; an error (on the line after `TILT=`, 0-based
+    /// `tilt_line`) when it is out of range.
+    fn candela_factor(&self, tilt_line: usize) -> Result<f64, ParseProblem> {
+        let (multiplier, ballast) = (self.multiplier, self.ballast);
+        let factor = multiplier * ballast;
+        if !(factor.is_finite() && factor <= MAX_CANDELA) {
+            return Err(ParseProblem::at(
+                tilt_line + 2,
+                format!("candela multiplier {multiplier} × ballast factor {ballast}: out of range"),
+            ));
+        }
+        Ok(factor)
+    }
+}
+
+/// The web of angles a file tabulates: its vertical (γ) and horizontal
+/// (C) angles, and the symmetry the horizontal ones imply.
+struct Web {
+    vertical: Vec<f64>,
+    horizontal: Vec<f64>,
+    symmetry: Symmetry,
+}
+
+impl Web {
+    /// Reads the vertical, then the horizontal angles; an error when they
+    /// do not increase or their range is not one of type C's.
+    fn read(numbers: &mut Numbers, parameters: &Parameters) -> Result<Web, ParseProblem> {
+        let (n_vertical, n_horizontal) = (parameters.n_vertical, parameters.n_horizontal);
+        let (vertical, vertical_line) = numbers.angles(n_vertical, "vertical")?;
+        let (horizontal, horizontal_line) = numbers.angles(n_horizontal, "horizontal")?;
+        let (first_v, last_v) = (vertical[0], vertical[n_vertical - 1]);
+        if !(first_v == 0.0 || first_v == 90.0) || !(last_v == 90.0 || last_v == 180.0) {
+            return Err(ParseProblem::at(
+                vertical_line,
                 format!(
-                    "horizontal angles run from {f}° to {l}°: type C files give 0, 0–90, \
-                     0–180, 90–270 or 0–360"
+                    "vertical angles run from {first_v}° to {last_v}°: type C files start at 0° or \
+                     90° and end at 90° or 180°"
                 ),
             ));
         }
-    };
-    let factor = multiplier * ballast;
-    if !(factor.is_finite() && factor <= MAX_CANDELA) {
-        return Err(ParseProblem::at(
-            tilt_line + 2,
-            format!("candela multiplier {multiplier} × ballast factor {ballast}: out of range"),
-        ));
+        let (first_h, last_h) = (horizontal[0], horizontal[n_horizontal - 1]);
+        let symmetry = match (first_h, last_h) {
+            (f, l) if f == 0.0 && l == 0.0 => Symmetry::Rotational,
+            (f, l) if f == 0.0 && l == 90.0 => Symmetry::Quadrant,
+            (f, l) if f == 0.0 && l == 180.0 => Symmetry::AboutC0C180,
+            (f, l) if f == 90.0 && l == 270.0 => Symmetry::AboutC90C270,
+            (f, l) if f == 0.0 && l == 360.0 => Symmetry::None,
+            (f, l) => {
+                return Err(ParseProblem::at(
+                    horizontal_line,
+                    format!(
+                        "horizontal angles run from {f}° to {l}°: type C files give 0, 0–90, \
+                         0–180, 90–270 or 0–360"
+                    ),
+                ));
+            }
+        };
+        Ok(Web {
+            vertical,
+            horizontal,
+            symmetry,
+        })
     }
-    let mut planes = Vec::with_capacity(n_horizontal);
-    for &angle in &horizontal {
+}
+
+/// The candela table: `n_vertical` values for each horizontal angle of
+/// `web`, each times `factor`.
+fn read_candela(
+    numbers: &mut Numbers,
+    web: &Web,
+    n_vertical: usize,
+    factor: f64,
+) -> Result<Vec<Vec<f64>>, ParseProblem> {
+    let mut planes = Vec::with_capacity(web.horizontal.len());
+    for &angle in &web.horizontal {
         let mut plane = Vec::with_capacity(n_vertical);
         for _ in 0..n_vertical {
             let (value, line) = numbers.next_with_line("candela value")?;
@@ -235,75 +352,7 @@ pub fn parse_ies(text: &str) -> Result<IesFile, ParseProblem> {
         }
         planes.push(plane);
     }
-    if let Some(line) = numbers.remaining_line() {
-        return Err(ParseProblem::at(
-            line,
-            "values after the candela table: the counts do not match the data",
-        ));
-    }
-    let opening = LuminousOpening {
-        width: width * scale,
-        length: length * scale,
-        height: height * scale,
-    };
-    Ok(IesFile {
-        distribution: IntensityDistribution::from_planes(
-            symmetry,
-            &horizontal,
-            &vertical,
-            &planes,
-            opening,
-        ),
-        format,
-        keywords,
-        lumens_per_lamp,
-        lamps,
-        input_watts,
-    })
-}
-
-/// `value` × `scale` in candela, or an error at `line` when the value is
-/// negative or the product above [`MAX_CANDELA`]; `what` names the value.
-pub(super) fn scaled_intensity(
-    value: f64,
-    scale: f64,
-    line: usize,
-    what: &dyn Fn() -> String,
-) -> Result<f64, ParseProblem> {
-    if value < 0.0 {
-        return Err(ParseProblem::at(line, format!("{}: negative", what())));
-    }
-    let candela = value * scale;
-    if candela > MAX_CANDELA {
-        return Err(ParseProblem::at(
-            line,
-            format!(
-                "{} × {scale} = {candela:e} cd: above {MAX_CANDELA:e} cd, not a luminaire's",
-                what()
-            ),
-        ));
-    }
-    Ok(candela)
-}
-
-/// Appends `angle` (read at `line`) to `angles`, or fails unless it is
-/// larger than the last; `what` names the kind of angle.
-pub(super) fn push_increasing(
-    angles: &mut Vec<f64>,
-    angle: f64,
-    line: usize,
-    what: &str,
-) -> Result<(), ParseProblem> {
-    if let Some(&before) = angles.last()
-        && angle <= before
-    {
-        return Err(ParseProblem::at(
-            line,
-            format!("{what} angles must increase: {angle}° after {before}°"),
-        ));
-    }
-    angles.push(angle);
-    Ok(())
+    Ok(planes)
 }
 
 /// The numbers after the TILT line, each with its line.

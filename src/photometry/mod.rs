@@ -13,12 +13,16 @@
 mod distribution;
 mod eulumdat;
 mod ies;
+mod problem;
 
 use std::path::Path;
 
-pub use distribution::{IntensityDistribution, LuminousOpening, Symmetry};
+pub use distribution::{
+    IntensityDistribution, IntensityWithDerivatives, LuminousOpening, Symmetry,
+};
 pub use eulumdat::{EulumdatFile, parse_eulumdat};
-pub use ies::{IesFile, ParseProblem, parse_ies};
+pub use ies::{IesFile, parse_ies};
+pub use problem::ParseProblem;
 
 use crate::error::{Error, Result};
 

@@ -97,7 +97,8 @@ const ATAN_COEFFICIENTS: [f64; 10] = [
 /// The angle atan2(y, x) ∈ [0, π] for y ≥ 0 (a sine and a cosine times the
 /// same positive length), to within 2e-15: reduced to atan(t) with
 /// |t| ≤ tan(π/8) and a polynomial there. Lambert's formula needs one per
-/// edge, and libm's general `atan2` was a sixth of the solver's time.
+/// edge, and libm's general `atan2` would take about a sixth of the
+/// solver's time.
 #[inline]
 fn angle_from_sine_cosine(y: f64, x: f64) -> f64 {
     let ax = x.abs();

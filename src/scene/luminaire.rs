@@ -210,7 +210,11 @@ impl PhotometricLuminaire {
         let r = r2.sqrt();
         let omega = d / r;
         let (c, gamma) = self.angles(omega);
-        let (intensity, d_c, d_gamma) = self.distribution.intensity_with_derivatives(c, gamma);
+        let crate::photometry::IntensityWithDerivatives {
+            intensity,
+            d_c,
+            d_gamma,
+        } = self.distribution.intensity_with_derivatives(c, gamma);
         let (intensity, d_c, d_gamma) = (
             intensity * self.multiplier,
             d_c * self.multiplier * (180.0 / std::f64::consts::PI),
