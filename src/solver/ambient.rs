@@ -66,9 +66,9 @@ use rayon::prelude::*;
 
 use super::element_index::{ElementIndex, padded_box};
 use super::unshot::{cell_coordinates, interpolated};
-use super::zones::{cosine_direction, cosine_direction_at};
 use crate::lighting::SampleStream;
 use crate::mesh::Mesh;
+use crate::meshing::{cosine_direction, cosine_direction_at};
 use crate::scene::{Rgb, Scene, SurfaceId, Visibility, distance_to_boundary, polygon_contains};
 
 /// Rays each patch casts into its hemisphere (8 × 8 strata).

@@ -31,8 +31,8 @@ use rayon::prelude::*;
 
 use super::ambient::{PatchRays, VERTEX_RAYS, VertexRays};
 use super::solution::locate_probe;
-use super::zones::ZoneLabels;
 use crate::mesh::Mesh;
+use crate::meshing::ZoneLabels;
 use crate::scene::{ProbePoint, Scene, SurfaceId, Visibility};
 
 /// The most vertex rays kept from one image to the next: 2²⁴, about

@@ -41,8 +41,8 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::zones::ShotPlaces;
 use crate::mesh::Mesh;
+use crate::meshing::ShotPlaces;
 use crate::radiometry::polygon_form_factor;
 use crate::scene::{Rgb, Scene};
 

@@ -13,11 +13,9 @@ use super::ambient_sweeps::{self, UnshotLight};
 use super::element_power;
 use super::energy_balance::EnergyBalance;
 use super::indexed_update;
-use super::mesh_settings::MeshKind;
 use super::patch_reception::{PatchReception, ReceptionPlan};
 use super::patch_shots::{PatchShotInput, PatchShotSummary, PatchShots};
 use super::refinement::{Refiner, elements_to_split};
-use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
 use super::shaft_culling::{ReceiverShafts, ReceivingBoxes};
 use super::shooter::{Gathered, Receiver, Shooter, ShotRadiosity};
@@ -26,9 +24,12 @@ use super::unshot::{FieldScale, PatchField, UnshotCorners};
 use super::unshot_by_zone::UnshotByZone;
 use super::vertex_irradiance::VertexIrradiance;
 use super::visibility_memory::{Recall, VisibilityMemory};
-use super::zones::{ShotPlaces, ZoneLabels, ZoneMembers, Zones};
 use crate::freed_memory::give_back_freed_memory;
 use crate::mesh::{Cell, ElementHierarchy, Mesh, receiver_inset};
+use crate::meshing::{
+    MeshAnalysis, MeshKind, SceneMesh, ShotPlaces, ZoneLabels, ZoneMembers, Zones,
+    mesh_scene_in_zones,
+};
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Camera, Rgb, Scene, ShadowCache, SurfaceId, Visibility};
 
@@ -247,10 +248,10 @@ impl Solver {
     }
 
     /// A solver for `scene` on a mesh the caller made (with [`crate::mesh::mesh_square`]
-    /// or [`crate::solver::mesh_scene`], say), nothing yet shot. Probes and
+    /// or [`crate::meshing::mesh_scene`], say), nothing yet shot. Probes and
     /// reflected shots' shafts take the scene's receiver inset
     /// (`mesh::receiver_inset`), as [`crate::mesh::mesh_square`]'s
-    /// boundary vertices do; [`crate::solver::mesh_scene`]'s move each
+    /// boundary vertices do; [`crate::meshing::mesh_scene`]'s move each
     /// room's by a ten-thousandth of the room's diagonal, so in a building
     /// a probe within the scene's inset of an edge gathers a little
     /// further in than its vertices.

@@ -25,7 +25,7 @@
 //! (1993), §5.3 (reusing form factors).
 
 use super::shooter::Gathered;
-use super::zones::ShotPlaces;
+use crate::meshing::ShotPlaces;
 
 /// Rays a vertex must have cast to one shooter, all agreeing, for its view
 /// of the shooter to be remembered.

@@ -31,8 +31,8 @@ use crate::mesh::{
     ContourSettings, ErrorGrid, GreedySettings, PlaneTriangulation, SampledField,
     SquareMeshSettings, greedy_insertion, is_enclosed, mesh_square,
 };
+use crate::meshing::{MeshSettings, field_layout, receiver_shadow_boundaries, total_field_layout};
 use crate::scene::{Scene, SurfaceId, Visibility};
-use crate::solver::{MeshSettings, field_layout, receiver_shadow_boundaries, total_field_layout};
 
 /// What a comparison meshes and how finely it measures.
 #[derive(Clone, Debug, PartialEq)]

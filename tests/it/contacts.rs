@@ -325,7 +325,7 @@ fn shadow_boundaries_stay_in_the_room_the_light_reaches() {
     let scene = b.scene;
     let visibility = isorad::scene::Visibility::new(&scene);
     let lights = isorad::lighting::luminaires(&scene);
-    let boundaries = isorad::solver::scene_shadow_boundaries(
+    let boundaries = isorad::meshing::scene_shadow_boundaries(
         &scene,
         &visibility,
         &lights,
@@ -348,7 +348,7 @@ fn shadow_boundaries_stay_in_the_room_the_light_reaches() {
     // `max_shadow_boundaries` keeps the longest.
     let mut settings = isorad::MeshSettings::default();
     settings.max_shadow_boundaries = 2;
-    let capped = isorad::solver::scene_shadow_boundaries(&scene, &visibility, &lights, &settings);
+    let capped = isorad::meshing::scene_shadow_boundaries(&scene, &visibility, &lights, &settings);
     let floor_a = scene
         .surfaces_with_ids()
         .find(|(_, s)| s.name == "floor_a")
@@ -499,8 +499,8 @@ fn a_room_meshes_the_same_among_closed_rooms() {
         let lights = isorad::lighting::luminaires(scene);
         let settings = isorad::MeshSettings::default();
         let boundaries =
-            isorad::solver::scene_shadow_boundaries(scene, &visibility, &lights, &settings);
-        let analyses = isorad::solver::scene_receiver_analyses(
+            isorad::meshing::scene_shadow_boundaries(scene, &visibility, &lights, &settings);
+        let analyses = isorad::meshing::scene_receiver_analyses(
             scene,
             &visibility,
             &lights,

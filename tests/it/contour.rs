@@ -263,8 +263,8 @@ fn shadow_boundaries_get_vertices_on_the_shadow_line() {
     use isorad::{
         Material, Rgb, Scene,
         lighting::{DominanceSettings, analyse_receivers, luminaires},
+        meshing::receiver_layout,
         scene::{Surface, Visibility},
-        solver::receiver_layout,
     };
     // A small square lamp at height 2 over a 10 × 10 floor; a black plate at
     // height 1 covering x < 0 casts a shadow whose edge, seen from the lamp's
@@ -340,8 +340,8 @@ fn shadow_boundaries_get_vertices_on_the_shadow_line() {
 #[test]
 fn a_contour_meshed_scene_solves_with_its_energy_balanced() {
     use isorad::{
-        MeshKind, MeshSettings, Solver, SolverSettings, load_scene, scene::Visibility,
-        solver::mesh_scene,
+        MeshKind, MeshSettings, Solver, SolverSettings, load_scene, meshing::mesh_scene,
+        scene::Visibility,
     };
     let scene = load_scene(concat!(
         env!("CARGO_MANIFEST_DIR"),

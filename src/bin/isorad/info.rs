@@ -9,9 +9,9 @@ use isorad::{
     Scene, Settings, SurfaceId,
     lighting::{ContourMesher, Luminaire, ReceiverAnalysis, luminaires},
     load_scene,
+    meshing::{scene_receiver_analyses, scene_shadow_boundaries},
     photometry::LUMENS_PER_WATT,
     scene::Visibility,
-    solver::{scene_receiver_analyses, scene_shadow_boundaries},
 };
 
 use crate::args::with_flag_names;

@@ -4,7 +4,7 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::mesh_settings::{MeshKind, MeshSettings};
+use super::settings::{MeshKind, MeshSettings};
 use super::zones::{ZoneLabels, Zones};
 use crate::lighting::{
     BoundaryLimits, ContourMesher, DirectField, DominanceSettings, EdgeNeighbours, Luminaire,

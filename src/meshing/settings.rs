@@ -4,7 +4,7 @@
 use serde::ser::SerializeMap;
 use serde::{Deserialize, Serialize, de};
 
-use super::refinement::RefinementSettings;
+use super::refinement_settings::RefinementSettings;
 use super::scene_mesh::{LAYOUT_EXTRA_POINTS, MAX_LAYOUT_GRID_RATIO};
 use crate::error::Result;
 use crate::lighting::DominanceSettings;

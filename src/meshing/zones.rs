@@ -446,14 +446,14 @@ impl<'a> ShotPlaces<'a> {
 
 /// A cosine-weighted direction about the unit `normal` (Malley's method:
 /// a uniform point of the unit disc lifted onto the hemisphere).
-pub(super) fn cosine_direction(normal: DVec3, random: &mut SampleStream) -> DVec3 {
+pub(crate) fn cosine_direction(normal: DVec3, random: &mut SampleStream) -> DVec3 {
     cosine_direction_at(normal, (random.next_f64(), random.next_f64()))
 }
 
 /// The cosine-weighted direction about the unit `normal` of the unit
 /// square's point (u₁, u₂): radius √u₁ and angle 2π u₂ on the disc, lifted.
 /// Strata of the square are strata of the projected solid angle.
-pub(super) fn cosine_direction_at(normal: DVec3, (u1, u2): (f64, f64)) -> DVec3 {
+pub(crate) fn cosine_direction_at(normal: DVec3, (u1, u2): (f64, f64)) -> DVec3 {
     let (radius, angle) = (u1.sqrt(), std::f64::consts::TAU * u2);
     let tangent = normal.any_orthonormal_vector();
     let bitangent = normal.cross(tangent);
