@@ -13,6 +13,7 @@
 
 mod direct_field;
 mod dominance;
+mod hemisphere;
 mod luminaire;
 mod sample_stream;
 mod shadow_boundaries;
@@ -23,9 +24,10 @@ pub use dominance::{
     ContourMesher, DominanceSettings, ReceiverAnalysis, analyse_receivers, analyse_receivers_among,
     dominant_field,
 };
+pub(crate) use hemisphere::{cosine_direction, cosine_direction_at};
 pub use luminaire::{Luminaire, luminaires};
 pub(crate) use sample_stream::SampleStream;
 pub use shadow_boundaries::{
-    BoundaryLimits, EdgeNeighbours, OccludersIn, light_reaches, shadow_boundaries,
+    BoundaryLimits, EdgeNeighbours, OccludersIn, ShadowReceiver, light_reaches, shadow_boundaries,
 };
 pub(crate) use stratified::stratified_points;

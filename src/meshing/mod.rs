@@ -6,26 +6,35 @@
 //! are resolved once against the scene ([`ResolvedMeshSettings`]), and the
 //! resolved form travels down to everything that meshes. The closed zones
 //! ([`Zones`]: the rooms of a building whose doors are shut) pair each
-//! receiver with its own room's lights and occluders. The shadow boundaries
-//! each receiver follows come from `lighting`, the contour layouts of the
-//! receivers lit by a dominant small emitter from `lighting`'s direct
-//! fields and the meshers of `mesh`; [`mesh_scene`] puts them together
-//! into one [`SceneMesh`]. The solver meshes through [`mesh_scene`] and
-//! uses the zones for its shots; study and the CLI plan meshes here
-//! without the solver.
+//! receiver with its own room's lights and occluders. Each receiver's mesh
+//! follows the shadow boundaries its lights cast (`boundaries.rs`, from
+//! `lighting::shadow_boundaries`), and a receiver lit by a dominant small
+//! emitter gets a contour layout of its direct light (`layouts.rs`, from
+//! `lighting`'s direct fields and `mesh`'s contour meshers). [`mesh_scene`]
+//! puts them together into one [`SceneMesh`].
+//!
+//! Layers: this module uses `scene`, `lighting` and `mesh`, and the solver
+//! uses it (it meshes through [`mesh_scene`] and keeps its shots to the
+//! zones); study and the CLI plan meshes here without the solver.
 
+mod analyses;
+mod boundaries;
+mod layouts;
+mod length;
 mod refinement_settings;
+mod resolved;
 mod scene_mesh;
 mod settings;
 mod zones;
 
+pub use analyses::scene_receiver_analyses;
+pub use boundaries::{receiver_shadow_boundaries, scene_shadow_boundaries};
+pub use layouts::{field_layout, receiver_layout, total_field_layout};
+pub use length::Length;
 pub use refinement_settings::RefinementSettings;
+pub use resolved::ResolvedMeshSettings;
 pub(crate) use scene_mesh::mesh_scene_in_zones;
-pub use scene_mesh::{
-    MeshAnalysis, SceneMesh, field_layout, mesh_scene, receiver_layout, receiver_shadow_boundaries,
-    scene_receiver_analyses, scene_shadow_boundaries, total_field_layout,
-};
-pub use settings::{Length, MeshKind, MeshSettings};
-pub(crate) use zones::{
-    ShotPlaces, ZoneLabels, ZoneMembers, Zones, cosine_direction, cosine_direction_at,
-};
+pub use scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene};
+pub use settings::{MeshKind, MeshSettings};
+pub use zones::{RAYS_PER_SURFACE, ZoneLabels, Zones};
+pub(crate) use zones::{ShotPlaces, ZoneMembers};

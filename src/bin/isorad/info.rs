@@ -58,6 +58,7 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
     let visibility = Visibility::new(scene);
     let lights = luminaires(scene);
     let analyses = scene_receiver_analyses(scene, &visibility, &lights, &settings);
+    let mesh_settings = mesh_settings.resolve(scene);
     let boundaries = scene_shadow_boundaries(scene, &visibility, &lights, &mesh_settings);
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     writeln!(
