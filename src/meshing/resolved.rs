@@ -94,3 +94,28 @@ impl ResolvedMeshSettings {
         )
     }
 }
+
+impl MeshSettings {
+    /// These settings resolved against `scene`: every length in scene
+    /// units, the shadow boundaries' limits set (see
+    /// [`ResolvedMeshSettings`]).
+    #[must_use]
+    pub fn resolve(&self, scene: &Scene) -> ResolvedMeshSettings {
+        ResolvedMeshSettings::new(self, scene)
+    }
+
+    /// The elements [`super::mesh_scene`] would make at most (see
+    /// [`ResolvedMeshSettings::estimate_elements`]).
+    #[must_use]
+    pub fn estimate_elements(&self, scene: &Scene) -> f64 {
+        self.resolve(scene).estimate_elements(scene)
+    }
+
+    /// Refuses settings that would mesh `scene` into more than
+    /// [`MeshSettings::max_elements`] elements, with an error that says how
+    /// to ask for fewer or allow more. [`crate::Solver::new`] calls it before
+    /// meshing; call it before [`super::mesh_scene`] when meshing yourself.
+    pub fn check_budget(&self, scene: &Scene) -> Result<()> {
+        self.resolve(scene).check_budget(scene)
+    }
+}

@@ -6,8 +6,6 @@ use serde::{Deserialize, Serialize};
 use super::length::Length;
 
 use super::refinement_settings::RefinementSettings;
-use super::resolved::ResolvedMeshSettings;
-use crate::error::Result;
 use crate::lighting::DominanceSettings;
 use crate::mesh::{ContourSettings, SquareMeshSettings};
 use crate::scene::Scene;
@@ -105,14 +103,6 @@ impl MeshSettings {
         }
     }
 
-    /// These settings resolved against `scene`: every length in scene
-    /// units, the shadow boundaries' limits set (see
-    /// [`ResolvedMeshSettings`]).
-    #[must_use]
-    pub fn resolve(&self, scene: &Scene) -> ResolvedMeshSettings {
-        ResolvedMeshSettings::new(self, scene)
-    }
-
     /// The square mesher's settings for `scene`, lengths resolved. For
     /// adaptive meshing, elements start `refinement.coarsening` times longer.
     #[must_use]
@@ -175,19 +165,4 @@ impl MeshSettings {
     /// about a gigabyte for mesh and solver together and hours of solving
     /// on a small machine; the Cornell box at default settings has 4 000.
     pub const DEFAULT_MAX_ELEMENTS: usize = 5_000_000;
-
-    /// The elements [`super::mesh_scene`] would make at most (see
-    /// [`ResolvedMeshSettings::estimate_elements`]).
-    #[must_use]
-    pub fn estimate_elements(&self, scene: &Scene) -> f64 {
-        self.resolve(scene).estimate_elements(scene)
-    }
-
-    /// Refuses settings that would mesh `scene` into more than
-    /// [`MeshSettings::max_elements`] elements, with an error that says how
-    /// to ask for fewer or allow more. [`crate::Solver::new`] calls it before
-    /// meshing; call it before [`super::mesh_scene`] when meshing yourself.
-    pub fn check_budget(&self, scene: &Scene) -> Result<()> {
-        self.resolve(scene).check_budget(scene)
-    }
 }
