@@ -21,12 +21,10 @@ const MIN_ESCAPES: usize = 4;
 
 /// The share of a group's rays that must leave the scene for it to be
 /// open, when that is more than [`MIN_ESCAPES`]. Seams leak a number of
-/// rays that grows with the room's faces: the furnished offices of a
-/// generated floor leak 1 to 9 of their 17,664 rays (0.05 % at most), the
-/// shipped office 26 of its 245,248 (0.01 %), where an opening leaks a
-/// share in proportion to what it subtends (a Cornell box's open front, a
-/// quarter). A count alone joined every office that leaked four into the
-/// one open zone, and with it their receivers and shots.
+/// rays that grows with the room's faces, a small fraction of a percent of
+/// them, where an opening leaks a share in proportion to what it subtends
+/// (a Cornell box's open front, a quarter): a count alone would join a
+/// large closed room whose seams leak a few rays to the open zone.
 const MIN_ESCAPE_SHARE: f64 = 1.0 / 256.0;
 
 /// Where one of a surface's zone rays ended.
