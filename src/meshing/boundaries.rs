@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use super::resolved::ResolvedMeshSettings;
 use super::zones::{ZoneLabels, Zones};
 use crate::lighting::{
-    BoundaryLimits, EdgeNeighbours, Luminaire, ShadowReceiver, light_reaches, shadow_boundaries,
+    AreaLight, BoundaryLimits, EdgeNeighbours, ShadowReceiver, light_reaches, shadow_boundaries,
 };
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Scene, SurfaceBoxes, SurfaceId, Visibility};
@@ -20,22 +20,22 @@ use crate::scene::{Scene, SurfaceBoxes, SurfaceId, Visibility};
 /// emitters, for surfaces smaller than one element (a line across would
 /// only split them into slivers), and for all when the settings ask for
 /// none. Only the lights that reach a receiver cast boundaries on it
-/// ([`light_reaches`]), and only the luminaires and occluders of its own
-/// closed zone (a room whose doors are shut, [`Zones`]) are tried: a lamp
+/// ([`light_reaches`]), and only the lights and occluders of its own
+/// closed zone (a room whose doors are shut, `Zones`) are tried: a lamp
 /// in another closed room adds none, and a building of separate rooms
 /// costs what its rooms cost alone. Computed in parallel.
 #[must_use]
 pub fn scene_shadow_boundaries(
     scene: &Scene,
     visibility: &Visibility,
-    luminaires: &[Luminaire],
+    area_lights: &[AreaLight],
     settings: &ResolvedMeshSettings,
 ) -> Vec<Vec<[DVec2; 2]>> {
-    if casting_limits(scene, luminaires, settings).is_none() {
+    if casting_limits(scene, area_lights, settings).is_none() {
         return vec![Vec::new(); scene.surfaces.len()];
     }
     let zones = Zones::new(scene, visibility);
-    boundaries_in_zones(scene, visibility, luminaires, settings, &zones, &silent)
+    boundaries_in_zones(scene, visibility, area_lights, settings, &zones, &silent)
 }
 
 /// The shadow boundaries on one receiver, as [`scene_shadow_boundaries`]
@@ -44,16 +44,16 @@ pub fn scene_shadow_boundaries(
 pub fn receiver_shadow_boundaries(
     scene: &Scene,
     visibility: &Visibility,
-    luminaires: &[Luminaire],
+    area_lights: &[AreaLight],
     settings: &ResolvedMeshSettings,
     receiver: SurfaceId,
 ) -> Vec<[DVec2; 2]> {
-    let Some(limits) = casting_limits(scene, luminaires, settings) else {
+    let Some(limits) = casting_limits(scene, area_lights, settings) else {
         return Vec::new();
     };
     let zones = Zones::new(scene, visibility);
     let zone = zones.of(receiver);
-    let caster = BoundaryCaster::new(scene, luminaires, zones.labels(), limits, settings);
+    let caster = BoundaryCaster::new(scene, area_lights, zones.labels(), limits, settings);
     caster.boundaries_on(
         scene,
         zones.visibility(zone).unwrap_or(visibility),
@@ -66,16 +66,16 @@ pub fn receiver_shadow_boundaries(
 pub(super) fn boundaries_in_zones(
     scene: &Scene,
     visibility: &Visibility,
-    luminaires: &[Luminaire],
+    area_lights: &[AreaLight],
     settings: &ResolvedMeshSettings,
     zones: &Zones,
     report: PhaseReporter,
 ) -> Vec<Vec<[DVec2; 2]>> {
-    let Some(limits) = casting_limits(scene, luminaires, settings) else {
+    let Some(limits) = casting_limits(scene, area_lights, settings) else {
         return vec![Vec::new(); scene.surfaces.len()];
     };
     let counter = PhaseCounter::start(Phase::ShadowBoundaries, scene.surfaces.len(), report);
-    let caster = BoundaryCaster::new(scene, luminaires, zones.labels(), limits, settings);
+    let caster = BoundaryCaster::new(scene, area_lights, zones.labels(), limits, settings);
     let ids: Vec<SurfaceId> = scene.surfaces_with_ids().map(|(id, _)| id).collect();
     let boundaries = ids
         .par_iter()
@@ -95,20 +95,20 @@ pub(super) fn boundaries_in_zones(
 /// cast: the settings ask for none, or the scene has no light.
 fn casting_limits(
     scene: &Scene,
-    luminaires: &[Luminaire],
+    area_lights: &[AreaLight],
     settings: &ResolvedMeshSettings,
 ) -> Option<BoundaryLimits> {
-    let lit = !luminaires.is_empty() || !scene.luminaires.is_empty();
+    let lit = !area_lights.is_empty() || !scene.luminaires.is_empty();
     settings.shadow_boundaries.filter(|_| lit)
 }
 
 /// What casts every receiver's shadow boundaries: each light with the
-/// points it is seen from (an area luminaire's centre and vertices, a
+/// points it is seen from (an area light's centre and vertices, a
 /// photometric one's opening outline), the scene's edges for the
 /// silhouettes, the zones and every surface's box for the occluders of a
 /// receiver's own zone, and what a receiver keeps.
 struct BoundaryCaster<'a> {
-    luminaires: &'a [Luminaire],
+    area_lights: &'a [AreaLight],
     area_points: Vec<Vec<DVec3>>,
     photometric_points: Vec<Vec<DVec3>>,
     neighbours: EdgeNeighbours,
@@ -122,13 +122,13 @@ struct BoundaryCaster<'a> {
 impl<'a> BoundaryCaster<'a> {
     fn new(
         scene: &Scene,
-        luminaires: &'a [Luminaire],
+        area_lights: &'a [AreaLight],
         zones: &'a ZoneLabels,
         limits: BoundaryLimits,
         settings: &ResolvedMeshSettings,
     ) -> BoundaryCaster<'a> {
         let neighbours = EdgeNeighbours::new(scene);
-        let area_points = luminaires
+        let area_points = area_lights
             .iter()
             .map(|lamp| {
                 let corners = lamp
@@ -146,7 +146,7 @@ impl<'a> BoundaryCaster<'a> {
             .map(|l| l.opening_corners())
             .collect();
         BoundaryCaster {
-            luminaires,
+            area_lights,
             area_points,
             photometric_points,
             neighbours,
@@ -178,8 +178,8 @@ impl<'a> BoundaryCaster<'a> {
             return Vec::new();
         }
         // Only the lights that reach the receiver cast boundaries on it.
-        let lit: Vec<Luminaire> = self
-            .luminaires
+        let lit: Vec<AreaLight> = self
+            .area_lights
             .iter()
             .zip(&self.area_points)
             .filter(|(lamp, from)| {

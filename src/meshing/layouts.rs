@@ -5,7 +5,7 @@
 
 use glam::DVec2;
 
-use crate::lighting::{DirectField, Luminaire};
+use crate::lighting::{AreaLight, DirectField};
 use crate::mesh::{
     ContourLayout, ContourSettings, SquareMeshSettings, contour_layout, level_line_layout,
 };
@@ -16,7 +16,7 @@ use crate::scene::{Scene, SurfaceId, Visibility};
 pub(super) const MIN_CONTOUR_ELEMENTS: f64 = 16.0;
 
 /// A contour layout with more points than this many times the square
-/// grid's (plus 256) is dropped for the grid: near a luminaire's plane,
+/// grid's (plus 256) is dropped for the grid: near a light's plane,
 /// where the light of several lamps fans out along the receiver's edge,
 /// level lines can crowd without bound.
 pub(super) const MAX_LAYOUT_GRID_RATIO: f64 = 4.0;
@@ -25,22 +25,22 @@ pub(super) const MAX_LAYOUT_GRID_RATIO: f64 = 4.0;
 /// its grid's: room for the levels on a receiver of a few elements.
 pub(super) const LAYOUT_EXTRA_POINTS: f64 = 256.0;
 
-/// Shadow rays per luminaire polygon when looking for penumbrae.
+/// Shadow rays per light polygon when looking for penumbrae.
 const SHADOW_RAYS: usize = 16;
 
-/// The contour layout of a luminaire's direct light on a receiver: centred
-/// on the light's maximum, the first ray along the luminaire's tilt, the line
+/// The contour layout of a light's direct light on a receiver: centred
+/// on the light's maximum, the first ray along the light's tilt, the line
 /// where its plane meets the receiver's kept as an edge, and penumbrae
-/// (where 5 %, 50 % and 95 % of the luminaire is hidden) given vertices.
+/// (where 5 %, 50 % and 95 % of the light is hidden) given vertices.
 #[must_use]
 pub fn receiver_layout(
     scene: &Scene,
     visibility: &Visibility,
     receiver: SurfaceId,
-    luminaire: &Luminaire,
+    area_light: &AreaLight,
     settings: &ContourSettings,
 ) -> Option<ContourLayout> {
-    let field = DirectField::new(scene, receiver, luminaire)?;
+    let field = DirectField::new(scene, receiver, area_light)?;
     field_layout(scene, visibility, receiver, field, settings)
 }
 
@@ -102,7 +102,7 @@ pub fn total_field_layout(
     level_line_layout(&outline, &total, settings, &horizons, spacing, budget)
 }
 
-/// The line where the luminaire's plane cuts the receiver's, beyond which
+/// The line where the light's plane cuts the receiver's, beyond which
 /// its light ends, as a segment reaching past the receiver's `outline` on
 /// both sides.
 fn horizon_segment(field: &DirectField, outline: &[DVec2]) -> Option<[DVec2; 2]> {
@@ -125,7 +125,7 @@ pub(super) fn layout_budget(scene: &Scene, receiver: SurfaceId, spacing: f64) ->
     (MAX_LAYOUT_GRID_RATIO * area / (spacing * spacing) + LAYOUT_EXTRA_POINTS).min(1e9) as usize
 }
 
-/// The direction, in the receiver's plane, from the foot of the luminaire's
+/// The direction, in the receiver's plane, from the foot of the light's
 /// perpendicular to the light's maximum: where a tilted lamp leans.
 fn tilt_angle(field: &DirectField, centre: DVec2) -> f64 {
     let foot = field.frame().to_plane(field.centre());

@@ -5,7 +5,7 @@
 //! written before a scene exists, with lengths relative to its size; they
 //! are resolved once against the scene ([`ResolvedMeshSettings`]), and the
 //! resolved form travels down to everything that meshes. The closed zones
-//! ([`Zones`]: the rooms of a building whose doors are shut) pair each
+//! (`zones/`: the rooms of a building whose doors are shut) pair each
 //! receiver with its own room's lights and occluders. Each receiver's mesh
 //! follows the shadow boundaries its lights cast (`boundaries.rs`, from
 //! `lighting::shadow_boundaries`), and a receiver lit by a dominant small
@@ -36,5 +36,4 @@ pub use resolved::ResolvedMeshSettings;
 pub(crate) use scene_mesh::mesh_scene_in_zones;
 pub use scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene};
 pub use settings::{MeshKind, MeshSettings};
-pub use zones::{RAYS_PER_SURFACE, ZoneLabels, Zones};
-pub(crate) use zones::{ShotPlaces, ZoneMembers};
+pub(crate) use zones::{ShotPlaces, ZoneLabels, ZoneMembers, Zones};

@@ -10,21 +10,21 @@ use super::resolved::ResolvedMeshSettings;
 use super::settings::{MeshKind, MeshSettings};
 use super::zones::Zones;
 use crate::lighting::{
-    ContourMesher, DirectField, Luminaire, ReceiverAnalysis, analyse_receivers, dominant_field,
-    luminaires,
+    AreaLight, ContourMesher, DirectField, ReceiverAnalysis, analyse_receivers, area_lights,
+    dominant_field,
 };
 use crate::mesh::{ContourLayout, Mesh, SurfaceGuides, mesh_surfaces_counted};
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Scene, SurfaceId, Visibility};
 
-/// What meshing found: the luminaires, each receiver's analysis, and where
+/// What meshing found: the lights, each receiver's analysis, and where
 /// the contour mesher was used.
 #[derive(Clone, Debug, Default)]
 pub struct MeshAnalysis {
     /// One analysis per non-emitting surface (empty for square meshing).
     pub receivers: Vec<ReceiverAnalysis>,
-    /// The luminaires the analysis grouped.
-    pub luminaires: Vec<Luminaire>,
+    /// The lights the analysis grouped.
+    pub area_lights: Vec<AreaLight>,
     /// Surfaces meshed by the radial contour mesher.
     pub contour_surfaces: Vec<SurfaceId>,
     /// Surfaces meshed along the level lines of their total direct light.
@@ -53,17 +53,17 @@ pub struct SceneMesh {
 }
 
 /// Meshes a scene as `settings` asks: for [`MeshKind::Contour`], every
-/// receiver whose direct light comes mostly from one small luminaire gets a
-/// radial contour layout of that luminaire's direct radiosity (with its
+/// receiver whose direct light comes mostly from one small light gets a
+/// radial contour layout of that light's direct radiosity (with its
 /// shadow boundaries refined), every other receiver that direct light
-/// reaches (several luminaires, or a large one) a level-line layout of the
-/// total direct field ([`level_line_layout`]); receivers smaller than
+/// reaches (several lights, or a large one) a level-line layout of the
+/// total direct field ([`crate::mesh::level_line_layout`]); receivers smaller than
 /// 16 elements, and the rest, get the square grid. With
 /// `settings.shadow_boundaries`, every mesher's elements follow the shadow
-/// boundaries the luminaires cast (see [`super::scene_shadow_boundaries`]).
+/// boundaries the lights cast (see [`super::scene_shadow_boundaries`]).
 #[must_use]
 pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSettings) -> SceneMesh {
-    let lit = !luminaires(scene).is_empty() || !scene.luminaires.is_empty();
+    let lit = !area_lights(scene).is_empty() || !scene.luminaires.is_empty();
     let zones = lit.then(|| Zones::new(scene, visibility));
     mesh_scene_in_zones(scene, visibility, settings, zones.as_ref(), &silent)
 }
@@ -82,14 +82,14 @@ pub(crate) fn mesh_scene_in_zones(
     // The settings resolved once, for every step below.
     let settings = settings.resolve(scene);
     let mut analysis = MeshAnalysis {
-        luminaires: luminaires(scene),
+        area_lights: area_lights(scene),
         ..MeshAnalysis::default()
     };
     // The shadow boundaries each receiver follows, found in its own zone.
     let boundaries = match zones {
         Some(zones) => {
-            let luminaires = &analysis.luminaires;
-            boundaries_in_zones(scene, visibility, luminaires, &settings, zones, report)
+            let area_lights = &analysis.area_lights;
+            boundaries_in_zones(scene, visibility, area_lights, &settings, zones, report)
         }
         None => vec![Vec::new(); scene.surfaces.len()],
     };
@@ -133,7 +133,7 @@ fn contour_layouts(
     report: PhaseReporter,
 ) -> Vec<Option<ContourLayout>> {
     let counter = PhaseCounter::start(Phase::ContourLayouts, scene.surfaces.len(), report);
-    let lights = &analysis.luminaires;
+    let lights = &analysis.area_lights;
     analysis.receivers = match zones {
         Some(zones) => analyses_in_zones(scene, visibility, lights, &settings.dominance, zones),
         None => analyse_receivers(scene, visibility, lights, &settings.dominance),
@@ -169,7 +169,7 @@ fn receiver_contour_layout(
     visibility: &Visibility,
     surface: SurfaceId,
     found: &ReceiverAnalysis,
-    luminaires: &[Luminaire],
+    area_lights: &[AreaLight],
     settings: &ResolvedMeshSettings,
 ) -> Option<ContourLayout> {
     // A receiver of a few elements: its grid follows the light as well as
@@ -181,7 +181,7 @@ fn receiver_contour_layout(
     let fields: Vec<DirectField> = found
         .contour_lights()
         .into_iter()
-        .filter_map(|k| dominant_field(scene, surface, luminaires, k))
+        .filter_map(|k| dominant_field(scene, surface, area_lights, k))
         .collect();
     let layout = match found.contour_mesher() {
         ContourMesher::Radial => {

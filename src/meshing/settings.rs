@@ -50,7 +50,7 @@ pub struct MeshSettings {
     pub dominance: DominanceSettings,
     /// How adaptive meshing starts and how far it splits.
     pub refinement: RefinementSettings,
-    /// Element edges along the shadow boundaries that the luminaires cast
+    /// Element edges along the shadow boundaries that the lights cast
     /// through the scene's occluders, for every mesher (discontinuity
     /// meshing; see `lighting::shadow_boundaries`). On by default.
     pub shadow_boundaries: bool,

@@ -7,7 +7,7 @@ use glam::DVec2;
 
 use super::records::Built;
 use super::{CompareSettings, MeshSpec, ReceiverComparison};
-use crate::lighting::{DirectField, luminaires};
+use crate::lighting::{DirectField, area_lights};
 use crate::mesh::{
     ContourSettings, ErrorGrid, GreedySettings, PlaneTriangulation, SampledField,
     SquareMeshSettings, greedy_insertion, is_enclosed, mesh_square,
@@ -17,7 +17,7 @@ use crate::meshing::{
 };
 use crate::scene::{Scene, SurfaceId, Visibility};
 
-/// Shadow rays per luminaire polygon where the first `shadow_rays` find a
+/// Shadow rays per light polygon where the first `shadow_rays` find a
 /// penumbra: stratified 32 × 32, they put the visible fraction's own error
 /// near 0.1 %.
 const PENUMBRA_SHADOW_RAYS: usize = 1024;
@@ -28,7 +28,7 @@ const PENUMBRA_SHADOW_RAYS: usize = 1024;
 /// ([`crate::lighting::dominant_field`]), for which the radial contour
 /// meshes are built, or of several (only level lines and square meshes).
 /// The exact field sums each light's unoccluded field times its visible
-/// fraction, from `shadow_rays` rays per luminaire polygon, or 1024 where
+/// fraction, from `shadow_rays` rays per light polygon, or 1024 where
 /// those find a penumbra; points inside an object standing on the receiver
 /// (a block's footprint, [`is_enclosed`]) are left out, as the renderer's
 /// mesh leaves out its elements there. The greedy-insertion meshes see the
@@ -78,7 +78,7 @@ pub fn compare_receiver(
     // The shadow boundaries the renderer's meshes would follow.
     let mesh_settings = settings.mesh.resolve(scene);
     let boundaries = if settings.shadow_boundaries {
-        let lights = luminaires(scene);
+        let lights = area_lights(scene);
         receiver_shadow_boundaries(scene, visibility, &lights, &mesh_settings, receiver)
     } else {
         Vec::new()
@@ -102,7 +102,7 @@ struct ExactLight<'a> {
     visibility: &'a Visibility,
     receiver: SurfaceId,
     fields: &'a [DirectField],
-    /// Shadow rays per luminaire polygon, before a penumbra's 1024.
+    /// Shadow rays per light polygon, before a penumbra's 1024.
     shadow_rays: usize,
 }
 

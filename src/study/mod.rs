@@ -6,7 +6,7 @@
 //! (`assets/fonts`). Nothing else in isorad imports this module.
 //!
 //! For each receiver, every mesh gets the exact direct radiosity of the
-//! dominant luminaire at its vertices (visibility included), and its
+//! dominant light at its vertices (visibility included), and its
 //! piecewise-linear interpolation is compared with the exact value on a
 //! dense grid of points inside the receiver (DESIGN.md, "How the error of a
 //! mesh is measured"). The vertex values are exact, so the error is the
@@ -38,7 +38,7 @@ pub struct CompareSettings {
     pub contour_errors_per_mille: Vec<u32>,
     /// The error is measured on a `grid` × `grid` lattice over the receiver.
     pub grid: usize,
-    /// Shadow rays per luminaire polygon for the exact field's visibility.
+    /// Shadow rays per light polygon for the exact field's visibility.
     pub shadow_rays: usize,
     /// The contour meshes refined to an error (radial and level lines)
     /// follow the receiver's shadow boundaries, as the renderer's meshes do,

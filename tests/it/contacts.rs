@@ -324,7 +324,7 @@ fn shadow_boundaries_stay_in_the_room_the_light_reaches() {
     ceiling_lamp(&mut b, lamp, DVec3::ZERO);
     let scene = b.scene;
     let visibility = isorad::scene::Visibility::new(&scene);
-    let lights = isorad::lighting::luminaires(&scene);
+    let lights = isorad::lighting::area_lights(&scene);
     let boundaries = isorad::meshing::scene_shadow_boundaries(
         &scene,
         &visibility,
@@ -501,7 +501,7 @@ fn lit_rooms(both: bool) -> Scene {
 fn a_room_meshes_the_same_among_closed_rooms() {
     let analyse = |scene: &Scene| {
         let visibility = isorad::scene::Visibility::new(scene);
-        let lights = isorad::lighting::luminaires(scene);
+        let lights = isorad::lighting::area_lights(scene);
         let settings = isorad::MeshSettings::default();
         let boundaries = isorad::meshing::scene_shadow_boundaries(
             scene,

@@ -262,7 +262,7 @@ fn refined_contour_meshes_keep_the_relative_error_low_everywhere() {
 fn shadow_boundaries_get_vertices_on_the_shadow_line() {
     use isorad::{
         Material, Rgb, Scene,
-        lighting::{DominanceSettings, analyse_receivers, luminaires},
+        lighting::{DominanceSettings, analyse_receivers, area_lights},
         meshing::receiver_layout,
         scene::{Surface, Visibility},
     };
@@ -304,7 +304,7 @@ fn shadow_boundaries_get_vertices_on_the_shadow_line() {
         .surfaces
         .push(Surface::new("plate", 2, quad(-3.0, 0.0, -3.0, 3.0, 1.0, false)).unwrap());
     let visibility = Visibility::new(&scene);
-    let lamps = luminaires(&scene);
+    let lamps = area_lights(&scene);
     let analyses = analyse_receivers(&scene, &visibility, &lamps, &DominanceSettings::default());
     let floor = analyses
         .iter()

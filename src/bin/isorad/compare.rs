@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use isorad::{
     Scene, Settings, SurfaceId,
-    lighting::{ContourMesher, ReceiverAnalysis, analyse_receivers, dominant_field, luminaires},
+    lighting::{ContourMesher, ReceiverAnalysis, analyse_receivers, area_lights, dominant_field},
     load_scene,
     scene::Visibility,
     study::{
@@ -52,7 +52,7 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     let dominance = mesh.dominance.clone();
     let scene = &loaded.scene;
     let visibility = Visibility::new(scene);
-    let lamps = luminaires(scene);
+    let lamps = area_lights(scene);
     let analyses = analyse_receivers(scene, &visibility, &lamps, &dominance);
     let chosen = receivers_to_compare(scene, &analyses, args.receiver.as_deref());
     if chosen.is_empty() {

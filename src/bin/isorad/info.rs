@@ -7,7 +7,7 @@ use clap::Args;
 use glam::DVec2;
 use isorad::{
     Scene, Settings, SurfaceId,
-    lighting::{ContourMesher, Luminaire, ReceiverAnalysis, luminaires},
+    lighting::{AreaLight, ContourMesher, ReceiverAnalysis, area_lights},
     load_scene,
     meshing::{scene_receiver_analyses, scene_shadow_boundaries},
     photometry::LUMENS_PER_WATT,
@@ -56,7 +56,7 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
         eprintln!("warning: {}", warning.message);
     }
     let visibility = Visibility::new(scene);
-    let lights = luminaires(scene);
+    let lights = area_lights(scene);
     let analyses = scene_receiver_analyses(scene, &visibility, &lights, &settings);
     let mesh_settings = mesh_settings.resolve(scene);
     let boundaries = scene_shadow_boundaries(scene, &visibility, &lights, &mesh_settings);
@@ -71,7 +71,7 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
         analyses.len()
     )?;
     let header = ["luminaire", "surfaces", "area", "radius", "exitance (W/m²)"];
-    write_table(&mut out, &header, &luminaire_rows(&lights))?;
+    write_table(&mut out, &header, &area_light_rows(&lights))?;
     writeln!(out)?;
     if !scene.luminaires.is_empty() {
         // Luminous flux: the radiant power's luminance at 179 lm/W.
@@ -117,8 +117,8 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// One row per luminaire: index, surfaces, area, radius, exitance.
-fn luminaire_rows(lights: &[Luminaire]) -> Vec<Vec<String>> {
+/// One row per area light: index, surfaces, area, radius, exitance.
+fn area_light_rows(lights: &[AreaLight]) -> Vec<Vec<String>> {
     lights
         .iter()
         .enumerate()

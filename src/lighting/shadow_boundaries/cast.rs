@@ -4,14 +4,14 @@
 
 use glam::{DVec2, DVec3};
 
-use super::super::Luminaire;
+use super::super::AreaLight;
 use super::ShadowReceiver;
 use super::edges::EdgeNeighbours;
 use crate::scene::{
     PlaneFrame, Scene, ShadowCache, SurfaceId, Visibility, clip_segment_to_polygon,
 };
 
-/// Corners of a luminaire's polygons used as projection centres, at most
+/// Corners of an area light's polygons used as projection centres, at most
 /// (a disc's 64-gon is represented by 8 of its vertices, evenly spread).
 const MAX_CORNERS_PER_POLYGON: usize = 8;
 
@@ -151,19 +151,22 @@ impl Source<'_> {
     }
 }
 
-/// The luminaire's horizon on the receiver: the line where the luminaire's
+/// The area light's horizon on the receiver: the line where the area light's
 /// plane cuts the receiver's, clipped to its outline. Direct light falls to
 /// zero there with a kink (as cos θ of the emitting side), and nothing
 /// reaches beyond it.
 pub(super) fn horizon(
     frame: &PlaneFrame,
     outline: &[DVec2],
-    luminaire: &Luminaire,
+    area_light: &AreaLight,
 ) -> Option<[DVec2; 2]> {
     // (p − c) · n over the receiver's plane is f0 + x (u · n) + y (v · n).
     let origin = frame.to_world(DVec2::ZERO);
-    let f0 = (origin - luminaire.centre).dot(luminaire.normal);
-    let gradient = DVec2::new(frame.u.dot(luminaire.normal), frame.v.dot(luminaire.normal));
+    let f0 = (origin - area_light.centre).dot(area_light.normal);
+    let gradient = DVec2::new(
+        frame.u.dot(area_light.normal),
+        frame.v.dot(area_light.normal),
+    );
     if gradient.length() < 1e-6 {
         return None;
     }
@@ -173,11 +176,11 @@ pub(super) fn horizon(
     clip_segment_to_polygon([foot - along, foot + along], outline)
 }
 
-/// The corners a luminaire's shadows are cast from: its polygons' vertices,
+/// The corners an area light's shadows are cast from: its polygons' vertices,
 /// at most [`MAX_CORNERS_PER_POLYGON`] of each, evenly spread.
-pub(super) fn luminaire_corners(scene: &Scene, luminaire: &Luminaire) -> Vec<DVec3> {
+pub(super) fn area_light_corners(scene: &Scene, area_light: &AreaLight) -> Vec<DVec3> {
     let mut corners: Vec<DVec3> = Vec::new();
-    for &surface in &luminaire.surfaces {
+    for &surface in &area_light.surfaces {
         let vertices = scene.surface(surface).vertices();
         let n = vertices.len();
         let take = n.min(MAX_CORNERS_PER_POLYGON);
@@ -185,7 +188,7 @@ pub(super) fn luminaire_corners(scene: &Scene, luminaire: &Luminaire) -> Vec<DVe
             let v = vertices[k * n / take];
             if !corners
                 .iter()
-                .any(|c| c.distance(v) <= 1e-9 * luminaire.radius)
+                .any(|c| c.distance(v) <= 1e-9 * area_light.radius)
             {
                 corners.push(v);
             }

@@ -1,19 +1,19 @@
 //! Shadow boundaries on a receiver: where an occluder's silhouette, seen
-//! from a luminaire's corner, falls on the receiver's plane.
+//! from an area light's corner, falls on the receiver's plane.
 //!
 //! Direct light changes its form across these lines: from a polygonal
-//! luminaire, the outer and inner edges of every penumbra are pieces of the
-//! shadows that the occluders cast from the luminaire's corners (the
+//! area light, the outer and inner edges of every penumbra are pieces of the
+//! shadows that the occluders cast from the area light's corners (the
 //! vertex–edge events of discontinuity meshing). An element that straddles
 //! one blurs the shadow over its whole width; with element edges along them,
 //! the linear interpolation between vertices follows the penumbra instead.
 //!
-//! For each luminaire corner v in front of the receiver (a photometric
+//! For each area light corner v in front of the receiver (a photometric
 //! luminaire's centre counts as one corner) and each occluder
 //! polygon in the shaft between them, every silhouette edge ab of the
 //! occluder seen from v (an edge whose neighbour across it faces v the other
 //! way, or that has none) is cut to the part in front of the receiver, below
-//! v and in front of the luminaire, and projected centrally from v:
+//! v and in front of the area light, and projected centrally from v:
 //! p ↦ v + (p − v) h_v / (h_v − h_p), with h the height over the receiver's
 //! plane. The projected segment is clipped to the receiver's outline, and
 //! to the parts of it where the event is real: where the receiver point
@@ -37,11 +37,11 @@ mod tests;
 
 use glam::{DVec2, DVec3};
 
-use super::Luminaire;
+use super::AreaLight;
 use super::sample_stream::SampleStream;
 use super::stratified::stratified_points;
 use crate::scene::{Scene, ShadowCache, SurfaceId, Visibility, distance_to_boundary};
-use cast::{Source, horizon, luminaire_corners};
+use cast::{Source, area_light_corners, horizon};
 pub use edges::EdgeNeighbours;
 use merge::merge_boundaries;
 
@@ -72,7 +72,7 @@ pub struct ShadowReceiver<'a> {
     pub occluders: OccludersIn<'a>,
 }
 
-/// The shadow boundaries that `luminaires` and the point sources at
+/// The shadow boundaries that `area_lights` and the point sources at
 /// `points` (photometric luminaires' centres, or their luminous openings'
 /// corners) cast on `receiver` through the surfaces its `occluders` finds
 /// in the box around the receiver and each light's corners (the shaft
@@ -88,7 +88,7 @@ pub fn shadow_boundaries(
     visibility: &Visibility,
     neighbours: &EdgeNeighbours,
     receiver: ShadowReceiver<'_>,
-    luminaires: &[Luminaire],
+    area_lights: &[AreaLight],
     points: &[DVec3],
     limits: BoundaryLimits,
 ) -> Vec<[DVec2; 2]> {
@@ -99,28 +99,28 @@ pub fn shadow_boundaries(
     // vertex of the scene, once per receiver of a building.
     let tolerance = HEIGHT_TOLERANCE * visibility.diagonal();
     let mut found = Vec::new();
-    for luminaire in luminaires {
-        if luminaire.surfaces.contains(&receiver.surface) {
+    for area_light in area_lights {
+        if area_light.surfaces.contains(&receiver.surface) {
             continue;
         }
-        // The receiver must have some part in front of the luminaire.
+        // The receiver must have some part in front of the area light.
         let lit = target
             .vertices()
             .iter()
-            .any(|&p| (p - luminaire.centre).dot(luminaire.normal) > tolerance);
+            .any(|&p| (p - area_light.centre).dot(area_light.normal) > tolerance);
         if !lit {
             continue;
         }
-        // The horizon only matters where the luminaire lights the receiver.
-        let corners = luminaire_corners(scene, luminaire);
+        // The horizon only matters where the area light lights the receiver.
+        let corners = area_light_corners(scene, area_light);
         let lights_front = corners.iter().any(|&v| frame.height(v) > tolerance);
-        if let Some(horizon) = horizon(frame, &outline, luminaire).filter(|_| lights_front) {
+        if let Some(horizon) = horizon(frame, &outline, area_light).filter(|_| lights_front) {
             found.push(horizon);
         }
         let source = Source {
             corners,
-            plane: Some((luminaire.centre, luminaire.normal)),
-            surfaces: &luminaire.surfaces,
+            plane: Some((area_light.centre, area_light.normal)),
+            surfaces: &area_light.surfaces,
         };
         source.cast(
             scene, visibility, neighbours, receiver, tolerance, &mut found,
@@ -148,10 +148,10 @@ pub fn shadow_boundaries(
 /// Receiver points [`light_reaches`] tries: a 4 × 4 stratification.
 const REACH_POINTS: usize = 16;
 
-/// Whether any of the points `from` (a luminaire's centre and corners)
+/// Whether any of the points `from` (an area light's centre and corners)
 /// sees some part of `receiver`: a shadow ray from one of 16 stratified
 /// points of the receiver (lifted a surface offset off it) to one of them
-/// (stopped that far short, so the luminaire's own surface `lamp` does not
+/// (stopped that far short, so the area light's own surface `lamp` does not
 /// count) is unblocked. A receiver in another closed room, or wholly in
 /// the umbra, sees none, and casting shadow boundaries on it would only
 /// add vertices where no direct light falls. A receiver lit only through a

@@ -5,7 +5,7 @@ use glam::{DVec2, DVec3};
 
 use super::merge::merge_boundaries;
 use super::*;
-use crate::lighting::luminaires;
+use crate::lighting::area_lights;
 use crate::scene::{Material, Rgb, SurfaceBoxes, distance_to_segment};
 
 /// A 10 × 10 floor at y = 0, a 0.2 m square lamp facing down at
@@ -70,7 +70,7 @@ fn limits() -> BoundaryLimits {
 
 fn boundaries_on_floor(scene: &Scene) -> Vec<[DVec2; 2]> {
     let neighbours = EdgeNeighbours::new(scene);
-    let lights = luminaires(scene);
+    let lights = area_lights(scene);
     let boxes = SurfaceBoxes::new(scene);
     let occluders = |low, high| boxes.near(low, high, 0.0);
     let receiver = ShadowReceiver {

@@ -9,7 +9,7 @@ use crate::scene::{Scene, SurfaceId, Visibility};
 
 /// Rays each surface casts to find what it sees: 16 stratified points, 4
 /// cosine-weighted directions from each.
-pub const RAYS_PER_SURFACE: usize = 64;
+const RAYS_PER_SURFACE: usize = 64;
 
 /// Points per surface the rays leave from.
 const POINTS: usize = 16;

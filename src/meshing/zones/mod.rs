@@ -5,7 +5,7 @@
 //! every shadow ray between them is blocked. Casting those rays is all the
 //! work a building of separate rooms wastes, since each shot would otherwise
 //! gather at every vertex of every room that faces it. The zones are found
-//! once, before solving: every surface casts [`RAYS_PER_SURFACE`]
+//! once, before solving: every surface casts `RAYS_PER_SURFACE` (64)
 //! cosine-weighted rays from stratified points of its front, and two
 //! surfaces are joined (union–find) when one of their rays lands on the
 //! other's front. A ray that lands on a back joins nothing: backs are
@@ -46,7 +46,7 @@ use rayon::prelude::*;
 
 use crate::scene::{Scene, SurfaceBoxes, SurfaceId, Visibility};
 
-pub use labels::{RAYS_PER_SURFACE, ZoneLabels};
+pub use labels::ZoneLabels;
 pub(crate) use members::{ShotPlaces, ZoneMembers};
 
 /// The closed zone of every surface, and each zone's shadow-ray BVH.
@@ -60,7 +60,7 @@ pub struct Zones {
 }
 
 impl Zones {
-    /// Finds the zones of `scene` by casting [`RAYS_PER_SURFACE`] rays from
+    /// Finds the zones of `scene` by casting `RAYS_PER_SURFACE` rays from
     /// every surface, in parallel.
     #[must_use]
     pub fn new(scene: &Scene, visibility: &Visibility) -> Zones {
