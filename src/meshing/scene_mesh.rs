@@ -17,13 +17,13 @@ use crate::mesh::{ContourLayout, Mesh, SurfaceGuides, mesh_surfaces_counted};
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Scene, SurfaceId, Visibility};
 
-/// What meshing found: the lights, each receiver's analysis, and where
+/// What meshing found: the area lights, each receiver's analysis, and where
 /// the contour mesher was used.
 #[derive(Clone, Debug, Default)]
 pub struct MeshAnalysis {
     /// One analysis per non-emitting surface (empty for square meshing).
     pub receivers: Vec<ReceiverAnalysis>,
-    /// The lights the analysis grouped.
+    /// The area lights: the scene's emitting surfaces grouped into lamps.
     pub area_lights: Vec<AreaLight>,
     /// Surfaces meshed by the radial contour mesher.
     pub contour_surfaces: Vec<SurfaceId>,

@@ -70,7 +70,7 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     settings.mesh = mesh;
     let mut comparisons = Vec::new();
     for (receiver, lights) in chosen {
-        // Area luminaires, then photometric ones after them.
+        // Area lights, then photometric luminaires after them.
         let fields: Vec<_> = lights
             .iter()
             .filter_map(|&k| dominant_field(scene, receiver, &lamps, k))

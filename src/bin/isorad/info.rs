@@ -1,5 +1,5 @@
-//! `isorad info`: a scene's luminaires and, per receiver, its dominant
-//! luminaire and the mesher it would get.
+//! `isorad info`: a scene's area lights and, per receiver, its dominant
+//! light and the mesher it would get.
 
 use std::io::Write;
 
@@ -32,7 +32,7 @@ pub struct InfoArgs {
     max_size_ratio: Option<f64>,
 }
 
-/// Prints the scene's luminaires and the dominant-emitter analysis of each
+/// Prints the scene's area lights and the dominant-emitter analysis of each
 /// receiver, as aligned text tables on stdout. The analysis takes the scene
 /// file's `[mesh.dominance]`, then the flags.
 pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
@@ -136,8 +136,8 @@ fn area_light_rows(lights: &[AreaLight]) -> Vec<Vec<String>> {
         .collect()
 }
 
-/// One row per receiver: index, name, area, dominant luminaire (an area
-/// luminaire's index among the `lights`, or `p` and a photometric one's), share,
+/// One row per receiver: index, name, area, dominant light (an area
+/// light's index among the `lights`, or `p` and a photometric luminaire's), share,
 /// size ratio, mesher, shadow boundaries.
 fn receiver_rows(
     scene: &Scene,
