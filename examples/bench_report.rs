@@ -19,7 +19,7 @@ use std::time::Instant;
 
 use isorad::{
     Scene, Settings, Solver, SolverSettings,
-    lighting::{analyse_receivers, dominant_field, luminaires},
+    lighting::{analyse_receivers, area_lights, dominant_field},
     load_scene,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
     scene::{ShadowCache, Visibility},
@@ -841,7 +841,7 @@ fn meshing_section(md: &mut String, out_dir: &Path) -> Report {
     let spec = "scenes/seed/seed_disc_tilted.toml";
     let scene = load_scene(spec)?.scene;
     let visibility = Visibility::new(&scene);
-    let lamps = luminaires(&scene);
+    let lamps = area_lights(&scene);
     let analyses = analyse_receivers(&scene, &visibility, &lamps, &Default::default());
     let (receiver, lamp) = analyses
         .iter()

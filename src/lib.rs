@@ -127,6 +127,7 @@ pub mod calculation;
 pub mod export;
 pub mod lighting;
 pub mod mesh;
+pub mod meshing;
 pub mod phase;
 pub mod photometry;
 pub mod radiometry;
@@ -139,12 +140,13 @@ pub mod view;
 // The five steps: load, settings, solve, query, render and export.
 pub use error::{Error, Result};
 pub use export::export_solution;
+pub use meshing::{Length, MeshKind, MeshSettings};
 pub use phase::{Phase, PhaseProgress};
 pub use render::{Image, RenderSettings, ToneMap, write_exr, write_png};
 pub use scene::{Camera, LoadedScene, Material, Rgb, Scene, SurfaceId, load_scene};
 pub use solver::{
-    Length, MeshKind, MeshSettings, PatchShotSummary, Probe, ProbeMode, Progress, ReadingPlace,
-    Settings, Solution, Solver, SolverSettings, StopReason, Until,
+    PatchShotSummary, Probe, ProbeMode, Progress, ReadingPlace, Settings, Solution, Solver,
+    SolverSettings, StopReason, Until,
 };
 
 /// Helpers that exist for isorad's tests, fuzz targets and benchmarks:

@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use super::grid_picture::GridPicture;
 use crate::error::Result;
 use crate::fs::{io_error, write_atomically};
-use crate::lighting::luminaires;
+use crate::lighting::area_lights;
 use crate::photometry::LUMENS_PER_WATT;
 use crate::scene::{PlaneFrame, ProbePoint, Rgb, Scene, SurfaceId, Visibility};
 use crate::solver::{ProbeMode, ReadingPlace, Solution};
@@ -242,7 +242,7 @@ impl CalculationGrid {
     #[must_use]
     pub fn luminaire_marks(&self, scene: &Scene) -> Vec<(DVec2, String)> {
         let in_front = |p: DVec3| self.frame.height(p) > 0.0;
-        let mut marks: Vec<(DVec2, String)> = luminaires(scene)
+        let mut marks: Vec<(DVec2, String)> = area_lights(scene)
             .iter()
             .filter(|lamp| in_front(lamp.centre))
             .map(|lamp| {

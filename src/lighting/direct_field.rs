@@ -1,13 +1,13 @@
-//! The direct radiosity of one luminaire on one receiver's plane: the scalar
+//! The direct radiosity of one light on one receiver's plane: the scalar
 //! field the radial contour-level mesher meshes.
 //!
 //! A photometric luminaire ([`DirectField::photometric`]) gives
 //! B(x) = Y(ρ ⊙ tint) / 179 lm/W · I(C, γ) cos θ / r², with the gradient of
 //! [`PhotometricLuminaire::illuminance_with_gradient`] (analytic through the
 //! web's bilinear interpolation), its visibility the share of its luminous
-//! opening seen, and no kink line. An area luminaire gives the following.
+//! opening seen, and no kink line. An area light gives the following.
 //!
-//! For a receiver of reflectance ρ (per channel) and a luminaire of exitance
+//! For a receiver of reflectance ρ (per channel) and a light of exitance
 //! E made of planar polygons P_i with emitting normal m and centre c, the
 //! unoccluded direct radiosity at a point x of the receiver's plane (normal
 //! n) is
@@ -21,7 +21,7 @@
 //! one scalar stands for the three channels as an eye weighs them. Its
 //! gradient is Arvo's (`polygon_form_factor_with_gradient`) projected on the
 //! plane's axes u, v. The field is continuous; it has a kink on the line where
-//! the luminaire's plane cuts the receiver's (beyond it the luminaire shows
+//! the light's plane cuts the receiver's (beyond it the light shows
 //! its back), which [`DirectField::kink_line`] gives.
 //!
 //! # References
@@ -33,7 +33,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::luminaire::Luminaire;
+use super::area_light::AreaLight;
 use super::sample_stream::SampleStream;
 use super::stratified::stratified_points;
 use crate::photometry::LUMENS_PER_WATT;
@@ -46,7 +46,7 @@ const MAX_ASCENT_STEPS: usize = 100;
 /// Most step halvings per ascent step.
 const MAX_HALVINGS: usize = 60;
 
-/// One luminaire's direct radiosity on one receiver's plane, in the
+/// One light's direct radiosity on one receiver's plane, in the
 /// receiver's plane coordinates ([`crate::scene::Surface::frame`]).
 #[derive(Clone, Debug)]
 pub struct DirectField {
@@ -57,26 +57,26 @@ pub struct DirectField {
     /// What gives the light.
     source: FieldSource,
     /// Radiosity per unit of the source's raw field: Y(ρ ⊙ E), W/m², for
-    /// an area luminaire (per unit form factor); Y(ρ ⊙ tint) / 179 lm/W
+    /// an area light (per unit form factor); Y(ρ ⊙ tint) / 179 lm/W
     /// for a photometric one (per lux).
     scale: f64,
     /// Length scale of the geometry: max(|height of the centre|, radius).
     length: f64,
 }
 
-/// The two kinds of luminaire a field can come from.
+/// The two kinds of light a field can come from.
 #[derive(Clone, Debug)]
 enum FieldSource {
     /// Emitting polygons: the raw field is Σ_i F(x → P_i).
     Polygons {
-        /// The luminaire's polygons (world) with their surfaces.
+        /// The light's polygons (world) with their surfaces.
         polygons: Vec<(SurfaceId, Vec<DVec3>)>,
-        /// The same polygons in `luminaire_frame`'s plane coordinates.
+        /// The same polygons in `light_frame`'s plane coordinates.
         plane_polygons: Vec<Vec<DVec2>>,
-        /// The luminaire's plane: origin at its centre, normal m.
-        luminaire_frame: PlaneFrame,
-        /// The luminaire's area.
-        luminaire_area: f64,
+        /// The light's plane: origin at its centre, normal m.
+        light_frame: PlaneFrame,
+        /// The light's area.
+        light_area: f64,
     },
     /// A photometric luminaire: the raw field is its unoccluded
     /// illuminance, lx ([`PhotometricLuminaire::illuminance_with_gradient`]).
@@ -84,34 +84,34 @@ enum FieldSource {
 }
 
 impl DirectField {
-    /// The field of `luminaire` on surface `receiver`'s plane.
+    /// The field of `area_light` on surface `receiver`'s plane.
     ///
-    /// `None` when the luminaire cannot light the receiver's front: no vertex
-    /// of the luminaire in front of the receiver's plane, or no vertex of the
-    /// receiver in front of the luminaire's; also for a receiver index out of
-    /// range, a receiver that is part of the luminaire, a luminaire without
+    /// `None` when the light cannot light the receiver's front: no vertex
+    /// of the light in front of the receiver's plane, or no vertex of the
+    /// receiver in front of the light's; also for a receiver index out of
+    /// range, a receiver that is part of the light, a light without
     /// valid surfaces, a zero normal or a non-finite scale.
     #[must_use]
-    pub fn new(scene: &Scene, receiver: SurfaceId, luminaire: &Luminaire) -> Option<DirectField> {
+    pub fn new(scene: &Scene, receiver: SurfaceId, area_light: &AreaLight) -> Option<DirectField> {
         let surface = scene.surfaces.get(receiver.index())?;
         let frame = *surface.frame();
-        let m = luminaire.normal.normalize_or_zero();
-        let usable = !luminaire.surfaces.is_empty()
-            && !luminaire.surfaces.contains(&receiver)
+        let m = area_light.normal.normalize_or_zero();
+        let usable = !area_light.surfaces.is_empty()
+            && !area_light.surfaces.contains(&receiver)
             && m != DVec3::ZERO
-            && luminaire.centre.is_finite();
+            && area_light.centre.is_finite();
         if !usable {
             return None;
         }
-        let polygons: Vec<(SurfaceId, Vec<DVec3>)> = luminaire
+        let polygons: Vec<(SurfaceId, Vec<DVec3>)> = area_light
             .surfaces
             .iter()
             .map(|&id| Some((id, scene.surfaces.get(id.index())?.vertices().to_vec())))
             .collect::<Option<_>>()?;
-        // Some of the luminaire in front of the receiver, some of the receiver in front of it.
-        let length = frame.height(luminaire.centre).abs().max(luminaire.radius);
-        let tolerance = 1e-9 * (length + luminaire.centre.distance(frame.origin));
-        let luminaire_frame = PlaneFrame::new(luminaire.centre, m);
+        // Some of the area light in front of the receiver, some of the receiver in front of it.
+        let length = frame.height(area_light.centre).abs().max(area_light.radius);
+        let tolerance = 1e-9 * (length + area_light.centre.distance(frame.origin));
+        let light_frame = PlaneFrame::new(area_light.centre, m);
         let lights_plane = polygons
             .iter()
             .flat_map(|(_, p)| p)
@@ -119,15 +119,15 @@ impl DirectField {
         let faces_receiver = surface
             .vertices()
             .iter()
-            .any(|&v| luminaire_frame.height(v) > tolerance);
+            .any(|&v| light_frame.height(v) > tolerance);
         let material = scene.materials.get(surface.material)?;
-        let scale = (material.reflectance * luminaire.exitance).luminance();
+        let scale = (material.reflectance * area_light.exitance).luminance();
         if !(lights_plane && faces_receiver && scale.is_finite() && length > 0.0) {
             return None;
         }
         let plane_polygons = polygons
             .iter()
-            .map(|(_, p)| p.iter().map(|&v| luminaire_frame.to_plane(v)).collect())
+            .map(|(_, p)| p.iter().map(|&v| light_frame.to_plane(v)).collect())
             .collect();
         Some(DirectField {
             frame,
@@ -135,8 +135,8 @@ impl DirectField {
             source: FieldSource::Polygons {
                 polygons,
                 plane_polygons,
-                luminaire_frame,
-                luminaire_area: luminaire.area,
+                light_frame,
+                light_area: area_light.area,
             },
             scale,
             length,
@@ -181,28 +181,26 @@ impl DirectField {
     }
 
     /// The radiosity per unit of the raw field: Y(ρ ⊙ E), W/m², per unit
-    /// form factor for an area luminaire; Y(ρ ⊙ tint) / 179 lm/W per lux
+    /// form factor for an area light; Y(ρ ⊙ tint) / 179 lm/W per lux
     /// for a photometric one.
     #[must_use]
     pub fn scale(&self) -> f64 {
         self.scale
     }
 
-    /// The geometry's length scale: the larger of the luminaire's height
+    /// The geometry's length scale: the larger of the light's height
     /// over the receiver's plane and its radius.
     #[must_use]
     pub fn length_scale(&self) -> f64 {
         self.length
     }
 
-    /// The luminaire's centre (world): its area's centroid, or the
+    /// The light's centre (world): its area's centroid, or the
     /// photometric centre.
     #[must_use]
     pub fn centre(&self) -> DVec3 {
         match &self.source {
-            FieldSource::Polygons {
-                luminaire_frame, ..
-            } => luminaire_frame.origin,
+            FieldSource::Polygons { light_frame, .. } => light_frame.origin,
             FieldSource::Photometric(luminaire) => luminaire.position,
         }
     }
@@ -213,7 +211,7 @@ impl DirectField {
     /// its analytic gradient). Exact: Lambert's form factor and Arvo's gradient
     /// ([`crate::radiometry::polygon_form_factor_with_gradient`]), the in-plane gradient
     /// projected on the frame's u and v. Zero (with a zero gradient) behind
-    /// the luminaire's plane and at non-finite p.
+    /// the light's plane and at non-finite p.
     ///
     /// # References
     /// Lambert (1760); Arvo, SIGGRAPH 1994.
@@ -231,7 +229,7 @@ impl DirectField {
     }
 
     /// The source's raw field at p (Σ_i F(p → P_i), or a photometric
-    /// luminaire's illuminance in lx) and its gradient in plane coordinates.
+    /// light's illuminance in lx) and its gradient in plane coordinates.
     fn form_factor_with_gradient(&self, p: DVec2) -> (f64, DVec2) {
         let x = self.frame.to_world(p);
         if !x.is_finite() {
@@ -240,10 +238,10 @@ impl DirectField {
         let (f, g) = match &self.source {
             FieldSource::Polygons {
                 polygons,
-                luminaire_frame,
+                light_frame,
                 ..
             } => {
-                if luminaire_frame.height(x) <= 0.0 {
+                if light_frame.height(x) <= 0.0 {
                     return (0.0, DVec2::ZERO);
                 }
                 let (mut f, mut g) = (0.0, DVec3::ZERO);
@@ -261,7 +259,7 @@ impl DirectField {
         (f, DVec2::new(g.dot(self.frame.u), g.dot(self.frame.v)))
     }
 
-    /// The fraction of the luminaire's light that reaches p unblocked:
+    /// The fraction of the light that reaches p unblocked:
     ///
     /// ```text
     ///   V(p) = Σ_k δ_k w_k / Σ_k w_k,   w_k = a_k cosθ_r cosθ_s / r_k²
@@ -272,7 +270,7 @@ impl DirectField {
     /// lifted off their surfaces by [`Visibility::surface_offset`] along
     /// their normals, as the solver does, and the receiver and the sampled
     /// surface ignored. The jitter is a hash of p: the same p gives the same
-    /// answer. 0 where no sample faces p (behind the luminaire, or all of it
+    /// answer. 0 where no sample faces p (behind the light, or all of it
     /// below the receiver's plane) or p is not finite.
     ///
     /// # References
@@ -285,7 +283,7 @@ impl DirectField {
             FieldSource::Polygons {
                 polygons,
                 plane_polygons,
-                luminaire_frame,
+                light_frame,
                 ..
             },
             true,
@@ -293,10 +291,10 @@ impl DirectField {
         else {
             return self.opening_fraction(visibility, x);
         };
-        if luminaire_frame.height(x) <= 0.0 {
+        if light_frame.height(x) <= 0.0 {
             return 0.0;
         }
-        let (n, m) = (self.frame.normal, luminaire_frame.normal);
+        let (n, m) = (self.frame.normal, light_frame.normal);
         let offset = visibility.surface_offset();
         let from = x + n * offset;
         let mut random = SampleStream::new(p.x.to_bits() ^ u64::from(self.receiver), p.y.to_bits());
@@ -304,7 +302,7 @@ impl DirectField {
         for ((surface, _), polygon) in polygons.iter().zip(plane_polygons) {
             for (q, area) in stratified_points(polygon, samples.max(1), 0.0, &mut random) {
                 // The point-kernel weight of the sample; nothing if either faces away.
-                let y = luminaire_frame.to_world(q);
+                let y = light_frame.to_world(q);
                 let d = y - x;
                 let r2 = d.length_squared();
                 let (cos_r, cos_s) = (n.dot(d), -m.dot(d));
@@ -328,7 +326,7 @@ impl DirectField {
     /// A photometric luminaire's visible share at world point x: the
     /// fraction of its opening's sample points
     /// ([`PhotometricLuminaire::opening_samples`]) that x sees (the centre
-    /// alone for a point source); 0 for an area luminaire's field or a
+    /// alone for a point source); 0 for an area light's field or a
     /// point that is not finite or not lit.
     fn opening_fraction(&self, visibility: &Visibility, x: DVec3) -> f64 {
         let FieldSource::Photometric(luminaire) = &self.source else {
@@ -340,9 +338,9 @@ impl DirectField {
         luminaire.visible_share(x, self.frame.normal, self.receiver, visibility)
     }
 
-    /// Whether the luminaire's centre c is visible from p (a point light's
+    /// Whether the light's centre c is visible from p (a point light's
     /// visibility, for finding shadow boundaries): p in front of the
-    /// luminaire, c in front of the receiver's plane, and the segment
+    /// light, c in front of the receiver's plane, and the segment
     /// between them, ends lifted by [`Visibility::surface_offset`],
     /// unblocked.
     #[must_use]
@@ -353,16 +351,16 @@ impl DirectField {
         match &self.source {
             FieldSource::Polygons {
                 polygons,
-                luminaire_frame,
+                light_frame,
                 ..
             } => {
-                let c = luminaire_frame.origin;
+                let c = light_frame.origin;
                 let facing =
-                    x.is_finite() && luminaire_frame.height(x) > 0.0 && self.frame.height(c) > 0.0;
+                    x.is_finite() && light_frame.height(x) > 0.0 && self.frame.height(c) > 0.0;
                 facing
                     && visibility.is_unblocked(
                         from,
-                        c + luminaire_frame.normal * offset,
+                        c + light_frame.normal * offset,
                         [self.receiver, polygons[0].0],
                     )
             }
@@ -376,29 +374,26 @@ impl DirectField {
         }
     }
 
-    /// Where the luminaire's plane m · (x − c) = 0 cuts the receiver's plane,
+    /// Where the light's plane m · (x − c) = 0 cuts the receiver's plane,
     /// as (a point, a unit direction) in plane coordinates; `None` when the
     /// planes are parallel (|m × n| < 10⁻⁹). With a = (m·u, m·v), the line is
     /// m·(o − c) + a·q = 0, through q₀ = −m·(o − c) a/|a|² along (a_y, −a_x)/|a|;
-    /// the lit side (in front of the luminaire) lies to the left of that
+    /// the lit side (in front of the light) lies to the left of that
     /// direction. The field has a kink there: the light ends.
     ///
     /// A photometric luminaire has no such plane: `None`.
     #[must_use]
     pub fn kink_line(&self) -> Option<(DVec2, DVec2)> {
-        let FieldSource::Polygons {
-            luminaire_frame, ..
-        } = &self.source
-        else {
+        let FieldSource::Polygons { light_frame, .. } = &self.source else {
             return None;
         };
-        let m = luminaire_frame.normal;
+        let m = light_frame.normal;
         let a = DVec2::new(m.dot(self.frame.u), m.dot(self.frame.v));
         let sine = a.length();
         if sine.is_nan() || sine < 1e-9 {
             return None;
         }
-        let offset = m.dot(self.frame.origin - luminaire_frame.origin);
+        let offset = m.dot(self.frame.origin - light_frame.origin);
         let point = -a * (offset / (sine * sine));
         let direction = DVec2::new(a.y, -a.x) / sine;
         (point.is_finite() && direction.is_finite()).then_some((point, direction))
@@ -409,9 +404,9 @@ impl DirectField {
     /// that is tried (no light reaches the plane).
     ///
     /// The start is the seed's closed form for a small disc of the
-    /// luminaire's area at its centre (point-source model,
+    /// light's area at its centre (point-source model,
     /// [`SmallDisc::maximum_on_plane`], eq. 4.2), or, when that is not lit,
-    /// the best of the projections of the luminaire's centre and vertices.
+    /// the best of the projections of the light's centre and vertices.
     /// It is refined on the exact field by safeguarded Newton: the Hessian
     /// from central differences of the analytic gradient; the Newton step
     /// −H⁻¹∇F when H is negative definite and the step climbs, else a step
@@ -430,22 +425,22 @@ impl DirectField {
         peak.is_finite().then_some(peak)
     }
 
-    /// The lit starting point of the ascent: for an area luminaire the
+    /// The lit starting point of the ascent: for an area light the
     /// small disc's peak if lit, else the best projection of the
-    /// luminaire's centre or vertices; for a photometric one, the best of
+    /// light's centre or vertices; for a photometric one, the best of
     /// the foot of its centre and the point its aim meets the plane.
     fn ascent_start(&self) -> Option<DVec2> {
         let candidates: Vec<DVec2> = match &self.source {
             FieldSource::Polygons {
                 polygons,
-                luminaire_frame,
-                luminaire_area,
+                light_frame,
+                light_area,
                 ..
             } => {
                 let disc = SmallDisc {
-                    centre: luminaire_frame.origin,
-                    normal: luminaire_frame.normal,
-                    area: *luminaire_area,
+                    centre: light_frame.origin,
+                    normal: light_frame.normal,
+                    area: *light_area,
                     exitance: 1.0,
                 };
                 let plane = ReceiverPlane {
@@ -455,7 +450,7 @@ impl DirectField {
                 let disc_peak = disc
                     .maximum_on_plane(DiscModel::PointSource, &plane)
                     .map(|w| self.frame.to_plane(w));
-                let projections = std::iter::once(luminaire_frame.origin)
+                let projections = std::iter::once(light_frame.origin)
                     .chain(polygons.iter().flat_map(|(_, p)| p.iter().copied()))
                     .map(|w| self.frame.to_plane(w));
                 disc_peak.into_iter().chain(projections).collect()

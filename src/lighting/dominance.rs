@@ -2,11 +2,11 @@
 //! mesher.
 //!
 //! The seed's contour mesher follows the level sets of one emitter's light.
-//! That pays on a receiver when one luminaire supplies most of its direct
-//! light (the others only add a smooth background) and that luminaire is
+//! That pays on a receiver when one light supplies most of its direct
+//! light (the others only add a smooth background) and that light is
 //! small against its distance (its field is close to the small-disc model:
 //! one smooth peak, contours star-shaped about it). For each non-emitting
-//! surface this module estimates each luminaire's share of the direct light,
+//! surface this module estimates each light's share of the direct light,
 //! shadows included, and the dominant one's size ratio.
 //!
 //! # References
@@ -16,8 +16,8 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use super::area_light::AreaLight;
 use super::direct_field::DirectField;
-use super::luminaire::Luminaire;
 use super::sample_stream::SampleStream;
 use super::stratified::stratified_points;
 use crate::error::{Error, Result};
@@ -33,28 +33,28 @@ const SAMPLE_SHRINK: f64 = 0.01;
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct DominanceSettings {
-    /// A luminaire dominates a receiver when it gives at least this share of
+    /// A light dominates a receiver when it gives at least this share of
     /// the receiver's direct light (0.6). Above ½, so that two equal lamps
     /// never pass (no one contour family fits both); below 1 with room for a
     /// dim fill light, whose smooth background the mesh's vertices still
     /// gather exactly, since every shooter lights them.
     pub min_share: f64,
-    /// The dominant luminaire is small when its radius over its distance to
+    /// The dominant light is small when its radius over its distance to
     /// the receiver is under this (0.25). The point-source kernel differs
     /// from a disc's by the factor 1 + (R/r)², about 6 % at R/r = ¼: the
     /// field is still the small-disc model's single smooth peak (eq. 4.1),
     /// whose closed-form centre (eq. 4.2) starts the ascent near the truth.
-    /// The distance is from the luminaire's centre to the receiver's point
+    /// The distance is from the light's centre to the receiver's point
     /// of maximum light if that lies on the receiver, else to the nearest
     /// point of the receiver.
     pub max_size_ratio: f64,
-    /// Points on the receiver where each luminaire's direct light is
+    /// Points on the receiver where each light's direct light is
     /// estimated (16): stratified over the polygon
-    /// (equal-area strata), like a 4 × 4 grid, enough to rank luminaires
+    /// (equal-area strata), like a 4 × 4 grid, enough to rank lights
     /// whose shares differ by more than a few per cent.
     pub sample_points: usize,
-    /// Shadow rays per luminaire polygon at each sample point (4): a
-    /// receiver in a luminaire's full shadow must not be dominated by it,
+    /// Shadow rays per light polygon at each sample point (4): a
+    /// receiver in a light's full shadow must not be dominated by it,
     /// and a coarse penumbra estimate suffices for a share.
     pub shadow_rays: usize,
 }
@@ -104,18 +104,18 @@ impl DominanceSettings {
 pub struct ReceiverAnalysis {
     /// The receiving surface.
     pub receiver: SurfaceId,
-    /// The luminaire giving at least `min_share` of the receiver's direct
-    /// light, if any: an index into the area luminaires analysed, followed
-    /// by the scene's photometric luminaires (index `luminaires.len() + k`
+    /// The light giving at least `min_share` of the receiver's direct
+    /// light, if any: an index into the area lights analysed, followed
+    /// by the scene's photometric luminaires (index `area_lights.len() + k`
     /// for `scene.luminaires[k]`; see [`dominant_field`]).
     pub dominant: Option<usize>,
-    /// The strongest luminaire's share of the direct light, in [0, 1]
+    /// The strongest light's share of the direct light, in [0, 1]
     /// (0 when no light arrives), whether or not it dominates.
     pub share: f64,
-    /// The strongest luminaire's radius over its distance to the receiver;
+    /// The strongest light's radius over its distance to the receiver;
     /// infinite when no light arrives.
     pub size_ratio: f64,
-    /// Dominated by a small luminaire: the radial contour mesher applies.
+    /// Dominated by a small light: the radial contour mesher applies.
     pub qualifies: bool,
     /// Every light giving at least 1 % of the receiver's direct light, in
     /// the order of `dominant`'s indices: the total direct field the
@@ -126,18 +126,18 @@ pub struct ReceiverAnalysis {
 /// Which contour layout a receiver gets under `MeshKind::Contour`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ContourMesher {
-    /// The radial contour-level layout around the dominant small luminaire's
+    /// The radial contour-level layout around the dominant small light's
     /// maximum.
     Radial,
     /// Level lines of the total direct field of every light that reaches it
-    /// (several luminaires, or one that is not small).
+    /// (several lights, or one that is not small).
     LevelLines,
     /// No direct light: the square grid.
     Square,
 }
 
 impl ReceiverAnalysis {
-    /// The contour layout this receiver gets: radial when a small luminaire
+    /// The contour layout this receiver gets: radial when a small light
     /// dominates it, level lines when any light reaches it, else square.
     #[must_use]
     pub fn contour_mesher(&self) -> ContourMesher {
@@ -169,7 +169,8 @@ const LIT_BY_SHARE: f64 = 0.01;
 /// Analyses every non-emitting surface of the scene (in order), in parallel.
 ///
 /// For a receiver with stratified sample points x_k of areas a_k, the direct
-/// light of luminaire j is estimated as
+/// light of light j (an area light or a photometric luminaire) is
+/// estimated as
 ///
 /// ```text
 ///   D_j = Σ_k a_k · B_j(x_k) · V_j(x_k)
@@ -177,7 +178,7 @@ const LIT_BY_SHARE: f64 = 0.01;
 ///
 /// with B_j the exact unoccluded field ([`DirectField::value`]) and V_j the
 /// visible fraction ([`DirectField::visible_fraction`], `shadow_rays` rays
-/// per polygon). The strongest luminaire j* has share D_j*/Σ_j D_j; it
+/// per polygon). The strongest light j* has share D_j*/Σ_j D_j; it
 /// dominates when that reaches `min_share`, and the receiver qualifies for
 /// the contour mesher when also radius_j*/distance < `max_size_ratio`.
 ///
@@ -187,23 +188,23 @@ const LIT_BY_SHARE: f64 = 0.01;
 pub fn analyse_receivers(
     scene: &Scene,
     visibility: &Visibility,
-    luminaires: &[Luminaire],
+    area_lights: &[AreaLight],
     settings: &DominanceSettings,
 ) -> Vec<ReceiverAnalysis> {
-    let all: Vec<usize> = (0..luminaires.len() + scene.luminaires.len()).collect();
-    analyse_receivers_among(scene, luminaires, settings, &|_| (visibility, all.clone()))
+    let all: Vec<usize> = (0..area_lights.len() + scene.luminaires.len()).collect();
+    analyse_receivers_among(scene, area_lights, settings, &|_| (visibility, all.clone()))
 }
 
 /// [`analyse_receivers`], with each receiver paired only with the lights
 /// that `room_of(receiver)` lists (indices in [`dominant_field`]'s order,
 /// ascending; the others give it no light), its shadow rays traced through
-/// the BVH given with them: the luminaires and the surfaces of its own
+/// the BVH given with them: the lights and the surfaces of its own
 /// closed room, so that a building of separate rooms costs what its rooms
-/// cost alone instead of every receiver times every luminaire.
+/// cost alone instead of every receiver times every light.
 #[must_use]
 pub fn analyse_receivers_among<'v>(
     scene: &Scene,
-    luminaires: &[Luminaire],
+    area_lights: &[AreaLight],
     settings: &DominanceSettings,
     room_of: &(dyn Fn(SurfaceId) -> (&'v Visibility, Vec<usize>) + Sync),
 ) -> Vec<ReceiverAnalysis> {
@@ -221,7 +222,7 @@ pub fn analyse_receivers_among<'v>(
         .par_iter()
         .map(|&receiver| {
             let (visibility, lights) = room_of(receiver);
-            analyse_receiver(scene, visibility, luminaires, settings, receiver, &lights)
+            analyse_receiver(scene, visibility, area_lights, settings, receiver, &lights)
         })
         .collect()
 }
@@ -230,13 +231,13 @@ pub fn analyse_receivers_among<'v>(
 fn analyse_receiver(
     scene: &Scene,
     visibility: &Visibility,
-    luminaires: &[Luminaire],
+    area_lights: &[AreaLight],
     settings: &DominanceSettings,
     receiver: SurfaceId,
     lights: &[usize],
 ) -> ReceiverAnalysis {
     let surface = scene.surface(receiver);
-    // Stratified sample points, and each luminaire's direct light on them.
+    // Stratified sample points, and each light's direct light on them.
     let mut random = SampleStream::new(u64::from(receiver), 0xD0_4A11);
     let polygon = surface.plane_vertices();
     let points = stratified_points(
@@ -249,14 +250,14 @@ fn analyse_receiver(
     let light: Vec<(usize, f64, Option<DirectField>)> = lights
         .iter()
         .map(|&k| {
-            let field = dominant_field(scene, receiver, luminaires, k);
+            let field = dominant_field(scene, receiver, area_lights, k);
             let direct = field.as_ref().map_or(0.0, |field| {
                 direct_light(field, visibility, &points, settings.shadow_rays)
             });
             (k, direct, field)
         })
         .collect();
-    // The strongest luminaire and its share.
+    // The strongest light and its share.
     let total: f64 = light.iter().map(|(_, d, _)| d).sum();
     let strongest = light.iter().max_by(|a, b| a.1.total_cmp(&b.1));
     let (Some((best, best_light, best_field)), true) =
@@ -278,10 +279,10 @@ fn analyse_receiver(
         .map(|(k, _, _)| *k)
         .collect();
     let share = (best_light / total).clamp(0.0, 1.0);
-    let (centre, radius) = match luminaires.get(best) {
+    let (centre, radius) = match area_lights.get(best) {
         Some(lamp) => (lamp.centre, lamp.radius),
         None => {
-            let luminaire = &scene.luminaires[best - luminaires.len()];
+            let luminaire = &scene.luminaires[best - area_lights.len()];
             (luminaire.position, luminaire.opening_radius())
         }
     };
@@ -305,21 +306,23 @@ fn analyse_receiver(
 }
 
 /// The direct field on `receiver` of light `k` in the analysis's order:
-/// area luminaire `luminaires[k]`, or photometric luminaire
-/// `scene.luminaires[k − luminaires.len()]`; `None` when it cannot light the
+/// area light `area_lights[k]`, or photometric luminaire
+/// `scene.luminaires[k − area_lights.len()]`; `None` when it cannot light the
 /// receiver or `k` is out of range.
 #[must_use]
 pub fn dominant_field(
     scene: &Scene,
     receiver: SurfaceId,
-    luminaires: &[Luminaire],
+    area_lights: &[AreaLight],
     k: usize,
 ) -> Option<DirectField> {
-    match luminaires.get(k) {
+    match area_lights.get(k) {
         Some(lamp) => DirectField::new(scene, receiver, lamp),
-        None => {
-            DirectField::photometric(scene, receiver, scene.luminaires.get(k - luminaires.len())?)
-        }
+        None => DirectField::photometric(
+            scene,
+            receiver,
+            scene.luminaires.get(k - area_lights.len())?,
+        ),
     }
 }
 
@@ -343,7 +346,7 @@ fn direct_light(
         .sum()
 }
 
-/// Distance from the luminaire's centre to the receiver's point of maximum
+/// Distance from the light's centre to the receiver's point of maximum
 /// light when that lies on the receiver, else to the receiver's nearest point.
 fn light_distance(field: &DirectField, surface: &Surface, centre: DVec3) -> f64 {
     let frame = field.frame();

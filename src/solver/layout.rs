@@ -4,10 +4,10 @@
 //! zone each photometric luminaire lights.
 
 use crate::mesh::{Mesh, receiver_inset};
+use crate::meshing::MeshAnalysis;
+use crate::meshing::{ZoneLabels, ZoneMembers, Zones};
 use crate::scene::{Rgb, Scene, Visibility};
-use crate::solver::scene_mesh::MeshAnalysis;
 use crate::solver::settings::SolverSettings;
-use crate::solver::zones::{ZoneLabels, ZoneMembers, Zones};
 
 /// The closed zones a shot need not reach beyond, with the mesh's members
 /// listed zone by zone.

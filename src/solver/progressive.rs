@@ -3,13 +3,11 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::mesh_settings::MeshKind;
 use super::refinement::{Refiner, elements_to_split};
-use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
-use super::zones::{ShotPlaces, Zones};
 use crate::freed_memory::give_back_freed_memory;
 use crate::mesh::{Cell, ElementHierarchy, Mesh};
+use crate::meshing::{MeshAnalysis, MeshKind, SceneMesh, ShotPlaces, Zones, mesh_scene_in_zones};
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Camera, Rgb, Scene, ShadowCache, SurfaceId, Visibility};
 use crate::solver::ambient::irradiance::AmbientIrradiance;
@@ -167,10 +165,10 @@ impl Solver {
     }
 
     /// A solver for `scene` on a mesh the caller made (with [`crate::mesh::mesh_square`]
-    /// or [`crate::solver::mesh_scene`], say), nothing yet shot. Probes and
+    /// or [`crate::meshing::mesh_scene`], say), nothing yet shot. Probes and
     /// reflected shots' shafts take the scene's receiver inset
     /// (`mesh::receiver_inset`), as [`crate::mesh::mesh_square`]'s
-    /// boundary vertices do; [`crate::solver::mesh_scene`]'s move each
+    /// boundary vertices do; [`crate::meshing::mesh_scene`]'s move each
     /// room's by a ten-thousandth of the room's diagonal, so in a building
     /// a probe within the scene's inset of an edge gathers a little
     /// further in than its vertices.

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::mesh_settings::MeshSettings;
+use crate::meshing::MeshSettings;
 
 /// How a vertex-to-patch form factor is estimated. Each kernel splits the
 /// patch into m × m strata with one shadow ray each; they differ in what a

@@ -14,9 +14,9 @@ use std::path::Path;
 use serde::Deserialize;
 use toml::de::{DeTable, DeValue};
 
-use super::mesh_settings::MeshSettings;
 use super::settings::{Settings, SolverSettings};
 use crate::error::{Error, Result};
+use crate::meshing::MeshSettings;
 use crate::scene::{SceneOptions, line_at};
 
 /// The two tables of a scene file that hold settings; its other keys

@@ -4,7 +4,7 @@
 
 use isorad::{
     Settings, SurfaceId,
-    lighting::{dominant_field, luminaires},
+    lighting::{area_lights, dominant_field},
     load_scene,
     scene::Visibility,
     study::{CompareSettings, MeshSpec, ReceiverComparison, compare_receiver},
@@ -22,7 +22,7 @@ fn table_floor() -> ReceiverComparison {
     let loaded = load_scene(root.join("scenes/table/table.toml").to_str().unwrap()).unwrap();
     let scene = &loaded.scene;
     let visibility = Visibility::new(scene);
-    let lamps = luminaires(scene);
+    let lamps = area_lights(scene);
     let floor = surface_named(scene, "floor");
     let field = dominant_field(scene, floor, &lamps, 0).unwrap();
     let mut settings = CompareSettings::default();
@@ -182,7 +182,7 @@ fn six_light_floor() -> ReceiverComparison {
     let loaded = load_scene(dir.path().join("office.obj").to_str().unwrap()).unwrap();
     let scene = &loaded.scene;
     let visibility = Visibility::new(scene);
-    let lamps = luminaires(scene);
+    let lamps = area_lights(scene);
     assert_eq!(lamps.len(), 6);
     let floor = surface_named(scene, "floor");
     let fields: Vec<_> = (0..lamps.len())

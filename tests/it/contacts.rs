@@ -324,12 +324,12 @@ fn shadow_boundaries_stay_in_the_room_the_light_reaches() {
     ceiling_lamp(&mut b, lamp, DVec3::ZERO);
     let scene = b.scene;
     let visibility = isorad::scene::Visibility::new(&scene);
-    let lights = isorad::lighting::luminaires(&scene);
-    let boundaries = isorad::solver::scene_shadow_boundaries(
+    let lights = isorad::lighting::area_lights(&scene);
+    let boundaries = isorad::meshing::scene_shadow_boundaries(
         &scene,
         &visibility,
         &lights,
-        &isorad::MeshSettings::default(),
+        &isorad::MeshSettings::default().resolve(&scene),
     );
     let count = |name: &str| -> usize {
         scene
@@ -348,7 +348,12 @@ fn shadow_boundaries_stay_in_the_room_the_light_reaches() {
     // `max_shadow_boundaries` keeps the longest.
     let mut settings = isorad::MeshSettings::default();
     settings.max_shadow_boundaries = 2;
-    let capped = isorad::solver::scene_shadow_boundaries(&scene, &visibility, &lights, &settings);
+    let capped = isorad::meshing::scene_shadow_boundaries(
+        &scene,
+        &visibility,
+        &lights,
+        &settings.resolve(&scene),
+    );
     let floor_a = scene
         .surfaces_with_ids()
         .find(|(_, s)| s.name == "floor_a")
@@ -496,11 +501,15 @@ fn lit_rooms(both: bool) -> Scene {
 fn a_room_meshes_the_same_among_closed_rooms() {
     let analyse = |scene: &Scene| {
         let visibility = isorad::scene::Visibility::new(scene);
-        let lights = isorad::lighting::luminaires(scene);
+        let lights = isorad::lighting::area_lights(scene);
         let settings = isorad::MeshSettings::default();
-        let boundaries =
-            isorad::solver::scene_shadow_boundaries(scene, &visibility, &lights, &settings);
-        let analyses = isorad::solver::scene_receiver_analyses(
+        let boundaries = isorad::meshing::scene_shadow_boundaries(
+            scene,
+            &visibility,
+            &lights,
+            &settings.resolve(scene),
+        );
+        let analyses = isorad::meshing::scene_receiver_analyses(
             scene,
             &visibility,
             &lights,

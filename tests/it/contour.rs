@@ -262,9 +262,9 @@ fn refined_contour_meshes_keep_the_relative_error_low_everywhere() {
 fn shadow_boundaries_get_vertices_on_the_shadow_line() {
     use isorad::{
         Material, Rgb, Scene,
-        lighting::{DominanceSettings, analyse_receivers, luminaires},
+        lighting::{DominanceSettings, analyse_receivers, area_lights},
+        meshing::receiver_layout,
         scene::{Surface, Visibility},
-        solver::receiver_layout,
     };
     // A small square lamp at height 2 over a 10 × 10 floor; a black plate at
     // height 1 covering x < 0 casts a shadow whose edge, seen from the lamp's
@@ -304,7 +304,7 @@ fn shadow_boundaries_get_vertices_on_the_shadow_line() {
         .surfaces
         .push(Surface::new("plate", 2, quad(-3.0, 0.0, -3.0, 3.0, 1.0, false)).unwrap());
     let visibility = Visibility::new(&scene);
-    let lamps = luminaires(&scene);
+    let lamps = area_lights(&scene);
     let analyses = analyse_receivers(&scene, &visibility, &lamps, &DominanceSettings::default());
     let floor = analyses
         .iter()
@@ -340,8 +340,8 @@ fn shadow_boundaries_get_vertices_on_the_shadow_line() {
 #[test]
 fn a_contour_meshed_scene_solves_with_its_energy_balanced() {
     use isorad::{
-        MeshKind, MeshSettings, Solver, SolverSettings, load_scene, scene::Visibility,
-        solver::mesh_scene,
+        MeshKind, MeshSettings, Solver, SolverSettings, load_scene, meshing::mesh_scene,
+        scene::Visibility,
     };
     let scene = load_scene(concat!(
         env!("CARGO_MANIFEST_DIR"),

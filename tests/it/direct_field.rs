@@ -8,7 +8,7 @@ use crate::support::{Rng, SceneBuilder, coaxial_disc_form_factor, disc_facing_do
 use glam::{DVec2, DVec3};
 use isorad::{
     Scene, SurfaceId,
-    lighting::{DirectField, Luminaire, luminaires},
+    lighting::{AreaLight, DirectField, area_lights},
     radiometry::tilt_line_maximum,
 };
 
@@ -25,14 +25,14 @@ fn square_facing(centre: DVec3, normal: DVec3, side: f64) -> Vec<DVec3> {
 
 /// A scene of one receiver (surface 0, reflectance 0.5) and one luminaire
 /// polygon (Ke = 1, exitance π), and the field between them.
-fn field(receiver: Vec<DVec3>, lamp: Vec<DVec3>) -> (Scene, Luminaire, DirectField) {
+fn field(receiver: Vec<DVec3>, lamp: Vec<DVec3>) -> (Scene, AreaLight, DirectField) {
     let mut b = SceneBuilder::default();
     let white = b.material("white", 0.5, 0.0);
     let light = b.material("light", 0.0, 1.0);
     b.polygon("receiver", white, receiver);
     b.polygon("lamp", light, lamp);
     let scene = b.scene;
-    let luminaire = luminaires(&scene).remove(0);
+    let luminaire = area_lights(&scene).remove(0);
     let field = DirectField::new(&scene, SurfaceId::new(0), &luminaire)
         .expect("the lamp lights the receiver");
     (scene, luminaire, field)
@@ -253,7 +253,7 @@ fn lamps_that_cannot_light_the_receiver_give_no_field() {
     b.polygon("facing up", light, square_z(-0.1, 0.1, 1.0, true));
     b.polygon("facing down", light, square_z(-0.1, 0.1, 2.0, false));
     let scene = b.scene;
-    let lamps = luminaires(&scene);
+    let lamps = area_lights(&scene);
     assert_eq!(lamps.len(), 3);
     assert!(DirectField::new(&scene, SurfaceId::new(0), &lamps[0]).is_none());
     assert!(DirectField::new(&scene, SurfaceId::new(0), &lamps[1]).is_none());
@@ -286,7 +286,7 @@ fn black_receiver_has_a_zero_field_but_a_peak() {
     b.polygon("floor", black, square_z(-1.0, 1.0, 0.0, true));
     b.polygon("lamp", light, square_z(-0.1, 0.1, 1.0, false));
     let scene = b.scene;
-    let field = DirectField::new(&scene, SurfaceId::new(0), &luminaires(&scene)[0]).unwrap();
+    let field = DirectField::new(&scene, SurfaceId::new(0), &area_lights(&scene)[0]).unwrap();
     assert_eq!(field.value(DVec2::ZERO), 0.0);
     let peak = field.frame().to_world(field.maximum().unwrap());
     assert!(peak.length() < 1e-9, "{peak}");

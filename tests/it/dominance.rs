@@ -1,11 +1,11 @@
-//! Luminaire grouping and the dominant-small-emitter analysis on scenes
+//! AreaLight grouping and the dominant-small-emitter analysis on scenes
 //! whose answer is known.
 
 use crate::support::{SceneBuilder, square_z};
 use glam::DVec3;
 use isorad::{
     Rgb, Scene, SurfaceId,
-    lighting::{DominanceSettings, analyse_receivers, luminaires},
+    lighting::{DominanceSettings, analyse_receivers, area_lights},
     scene::Visibility,
 };
 
@@ -34,7 +34,7 @@ fn the_two_triangles_of_a_quad_lamp_are_one_luminaire() {
     // Facing down: clockwise seen from above.
     b.polygon("lamp", light, vec![p, r, q]);
     b.polygon("lamp", light, vec![p, s, r]);
-    let lamps = luminaires(&b.scene);
+    let lamps = area_lights(&b.scene);
     assert_eq!(lamps.len(), 1);
     let lamp = &lamps[0];
     assert_eq!(lamp.surfaces, vec![SurfaceId::new(1), SurfaceId::new(2)]);
@@ -76,12 +76,12 @@ fn separate_lamps_and_unlike_neighbours_stay_apart() {
             DVec3::new(1.0, 1.0, 3.0),
         ],
     );
-    let groups: Vec<Vec<usize>> = luminaires(&b.scene)
+    let groups: Vec<Vec<usize>> = area_lights(&b.scene)
         .into_iter()
         .map(|l| l.surfaces.iter().map(|id| id.index()).collect())
         .collect();
     assert_eq!(groups, vec![vec![0, 3], vec![1], vec![2], vec![4]]);
-    assert!(luminaires(&Scene::default()).is_empty());
+    assert!(area_lights(&Scene::default()).is_empty());
 }
 
 /// Analyses a scene with the default settings.
@@ -90,7 +90,7 @@ fn analyse(scene: &Scene) -> Vec<isorad::lighting::ReceiverAnalysis> {
     analyse_receivers(
         scene,
         &visibility,
-        &luminaires(scene),
+        &area_lights(scene),
         &DominanceSettings::default(),
     )
 }
@@ -107,7 +107,7 @@ fn receivers_are_analysed_only_among_the_luminaires_allowed() {
     b.polygon("lamp", bright, square_z(-0.1, 0.1, 3.0, false));
     let scene = b.scene;
     let visibility = Visibility::new(&scene);
-    let lights = luminaires(&scene);
+    let lights = area_lights(&scene);
     let settings = DominanceSettings::default();
     let among = |allow: bool| {
         let room_of = |_| (&visibility, if allow { vec![0] } else { Vec::new() });

@@ -12,7 +12,7 @@
 //! differ by 1.08 % at the median, 3.6 % at the 90th percentile), and its
 //! mean radiance is good to 0.015 %.
 
-use isorad::solver::MeshKind;
+use isorad::meshing::MeshKind;
 use isorad::{Image, RenderSettings, Settings, Solver, load_scene, render::read_exr};
 use std::path::Path;
 

@@ -6,7 +6,7 @@
 use glam::{DVec2, DVec3};
 use isorad::{
     Material, Rgb, Scene, SurfaceId,
-    lighting::{ContourMesher, DominanceSettings, analyse_receivers, luminaires},
+    lighting::{ContourMesher, DominanceSettings, analyse_receivers, area_lights},
     mesh::{ContourSettings, PlaneTriangulation, interpolation_error, level_line_layout},
     radiometry::polygon_form_factor_with_gradient,
     scene::{Surface, Visibility},
@@ -258,7 +258,7 @@ fn a_floor_under_two_equal_lamps_gets_level_lines() {
         scene.surfaces.push(surface);
     }
     let visibility = Visibility::new(&scene);
-    let lights = luminaires(&scene);
+    let lights = area_lights(&scene);
     let analyses = analyse_receivers(&scene, &visibility, &lights, &DominanceSettings::default());
     let floor = analyses
         .iter()

@@ -4,7 +4,8 @@
 //! (and through it the umbra) from its dark part.
 
 use crate::support::*;
-use isorad::solver::{Length, MeshKind, ShootFrom};
+use isorad::meshing::{Length, MeshKind};
+use isorad::solver::ShootFrom;
 use isorad::{Scene, Settings, Solver};
 
 /// A 4 × 4 floor (ρ = 0.5), an opaque table top 1.2 across at 0.75 (top and

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use isorad::{
     Scene, Settings, SurfaceId,
-    lighting::{ContourMesher, ReceiverAnalysis, analyse_receivers, dominant_field, luminaires},
+    lighting::{ContourMesher, ReceiverAnalysis, analyse_receivers, area_lights, dominant_field},
     load_scene,
     scene::Visibility,
     study::{
@@ -52,7 +52,7 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     let dominance = mesh.dominance.clone();
     let scene = &loaded.scene;
     let visibility = Visibility::new(scene);
-    let lamps = luminaires(scene);
+    let lamps = area_lights(scene);
     let analyses = analyse_receivers(scene, &visibility, &lamps, &dominance);
     let chosen = receivers_to_compare(scene, &analyses, args.receiver.as_deref());
     if chosen.is_empty() {
@@ -70,7 +70,7 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     settings.mesh = mesh;
     let mut comparisons = Vec::new();
     for (receiver, lights) in chosen {
-        // Area luminaires, then photometric ones after them.
+        // Area lights, then photometric luminaires after them.
         let fields: Vec<_> = lights
             .iter()
             .filter_map(|&k| dominant_field(scene, receiver, &lamps, k))
@@ -180,6 +180,25 @@ type ErrorMeasure = fn(&MeshRecord) -> f64;
 /// the mean relative error a tone-mapped picture shows.
 fn print_comparison(comparison: &ReceiverComparison) {
     println!("receiver {}:", comparison.receiver);
+    print_records(comparison);
+    let measures: [(&str, ErrorMeasure); 2] = [
+        ("RMS error", |r| r.rms_rel_error),
+        ("mean relative error (B > 1 % of max)", |r| r.mean_rel_error),
+    ];
+    for (name, measure) in measures {
+        print_square_ratios(comparison, name, measure);
+        // Square 30 × 30, the seed paper's reference mesh: the vertices the
+        // contour meshes need for its error, along their lower envelope.
+        let reference = MeshSpec::Square { n: 30 };
+        if let Some(square) = comparison.record(reference) {
+            print_against_reference(comparison, square, name, measure);
+            print_each_mesher(comparison, square, measure);
+        }
+    }
+}
+
+/// One line per measured mesh.
+fn print_records(comparison: &ReceiverComparison) {
     println!(
         "  {:<14} {:>7} {:>9} {:>10} {:>12} {:>12} {:>13} {:>9}",
         "mesher",
@@ -204,98 +223,105 @@ fn print_comparison(comparison: &ReceiverComparison) {
             record.seconds
         );
     }
-    let measures: [(&str, ErrorMeasure); 2] = [
-        ("RMS error", |r| r.rms_rel_error),
-        ("mean relative error (B > 1 % of max)", |r| r.mean_rel_error),
-    ];
-    for (name, measure) in measures {
-        // For each contour mesh, the square mesh vertices the same error
-        // needs; the seed's layouts counted once (not again with the shadow
-        // boundaries, which on a receiver they barely touch would repeat them).
-        let mut ratios: Vec<f64> = comparison
+}
+
+/// For each contour mesh, the square mesh vertices the same error needs
+/// (by `measure`, called `name`): the median ratio and its range. The
+/// seed's layouts are counted once (not again with the shadow boundaries,
+/// which on a receiver they barely touch would repeat them).
+fn print_square_ratios(comparison: &ReceiverComparison, name: &str, measure: ErrorMeasure) {
+    let mut ratios: Vec<f64> = comparison
+        .records
+        .iter()
+        .filter(|r| r.spec.is_contour() && !matches!(r.spec, MeshSpec::ShadowContour { .. }))
+        .filter_map(|r| {
+            comparison
+                .vertices_for_measure(MeshSpec::is_square, measure, measure(r))
+                .map(|v| v / r.vertex_count() as f64)
+        })
+        .collect();
+    if ratios.is_empty() {
+        println!("  (no contour or greedy mesh falls within the square meshes' range of {name})");
+    } else {
+        ratios.sort_by(f64::total_cmp);
+        println!(
+            "  square meshes need {:.1}× (median; {:.1}× to {:.1}×) the contour and greedy meshes' vertices for the same {name}",
+            ratios[ratios.len() / 2],
+            ratios[0],
+            ratios[ratios.len() - 1]
+        );
+    }
+}
+
+/// The vertices the contour and greedy meshes together need for the
+/// error of `square` (the reference mesh), or where that error lies
+/// beyond theirs.
+fn print_against_reference(
+    comparison: &ReceiverComparison,
+    square: &MeshRecord,
+    name: &str,
+    measure: ErrorMeasure,
+) {
+    let reference = square.spec;
+    let error = measure(square);
+    match comparison.vertices_for_measure(MeshSpec::is_contour, measure, error) {
+        Some(vertices) => println!(
+            "  {reference}'s {name}, {error:.4}, takes the contour and greedy meshes {vertices:.0} vertices: {:.1}× fewer than its {}",
+            square.vertex_count() as f64 / vertices,
+            square.vertex_count()
+        ),
+        None => {
+            let smallest = comparison
+                .records
+                .iter()
+                .filter(|r| r.spec.is_contour())
+                .min_by_key(|r| r.vertex_count());
+            match smallest.filter(|r| measure(r) <= error) {
+                Some(r) => println!(
+                    "  {reference}'s {name}, {error:.4}, is above every contour and greedy mesh's: the smallest, {} with {} vertices, errs {:.4}",
+                    r.spec,
+                    r.vertex_count(),
+                    measure(r)
+                ),
+                None => println!(
+                    "  {reference}'s {name}, {error:.4}, is below every contour and greedy mesh's"
+                ),
+            }
+        }
+    }
+}
+
+/// [`print_against_reference`] for each mesher on its own.
+fn print_each_mesher(comparison: &ReceiverComparison, square: &MeshRecord, measure: ErrorMeasure) {
+    let error = measure(square);
+    let mut meshers: Vec<&str> = Vec::new();
+    for record in comparison.records.iter().filter(|r| r.spec.is_contour()) {
+        if !meshers.contains(&record.spec.mesher()) {
+            meshers.push(record.spec.mesher());
+        }
+    }
+    for mesher in meshers {
+        let of = |spec: &MeshSpec| spec.mesher() == mesher;
+        let smallest = comparison
             .records
             .iter()
-            .filter(|r| r.spec.is_contour() && !matches!(r.spec, MeshSpec::ShadowContour { .. }))
-            .filter_map(|r| {
-                comparison
-                    .vertices_for_measure(MeshSpec::is_square, measure, measure(r))
-                    .map(|v| v / r.vertex_count() as f64)
-            })
-            .collect();
-        if ratios.is_empty() {
-            println!(
-                "  (no contour or greedy mesh falls within the square meshes' range of {name})"
-            );
-        } else {
-            ratios.sort_by(f64::total_cmp);
-            println!(
-                "  square meshes need {:.1}× (median; {:.1}× to {:.1}×) the contour and greedy meshes' vertices for the same {name}",
-                ratios[ratios.len() / 2],
-                ratios[0],
-                ratios[ratios.len() - 1]
-            );
-        }
-        // Square 30 × 30, the seed paper's reference mesh: the vertices the
-        // contour meshes need for its error, along their lower envelope.
-        let reference = MeshSpec::Square { n: 30 };
-        if let Some(square) = comparison.record(reference) {
-            let error = measure(square);
-            match comparison.vertices_for_measure(MeshSpec::is_contour, measure, error) {
-                Some(vertices) => println!(
-                    "  {reference}'s {name}, {error:.4}, takes the contour and greedy meshes {vertices:.0} vertices: {:.1}× fewer than its {}",
-                    square.vertex_count() as f64 / vertices,
-                    square.vertex_count()
-                ),
-                None => {
-                    let smallest = comparison
-                        .records
-                        .iter()
-                        .filter(|r| r.spec.is_contour())
-                        .min_by_key(|r| r.vertex_count());
-                    match smallest.filter(|r| measure(r) <= error) {
-                        Some(r) => println!(
-                            "  {reference}'s {name}, {error:.4}, is above every contour and greedy mesh's: the smallest, {} with {} vertices, errs {:.4}",
-                            r.spec,
-                            r.vertex_count(),
-                            measure(r)
-                        ),
-                        None => println!(
-                            "  {reference}'s {name}, {error:.4}, is below every contour and greedy mesh's"
-                        ),
-                    }
-                }
-            }
-            // The same for each mesher on its own.
-            let mut meshers: Vec<&str> = Vec::new();
-            for record in comparison.records.iter().filter(|r| r.spec.is_contour()) {
-                if !meshers.contains(&record.spec.mesher()) {
-                    meshers.push(record.spec.mesher());
-                }
-            }
-            for mesher in meshers {
-                let of = |spec: &MeshSpec| spec.mesher() == mesher;
-                let smallest = comparison
-                    .records
-                    .iter()
-                    .filter(|r| of(&r.spec))
-                    .min_by_key(|r| r.vertex_count());
-                match (
-                    comparison.vertices_for_measure(of, measure, error),
-                    smallest,
-                ) {
-                    (Some(vertices), _) => println!(
-                        "    {mesher}: {vertices:.0} vertices, {:.1}× fewer",
-                        square.vertex_count() as f64 / vertices
-                    ),
-                    (None, Some(r)) if measure(r) <= error => println!(
-                        "    {mesher}: its smallest, {} with {} vertices, errs {:.4}",
-                        r.spec,
-                        r.vertex_count(),
-                        measure(r)
-                    ),
-                    (None, _) => println!("    {mesher}: every mesh errs more"),
-                }
-            }
+            .filter(|r| of(&r.spec))
+            .min_by_key(|r| r.vertex_count());
+        match (
+            comparison.vertices_for_measure(of, measure, error),
+            smallest,
+        ) {
+            (Some(vertices), _) => println!(
+                "    {mesher}: {vertices:.0} vertices, {:.1}× fewer",
+                square.vertex_count() as f64 / vertices
+            ),
+            (None, Some(r)) if measure(r) <= error => println!(
+                "    {mesher}: its smallest, {} with {} vertices, errs {:.4}",
+                r.spec,
+                r.vertex_count(),
+                measure(r)
+            ),
+            (None, _) => println!("    {mesher}: every mesh errs more"),
         }
     }
 }

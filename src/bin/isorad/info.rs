@@ -1,5 +1,5 @@
-//! `isorad info`: a scene's luminaires and, per receiver, its dominant
-//! luminaire and the mesher it would get.
+//! `isorad info`: a scene's area lights and, per receiver, its dominant
+//! light and the mesher it would get.
 
 use std::io::Write;
 
@@ -7,11 +7,11 @@ use clap::Args;
 use glam::DVec2;
 use isorad::{
     Scene, Settings, SurfaceId,
-    lighting::{ContourMesher, Luminaire, ReceiverAnalysis, luminaires},
+    lighting::{AreaLight, ContourMesher, ReceiverAnalysis, area_lights},
     load_scene,
+    meshing::{scene_receiver_analyses, scene_shadow_boundaries},
     photometry::LUMENS_PER_WATT,
     scene::Visibility,
-    solver::{scene_receiver_analyses, scene_shadow_boundaries},
 };
 
 use crate::args::with_flag_names;
@@ -32,7 +32,7 @@ pub struct InfoArgs {
     max_size_ratio: Option<f64>,
 }
 
-/// Prints the scene's luminaires and the dominant-emitter analysis of each
+/// Prints the scene's area lights and the dominant-emitter analysis of each
 /// receiver, as aligned text tables on stdout. The analysis takes the scene
 /// file's `[mesh.dominance]`, then the flags.
 pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
@@ -56,8 +56,9 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
         eprintln!("warning: {}", warning.message);
     }
     let visibility = Visibility::new(scene);
-    let lights = luminaires(scene);
+    let lights = area_lights(scene);
     let analyses = scene_receiver_analyses(scene, &visibility, &lights, &settings);
+    let mesh_settings = mesh_settings.resolve(scene);
     let boundaries = scene_shadow_boundaries(scene, &visibility, &lights, &mesh_settings);
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     writeln!(
@@ -70,7 +71,7 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
         analyses.len()
     )?;
     let header = ["luminaire", "surfaces", "area", "radius", "exitance (W/m²)"];
-    write_table(&mut out, &header, &luminaire_rows(&lights))?;
+    write_table(&mut out, &header, &area_light_rows(&lights))?;
     writeln!(out)?;
     if !scene.luminaires.is_empty() {
         // Luminous flux: the radiant power's luminance at 179 lm/W.
@@ -116,8 +117,8 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// One row per luminaire: index, surfaces, area, radius, exitance.
-fn luminaire_rows(lights: &[Luminaire]) -> Vec<Vec<String>> {
+/// One row per area light: index, surfaces, area, radius, exitance.
+fn area_light_rows(lights: &[AreaLight]) -> Vec<Vec<String>> {
     lights
         .iter()
         .enumerate()
@@ -135,8 +136,8 @@ fn luminaire_rows(lights: &[Luminaire]) -> Vec<Vec<String>> {
         .collect()
 }
 
-/// One row per receiver: index, name, area, dominant luminaire (an area
-/// luminaire's index among the `lights`, or `p` and a photometric one's), share,
+/// One row per receiver: index, name, area, dominant light (an area
+/// light's index among the `lights`, or `p` and a photometric luminaire's), share,
 /// size ratio, mesher, shadow boundaries.
 fn receiver_rows(
     scene: &Scene,

@@ -12,7 +12,7 @@ use isorad::{
     calculation::{FalseColorScale, write_falsecolor_image},
     export::ExportFormat,
     export_solution,
-    lighting::luminaires,
+    lighting::area_lights,
     photometry::LUMENS_PER_WATT,
     render::auto_exposure,
     write_exr, write_png,
@@ -271,7 +271,7 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
 fn emitted_flux(scene: &Scene) -> String {
     const LISTED: usize = 8;
     let lumens = |power: Rgb| power.luminance() * LUMENS_PER_WATT;
-    let mut each: Vec<(String, f64)> = luminaires(scene)
+    let mut each: Vec<(String, f64)> = area_lights(scene)
         .iter()
         .map(|lamp| {
             let name = &scene.surface(lamp.surfaces[0]).name;

@@ -65,11 +65,11 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use crate::lighting::SampleStream;
+use crate::lighting::{cosine_direction, cosine_direction_at};
 use crate::mesh::Mesh;
 use crate::scene::{Rgb, Scene, SurfaceId, Visibility, distance_to_boundary, polygon_contains};
 use crate::solver::light::element_index::{ElementIndex, padded_box};
 use crate::solver::light::unshot::{cell_coordinates, interpolated};
-use crate::solver::zones::{cosine_direction, cosine_direction_at};
 
 /// Rays each patch casts into its hemisphere (8 × 8 strata).
 const PATCH_SIDE: usize = 8;
@@ -618,7 +618,7 @@ fn stratified_direction(
     let (ring, sector) = (k / sectors % rings, k % sectors);
     let u1 = (ring as f64 + stream.next_f64()) / rings as f64;
     let u2 = (sector as f64 + stream.next_f64()) / sectors as f64;
-    cosine_direction_at(normal, (u1, u2))
+    cosine_direction_at(normal, u1, u2)
 }
 
 /// The `k`-th of `count` stratified points on patch `p`'s elements

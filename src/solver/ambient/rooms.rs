@@ -30,10 +30,10 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::mesh::Mesh;
+use crate::meshing::ZoneLabels;
 use crate::scene::{ProbePoint, Scene, SurfaceId, Visibility};
 use crate::solver::ambient::rays::{PatchRays, VERTEX_RAYS, VertexRays};
 use crate::solver::reading::solution::locate_probe;
-use crate::solver::zones::ZoneLabels;
 
 /// The most vertex rays kept from one image to the next: 2²⁴, about
 /// 175,000 vertices' (96 MiB). A larger mesh's rooms cast theirs for each

@@ -173,7 +173,7 @@ pub struct Solution<'a> {
     pub(crate) ambient: AmbientIrradiance,
     /// The closed zone of every surface, when the solver found more than
     /// one: an image taken from inside a closed room draws that room alone.
-    pub(crate) zones: Option<&'a crate::solver::zones::ZoneLabels>,
+    pub(crate) zones: Option<&'a crate::meshing::ZoneLabels>,
     /// How far each surface's boundary vertices gather inside it, by
     /// surface index (the scene's inset past its end).
     pub(crate) receiver_insets: &'a [f64],

@@ -42,9 +42,9 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::mesh::Mesh;
+use crate::meshing::ShotPlaces;
 use crate::radiometry::polygon_form_factor;
 use crate::scene::{Rgb, Scene};
-use crate::solver::zones::ShotPlaces;
 
 /// How far the correction may move an element's power: a factor between
 /// 1/`MAX_RATIO` and `MAX_RATIO` (a corner exactly on the emitter's plane

@@ -24,8 +24,8 @@
 //! M. F. Cohen, J. R. Wallace, "Radiosity and Realistic Image Synthesis"
 //! (1993), §5.3 (reusing form factors).
 
+use crate::meshing::ShotPlaces;
 use crate::solver::shot::shooter::Gathered;
-use crate::solver::zones::ShotPlaces;
 
 /// Rays a vertex must have cast to one shooter, all agreeing, for its view
 /// of the shooter to be remembered.

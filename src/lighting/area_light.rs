@@ -1,15 +1,15 @@
-//! Luminaires: emitting surfaces grouped into the lamps they model.
+//! Area lights: emitting surfaces grouped into the lamps they model.
 //!
 //! OBJ exports often split one lamp into several polygons (a quad into two
 //! triangles, a panel into strips). For the dominant-emitter analysis and the
 //! contour mesher a lamp is one emitter, so coplanar, touching emitting
-//! surfaces of one material are joined into one [`Luminaire`].
+//! surfaces of one material are joined into one [`AreaLight`].
 
 use glam::DVec3;
 
 use crate::scene::{Rgb, Scene, Surface, SurfaceId};
 
-/// Normals of one luminaire's surfaces differ by at most this (unit vectors).
+/// Normals of one area light's surfaces differ by at most this (unit vectors).
 const NORMAL_TOLERANCE: f64 = 1e-6;
 
 /// Distances (off the plane, between touching boundaries) below this
@@ -20,7 +20,7 @@ const DISTANCE_TOLERANCE: f64 = 1e-5;
 /// One lamp: coplanar emitting surfaces of one material that share an edge
 /// or a vertex.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Luminaire {
+pub struct AreaLight {
     /// Its surfaces, ascending.
     pub surfaces: Vec<SurfaceId>,
     /// Unit normal of its emitting side.
@@ -35,20 +35,20 @@ pub struct Luminaire {
     pub exitance: Rgb,
 }
 
-/// Groups the scene's emitting surfaces into luminaires.
+/// Groups the scene's emitting surfaces into area lights.
 ///
-/// Two emitting surfaces i, j belong to one luminaire when they share a
+/// Two emitting surfaces i, j belong to one area light when they share a
 /// material, their unit normals differ by at most 10⁻⁶ (|n_i − n_j|), each
 /// one's centroid lies within ε of the other's plane, and their boundaries
 /// touch: a vertex of one lies within ε of an edge (or vertex) of the other.
-/// ε is 10⁻⁵ of the scene's diagonal. Luminaires are the connected groups of
+/// ε is 10⁻⁵ of the scene's diagonal. Area lights are the connected groups of
 /// this relation, ordered by their first surface.
 ///
 /// # References
 /// R. E. Tarjan, "Efficiency of a Good But Not Linear Set Union Algorithm",
 /// JACM 22 (1975) (the union–find that joins the groups).
 #[must_use]
-pub fn luminaires(scene: &Scene) -> Vec<Luminaire> {
+pub fn area_lights(scene: &Scene) -> Vec<AreaLight> {
     let emitters: Vec<SurfaceId> = scene
         .surfaces_with_ids()
         .filter(|(_, surface)| is_emitting(scene, surface))
@@ -79,7 +79,7 @@ pub fn luminaires(scene: &Scene) -> Vec<Luminaire> {
             }
             let overlap = boxes[a].0.cmple(boxes[b].1).all() && boxes[b].0.cmple(boxes[a].1).all();
             let (sa, sb) = (scene.surface(emitters[a]), scene.surface(emitters[b]));
-            if overlap && same_luminaire(sa, sb, tolerance) {
+            if overlap && same_area_light(sa, sb, tolerance) {
                 let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
                 parent[ra.max(rb)] = ra.min(rb);
             }
@@ -98,7 +98,7 @@ pub fn luminaires(scene: &Scene) -> Vec<Luminaire> {
     }
     groups
         .into_iter()
-        .map(|surfaces| luminaire_of(scene, surfaces))
+        .map(|surfaces| area_light_of(scene, surfaces))
         .collect()
 }
 
@@ -120,7 +120,7 @@ fn root(parent: &mut [usize], mut k: usize) -> usize {
 }
 
 /// Whether two emitting surfaces are parts of one lamp.
-fn same_luminaire(a: &Surface, b: &Surface, tolerance: f64) -> bool {
+fn same_area_light(a: &Surface, b: &Surface, tolerance: f64) -> bool {
     let coplanar = a.material == b.material
         && (a.normal() - b.normal()).length() <= NORMAL_TOLERANCE
         && a.frame().height(b.frame().origin).abs() <= tolerance
@@ -144,8 +144,8 @@ fn distance_to_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
     p.distance(a + edge * t)
 }
 
-/// The luminaire made of the given (non-empty) surfaces.
-fn luminaire_of(scene: &Scene, surfaces: Vec<SurfaceId>) -> Luminaire {
+/// The area light made of the given (non-empty) surfaces.
+fn area_light_of(scene: &Scene, surfaces: Vec<SurfaceId>) -> AreaLight {
     // Area-weighted normal and centroid.
     let mut area = 0.0;
     let mut weighted_normal = DVec3::ZERO;
@@ -163,7 +163,7 @@ fn luminaire_of(scene: &Scene, surfaces: Vec<SurfaceId>) -> Luminaire {
         .map(|v| v.distance(centre))
         .fold(0.0, f64::max);
     let first = scene.surface(surfaces[0]);
-    Luminaire {
+    AreaLight {
         normal: weighted_normal.normalize_or(first.normal()),
         centre,
         area,
