@@ -474,7 +474,7 @@ impl Solver {
                 clear: shafts.is_clear(index) || recalled == Recall::Visible,
                 occluders: shafts.occluders_of(index),
             };
-            shooter.gather(&receiver, density, shot, kernel, (visibility, cache))
+            shooter.gather(&receiver, density, shot, kernel, visibility, cache)
         };
         let zone_size = zone
             .zip(members)
@@ -634,7 +634,8 @@ impl Solver {
             patch.cell,
             surface.normal(),
             patch.surface,
-            (min_side, max_side),
+            min_side,
+            max_side,
             radiosity,
         )
     }
@@ -1601,7 +1602,7 @@ impl Solver {
                 if shooter.surface == vertex.surface || elsewhere(shooter) {
                     continue;
                 }
-                let g = shooter.gather(&receiver, density, shot, kernel, (visibility, &mut *cache));
+                let g = shooter.gather(&receiver, density, shot, kernel, visibility, &mut *cache);
                 irradiance += g.irradiance;
                 rays += u64::from(g.rays);
             }
