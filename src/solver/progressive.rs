@@ -4,19 +4,18 @@
 //! ledger), refines an adaptive mesh after direct light, and runs until a
 //! stop criterion (`run.rs`) is met.
 
-use std::sync::atomic::Ordering;
-use std::time::Instant;
+mod accessors;
+mod run_loop;
 
 use rayon::prelude::*;
 
 use super::mesh_settings::MeshKind;
 use super::refinement::{Refiner, elements_to_split};
-use super::run::{Progress, StopReason, Until};
 use super::scene_mesh::{MeshAnalysis, SceneMesh, mesh_scene_in_zones};
 use super::settings::{Settings, ShootFrom, SolverSettings};
 use super::zones::Zones;
 use crate::freed_memory::give_back_freed_memory;
-use crate::mesh::{ElementHierarchy, Mesh};
+use crate::mesh::Mesh;
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Camera, Rgb, Scene, SurfaceId, Visibility};
 use crate::solver::ambient::irradiance::AmbientIrradiance;
@@ -211,17 +210,6 @@ impl Solver {
         }
     }
 
-    /// How many closed zones the scene's surfaces fall into (rooms that
-    /// exchange no light; open space counts as one); 1 when the cull is off
-    /// ([`SolverSettings::cull_closed_zones`]).
-    #[must_use]
-    pub fn closed_zones(&self) -> usize {
-        self.layout
-            .zones
-            .as_ref()
-            .map_or(1, |CulledZones { zones, .. }| zones.count())
-    }
-
     /// Shoots the next photometric luminaire not yet shot, else the
     /// emitting patch with the most emission not yet shot, else the patch
     /// with the most unshot power (in a building of closed rooms, the last
@@ -375,65 +363,6 @@ impl Solver {
 
     fn reflectance(&self, vertex: usize) -> Rgb {
         self.layout.surface_reflectance[self.mesh.vertices[vertex].surface.index()]
-    }
-
-    /// Whether some emission (a photometric luminaire, or an emitting
-    /// patch's first shot) has not been shot yet: a solve is not converged
-    /// before it has.
-    #[must_use]
-    pub fn emission_pending(&self) -> bool {
-        !self.light.emission_pending.is_empty() || self.light.luminaire_shot.contains(&false)
-    }
-
-    /// Unshot power over emitted power (sums of channels), after the patch
-    /// shots what they left ([`Solver::shoot_patches`]); 0 for a dark
-    /// scene.
-    #[must_use]
-    pub fn unshot_fraction(&self) -> f64 {
-        let emitted = self.light.emitted_power.element_sum();
-        if emitted > 0.0 {
-            self.unshot_power().element_sum() / emitted
-        } else {
-            0.0
-        }
-    }
-
-    /// The unshot fraction [`SolverSettings::tolerance`] is held to: the
-    /// unshot power the vertices' shots leave, with each closed zone's
-    /// counted at [`SolverSettings::closed_zone_weight`], over the emitted
-    /// power (sums of channels); 0 for a dark scene. The patch shots do not
-    /// change it: after them [`Solver::unshot_fraction`] reads less, and
-    /// the next shot takes that back to what the vertices' shots leave.
-    #[must_use]
-    pub fn convergence_fraction(&self) -> f64 {
-        let emitted = self.light.emitted_power.element_sum();
-        if emitted > 0.0 {
-            (self.light.unshot_by_zone.weighted_total() + self.unshot_luminaires().element_sum())
-                / emitted
-        } else {
-            0.0
-        }
-    }
-
-    /// The power not yet shot: what the patch shots left, if the last run
-    /// made them, or what the vertices' shots left.
-    fn unshot_power(&self) -> Rgb {
-        let unshot = match &self.ambient.patch_shots {
-            Some(shots) => shots.left,
-            None => self.light.unshot_by_zone.total(),
-        };
-        unshot + self.unshot_luminaires()
-    }
-
-    /// The power of the photometric luminaires that have not shot yet.
-    fn unshot_luminaires(&self) -> Rgb {
-        self.scene
-            .luminaires
-            .iter()
-            .zip(&self.light.luminaire_shot)
-            .filter(|(_, shot)| !**shot)
-            .map(|(l, _)| l.power())
-            .sum()
     }
 
     /// Radiosity per vertex (W/m²) from the light shot so far, B = E + ρ H
@@ -981,103 +910,9 @@ impl Solver {
             escaped: self.light.shot_power - self.light.received_power + escaped,
         }
     }
-
-    /// The element hierarchy of an adaptive solve ([`MeshKind::Adaptive`]),
-    /// whose leaves are the mesh's elements; `None` for other meshes.
-    #[must_use]
-    pub fn hierarchy(&self) -> Option<&ElementHierarchy> {
-        self.refiner.as_ref().map(|r| &r.hierarchy)
-    }
-
-    /// What the solve has done so far: shots, shadow rays, and what shaft
-    /// culling, the visibility memory and coarse reception saved.
-    #[must_use]
-    pub fn stats(&self) -> SolveStats {
-        self.stats
-    }
-
-    /// The settings in use.
-    #[must_use]
-    pub fn settings(&self) -> &SolverSettings {
-        &self.settings
-    }
-
-    /// The scene being solved.
-    #[must_use]
-    pub fn scene(&self) -> &Scene {
-        &self.scene
-    }
-
-    /// The mesh whose vertices receive light.
-    #[must_use]
-    pub fn mesh(&self) -> &Mesh {
-        &self.mesh
-    }
-
-    /// The shadow-ray structure over the scene.
-    #[must_use]
-    pub fn visibility(&self) -> &Visibility {
-        &self.visibility
-    }
-
-    /// What meshing found: luminaires, receivers' analyses, contour-meshed
-    /// surfaces (empty for square meshing or a caller's mesh).
-    #[must_use]
-    pub fn mesh_analysis(&self) -> &MeshAnalysis {
-        &self.layout.analysis
-    }
 }
 
 impl Solver {
-    /// Shoots until a criterion of `until` is met, calling `progress` after
-    /// every shot. Criteria are checked between shots, so a cancelled or
-    /// timed-out run leaves a consistent solution (one shot is typically a
-    /// few milliseconds). The buffers a shot works in are given back when
-    /// the run stops, before an image's ambient term needs the memory. A
-    /// run that converges (or finds nothing to shoot) then shoots what is
-    /// left patch to patch ([`Solver::shoot_patches`]).
-    pub fn run_until(&mut self, until: &Until, mut progress: impl FnMut(&Progress)) -> StopReason {
-        let start = Instant::now();
-        let tolerance = until.tolerance.unwrap_or(self.settings().tolerance);
-        let total_shots = until.total_shots.unwrap_or(self.settings().max_shots);
-        let reason = loop {
-            if until.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                break StopReason::Cancelled;
-            }
-            if self.convergence_fraction() <= tolerance && !self.emission_pending() {
-                break StopReason::Converged;
-            }
-            if self.stats().shots >= total_shots {
-                break StopReason::ShotLimit;
-            }
-            if until.time_budget.is_some_and(|b| start.elapsed() >= b) {
-                break StopReason::TimeBudget;
-            }
-            if !self.step() {
-                break StopReason::NothingToShoot;
-            }
-            progress(&Progress {
-                unshot_fraction: self.unshot_fraction(),
-                convergence_fraction: self.convergence_fraction(),
-                shots: self.stats().shots,
-                rays: self.stats().rays,
-                elapsed: start.elapsed(),
-            });
-        };
-        self.release_shot_buffers();
-        // Patch shots made since the last shot stand: no shot came after.
-        let made = self.patch_shot_summary().is_some();
-        if matches!(reason, StopReason::Converged | StopReason::NothingToShoot) && !made {
-            self.shoot_patches();
-        }
-        reason
-    }
-
-    /// Shoots until the settings' tolerance or shot limit is reached.
-    pub fn run(&mut self) -> StopReason {
-        self.run_until(&Until::default(), |_| {})
-    }
-
     /// Splits the elements whose vertices disagree (see [`elements_to_split`]),
     /// level by level until none does, and gives every new vertex the light
     /// of all shots so far by gathering it (see
