@@ -1,11 +1,11 @@
-//! Driving the solver: when to stop, progress reports, cancellation.
+//! When a run of the solver stops ([`Until`]: tolerance, shot limit, time
+//! budget, cancellation), why it stopped, and the progress it reports after
+//! each shot.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
 
-use super::progressive::Solver;
-
-/// When [`Solver::run_until`] stops: whichever criterion is met first.
+/// When [`Solver::run_until`](crate::Solver::run_until) stops: whichever criterion is met first.
 ///
 /// Built with chained methods; criteria left out do not apply, except the
 /// tolerance and the shot limit, which default to the solver's settings.
@@ -25,7 +25,7 @@ use super::progressive::Solver;
 pub struct Until<'c> {
     /// Stop when the unshot power the vertices' shots leave is at most
     /// this fraction of the emitted power, closed zones' counted at their
-    /// weight ([`Solver::convergence_fraction`], which the patch shots do
+    /// weight ([`Solver::convergence_fraction`](crate::Solver::convergence_fraction), which the patch shots do
     /// not change); `None`: the solver settings' tolerance.
     pub tolerance: Option<f64>,
     /// Stop when the solver has made this many shots in all (earlier runs
@@ -68,7 +68,7 @@ impl<'c> Until<'c> {
     }
 }
 
-/// Why [`Solver::run_until`] stopped. In every case the solver is between
+/// Why [`Solver::run_until`](crate::Solver::run_until) stopped. In every case the solver is between
 /// two shots: its solution is consistent and its energy ledger balanced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
@@ -85,7 +85,7 @@ pub enum StopReason {
     NothingToShoot,
 }
 
-/// What the progress callback of [`Solver::run_until`] sees after each shot.
+/// What the progress callback of [`Solver::run_until`](crate::Solver::run_until) sees after each shot.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct Progress {
@@ -93,7 +93,7 @@ pub struct Progress {
     pub unshot_fraction: f64,
     /// The unshot fraction the tolerance is held to (closed zones' counted
     /// at [`crate::SolverSettings::closed_zone_weight`]; see
-    /// [`Solver::convergence_fraction`]).
+    /// [`Solver::convergence_fraction`](crate::Solver::convergence_fraction)).
     pub convergence_fraction: f64,
     /// Shots made so far, in all.
     pub shots: usize,
@@ -101,55 +101,4 @@ pub struct Progress {
     pub rays: u64,
     /// Time since this run started.
     pub elapsed: Duration,
-}
-
-impl Solver {
-    /// Shoots until a criterion of `until` is met, calling `progress` after
-    /// every shot. Criteria are checked between shots, so a cancelled or
-    /// timed-out run leaves a consistent solution (one shot is typically a
-    /// few milliseconds). The buffers a shot works in are given back when
-    /// the run stops, before an image's ambient term needs the memory. A
-    /// run that converges (or finds nothing to shoot) then shoots what is
-    /// left patch to patch ([`Solver::shoot_patches`]).
-    pub fn run_until(&mut self, until: &Until, mut progress: impl FnMut(&Progress)) -> StopReason {
-        let start = Instant::now();
-        let tolerance = until.tolerance.unwrap_or(self.settings().tolerance);
-        let total_shots = until.total_shots.unwrap_or(self.settings().max_shots);
-        let reason = loop {
-            if until.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                break StopReason::Cancelled;
-            }
-            if self.convergence_fraction() <= tolerance && !self.emission_pending() {
-                break StopReason::Converged;
-            }
-            if self.stats().shots >= total_shots {
-                break StopReason::ShotLimit;
-            }
-            if until.time_budget.is_some_and(|b| start.elapsed() >= b) {
-                break StopReason::TimeBudget;
-            }
-            if !self.step() {
-                break StopReason::NothingToShoot;
-            }
-            progress(&Progress {
-                unshot_fraction: self.unshot_fraction(),
-                convergence_fraction: self.convergence_fraction(),
-                shots: self.stats().shots,
-                rays: self.stats().rays,
-                elapsed: start.elapsed(),
-            });
-        };
-        self.release_shot_buffers();
-        // Patch shots made since the last shot stand: no shot came after.
-        let made = self.patch_shot_summary().is_some();
-        if matches!(reason, StopReason::Converged | StopReason::NothingToShoot) && !made {
-            self.shoot_patches();
-        }
-        reason
-    }
-
-    /// Shoots until the settings' tolerance or shot limit is reached.
-    pub fn run(&mut self) -> StopReason {
-        self.run_until(&Until::default(), |_| {})
-    }
 }

@@ -87,7 +87,7 @@ pub struct SolverSettings {
     /// emitters' first shots): they draw the shadows, whose penumbrae need
     /// many visibility samples. A shooter carrying a fraction f of that power
     /// gets about `direct_samples · f^0.75` samples, and never fewer than
-    /// one (see `solver/progressive.rs`, `SHARE_EXPONENT`).
+    /// one (see `solver/shot/samples.rs`, `SHARE_EXPONENT`).
     pub direct_samples: usize,
     /// Upper bound on samples per shooting patch and receiver vertex.
     pub max_samples: usize,
@@ -161,14 +161,9 @@ pub struct SolverSettings {
     /// ([`SolverSettings::ambient_sweeps`]), and the zone receives it whole
     /// ([`SolverSettings::conserve_closed_zones`]); in the open, light
     /// leaves, the ambient term's guess of where the rest goes is poorer,
-    /// and the unshot power counts in full. With the sweeps and 96 rays a
-    /// vertex the offices render at 0.1 about as well as at 0.15 or 0.5 in
-    /// a fraction of the time (BENCHMARKS.md, (e): the cluttered office
-    /// 2.68 % per pixel in 1.8 s, against 2.69 % in 2.0 s at 0.15 with 64
-    /// rays and 2.71 % in 3.8 s at 0.5); `scenes/room` and the shipped
-    /// office read 0.1–0.3 points worse than at 0.15, in 5–10 % less time.
-    /// The open table's shadow rendered 2.50 % off per pixel at 10 %
-    /// against 2.18 % at 5 %. In (0, 1]; 1 holds every zone to the
+    /// and the unshot power counts in full. With the sweeps, closed rooms
+    /// render at 0.1 about as well as at higher weights in a fraction of
+    /// the time (BENCHMARKS.md, (e)). In (0, 1]; 1 holds every zone to the
     /// tolerance. Without `conserve_closed_zones` every zone counts in full.
     pub closed_zone_weight: f64,
     /// Average each vertex's ambient irradiance with its mesh neighbours',

@@ -158,7 +158,11 @@ impl LandingElement {
         let element = mesh.elements.get(e)?;
         let coordinate = |k: u16| f64::from(k) / f64::from(u16::MAX);
         let st = (coordinate(self.st[0]), coordinate(self.st[1]));
-        Some(interpolated(corners(e), element.is_triangle(), st))
+        Some(interpolated(
+            corners(e),
+            element.is_triangle(),
+            glam::DVec2::from(st),
+        ))
     }
 }
 

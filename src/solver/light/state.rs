@@ -82,13 +82,13 @@ impl LightState {
                 false => 1.0,
             })
             .collect();
-        let counts = (&unshot[..], &layout.patch_areas[..]);
+        let areas = &layout.patch_areas[..];
         let unshot_by_zone = match layout.zones() {
             Some(zones) => {
                 let zone_of = mesh.patches.iter().map(|p| zones.of(p.surface));
-                UnshotByZone::new(zone_of, zones.count(), counts, weights)
+                UnshotByZone::new(zone_of, zones.count(), &unshot, areas, weights)
             }
-            None => UnshotByZone::new(mesh.patches.iter().map(|_| 0), 1, counts, weights),
+            None => UnshotByZone::new(mesh.patches.iter().map(|_| 0), 1, &unshot, areas, weights),
         };
         LightState {
             irradiance: VertexIrradiance::zeros(mesh.vertices.len()),

@@ -5,9 +5,8 @@
 //! Progressive refinement shoots the patch with the most unshot power
 //! (Cohen, Chen, Wallace & Greenberg 1988), and stops when the unshot
 //! power falls under a share of the emitted. Found by scanning every
-//! patch, both cost a pass over the building per shot: in a floor of 16
-//! closed offices (6,592 patches, 5,796 shots) the scans took 5 % of the
-//! solve, and they grow with the square of the rooms. A shot changes the
+//! patch, both cost a pass over the building per shot, which grows with
+//! the square of the rooms. A shot changes the
 //! unshot power of its own closed zone's patches only (see `zones.rs`), so
 //! each zone keeps its strongest patch and its total, and a shot recounts
 //! its zone alone; the choice is then among the zones' strongest.
@@ -24,9 +23,8 @@
 //! strongest patch while that holds at least a share (the setting
 //! `zone_affinity`, 0.5) of the strongest power of all: shots stay in one
 //! room for a while, and its vertices, elements and BVH stay in the
-//! processor's caches. Chosen from all zones at every shot, the floor of 16
-//! offices cast its rays at 0.88–0.89 of one office's rate (5.0 M/s against
-//! 5.7 M/s); staying, at 0.96 of it. Within a zone the choice is the one a
+//! processor's caches, which keeps a building's ray rate near one room's.
+//! Within a zone the choice is the one a
 //! scan of its patches makes: the greatest power, and of equals the
 //! highest index.
 //!
@@ -63,7 +61,8 @@ impl UnshotByZone {
     pub(crate) fn new(
         zone_of_patch: impl Iterator<Item = usize>,
         zones: usize,
-        (unshot, areas): (&[Rgb], &[f64]),
+        unshot: &[Rgb],
+        areas: &[f64],
         mut weights: Vec<f64>,
     ) -> UnshotByZone {
         debug_assert_eq!(weights.len(), unshot.len());
@@ -81,20 +80,20 @@ impl UnshotByZone {
             current: None,
         };
         for zone in 0..counted.patches.len() {
-            counted.recount(zone, (unshot, areas));
+            counted.recount(zone, unshot, areas);
         }
         counted
     }
 
     /// Counts zone `zone` again after a shot there changed its patches'
     /// unshot radiosity.
-    pub(crate) fn shot_in(&mut self, zone: usize, counts: (&[Rgb], &[f64])) {
-        self.recount(zone, counts);
+    pub(crate) fn shot_in(&mut self, zone: usize, unshot: &[Rgb], areas: &[f64]) {
+        self.recount(zone, unshot, areas);
         self.current = Some(zone);
     }
 
     /// Counts zone `zone` again.
-    fn recount(&mut self, zone: usize, (unshot, areas): (&[Rgb], &[f64])) {
+    fn recount(&mut self, zone: usize, unshot: &[Rgb], areas: &[f64]) {
         let mut strongest: Option<(u32, f64)> = None;
         let mut total = Rgb::ZERO;
         let mut weighted = 0.0;
@@ -119,9 +118,9 @@ impl UnshotByZone {
     }
 
     /// Counts every zone again.
-    pub(crate) fn recount_all(&mut self, (unshot, areas): (&[Rgb], &[f64])) {
+    pub(crate) fn recount_all(&mut self, unshot: &[Rgb], areas: &[f64]) {
         for zone in 0..self.patches.len() {
-            self.recount(zone, (unshot, areas));
+            self.recount(zone, unshot, areas);
         }
     }
 
@@ -130,8 +129,7 @@ impl UnshotByZone {
     /// the share `affinity` of the strongest of all, that one otherwise.
     /// None without patches.
     ///
-    /// At 0.5 the floor of 16 offices solved 9 % faster for 1.5 % more
-    /// shots, and 0.25 gained a further 1 %. When the solve stops, no zone's
+    /// When the solve stops, no zone's
     /// strongest patch holds more than 1/`affinity` times the power a scan
     /// of all patches would have left it.
     #[must_use]
@@ -189,12 +187,8 @@ mod tests {
         let weights: Vec<f64> = (0..40)
             .map(|p| if p % 4 == 0 { 0.5 } else { 1.0 })
             .collect();
-        let mut counted = UnshotByZone::new(
-            zone_of.iter().copied(),
-            6,
-            (&unshot, &areas),
-            weights.clone(),
-        );
+        let mut counted =
+            UnshotByZone::new(zone_of.iter().copied(), 6, &unshot, &areas, weights.clone());
         assert_eq!(counted.strongest().map(|(_, power)| power), Some(0.0));
         let mut state = 12345u64;
         let mut next = || {
@@ -210,7 +204,7 @@ mod tests {
                 let level = (next() % 4) as f64;
                 unshot[p] = Rgb::new(level, 0.5 * level, 0.0) / areas[p];
             }
-            counted.shot_in(zone, (&unshot, &areas));
+            counted.shot_in(zone, &unshot, &areas);
             let power = |p: usize| unshot[p].element_sum() * areas[p];
             let scan = (0..40)
                 .map(|p| (p, power(p)))

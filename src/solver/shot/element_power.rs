@@ -10,12 +10,9 @@
 //! over most of a room's surfaces (it falls off from under and beside each
 //! lamp), so the rule loses power on them: a 2 × 2 m floor in 1 m elements
 //! 1 m under a 1 m lamp received 13.5 % too little
-//! (`tests/it/solver.rs`). In an empty office meshed at 0.4 m and 0.2 m,
-//! the walls and ceiling came out 2.7 % and 1.1 % dark against a path
-//! tracer, and this correction takes 0.5 and 0.1 points of that (measured
-//! by hand, `isorad probe` at 44 points against `bench/mitsuba_probe.py`);
-//! the rest is the reflected light's own curvature and the rows of
-//! elements along the room's junctions.
+//! (`tests/it/solver.rs`). Coarse meshes of a room come out dark against a
+//! path tracer partly for this; the rest is the reflected light's own
+//! curvature and the rows of elements along the room's junctions.
 //!
 //! The emitter's unoccluded field is known exactly at any point (Lambert's
 //! polygon factor), so the received power is corrected by the ratio of that
@@ -41,10 +38,10 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::mesh::Mesh;
-use crate::meshing::ShotPlaces;
+use crate::mesh::{Cell, Mesh};
 use crate::radiometry::polygon_form_factor;
 use crate::scene::{Rgb, Scene};
+use crate::solver::shot::receivers::ShotReceivers;
 
 /// How far the correction may move an element's power: a factor between
 /// 1/`MAX_RATIO` and `MAX_RATIO` (a corner exactly on the emitter's plane
@@ -60,21 +57,35 @@ fn unoccluded_factor(x: DVec3, n: DVec3, emitter: &[DVec3], emitter_normal: DVec
     polygon_form_factor(x, n, emitter).max(0.0)
 }
 
-/// The power (W) each of `elements` receives from the shot of an emitting
-/// patch `emitter` (its polygon and front normal) that gave the vertices
-/// `incident` irradiance, each at its place (`places`), by element index
-/// in `elements`' order (see the module's documentation). `vertices` are
-/// the elements' corners (the shot's closed zone, or the whole mesh), in
-/// the order of their places: the unoccluded field is read once at each
-/// (at its receiver position) and once per element, at its centre, so a
-/// shot in one room of a building costs that room alone.
+/// An emitting patch as its shot's receivers see it: its cell and the
+/// normal of its front.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Emitter {
+    pub(crate) cell: Cell,
+    pub(crate) normal: DVec3,
+}
+
+/// The power (W) each of the `receivers`' elements receives from the shot
+/// of `emitter` that gave their vertices `incident` irradiance, each at its
+/// place, in the order of the elements (see the module's documentation).
+/// The receivers' vertices are the elements' corners (the shot's closed
+/// zone, or the whole mesh), in the order of their places: the unoccluded
+/// field is read once at each (at its receiver position) and once per
+/// element, at its centre, so a shot in one room of a building costs that
+/// room alone.
 pub(crate) fn emitter_shot_powers(
     scene: &Scene,
     mesh: &Mesh,
-    (emitter, emitter_normal): (&[DVec3], DVec3),
-    (incident, places): (&[Rgb], ShotPlaces<'_>),
-    (vertices, elements): (&[u32], &[u32]),
+    emitter: &Emitter,
+    incident: &[Rgb],
+    receivers: &ShotReceivers<'_>,
 ) -> Vec<Rgb> {
+    let (emitter, emitter_normal) = (emitter.cell.polygon(), emitter.normal);
+    let ShotReceivers {
+        vertices,
+        elements,
+        places,
+    } = *receivers;
     let normal = |surface| scene.surface(surface).normal();
     // The unoccluded factor at every vertex, shadowed or not.
     let factors: Vec<f64> = vertices

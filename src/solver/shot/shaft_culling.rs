@@ -30,21 +30,16 @@
 //! lists leave out and the BVH's f32 boxes mostly do
 //! (`Visibility::is_unblocked_among`). Lists are made only where the
 //! shafts keep the whole shooter; a vertex takes the shortest of its
-//! elements'. On the 16 cluttered offices of `bench/generate_building.py`
-//! (their 96 lamps' shots) the element lists took the solve from 4.8 to
-//! 3.5 s, with the same image to 0.006 % per pixel, and picking them from
-//! the patch's list took it from 3.0 to 2.75 s (after the exact factor at
-//! clear vertices). Longer element lists lost more to the traversal than
-//! they saved (16: the same; 32: 4.3 s; 64: 5.4 s), and a patch's list used
-//! for its elements' rays, in place of theirs, gave no gain.
+//! elements'. Longer element lists lose more to the traversal than they
+//! save, and a patch's list used for its elements' rays, in place of
+//! theirs, gains nothing.
 //!
 //! The irradiance is the rays' own but for one thing: a reflected shot's
 //! shafts leave out a rim of the shooter as wide as its surface's
 //! receivers' inset (a ten-thousandth of its room's diagonal,
 //! `mesh/assembly.rs`), so that a wall meeting a ceiling patch at its edge
 //! does not touch every shaft of it. A ray aimed into that rim and grazing
-//! something there is then taken as unblocked (in the Cornell box, one
-//! vertex of one shot, where the slightly bent ceiling meets a wall).
+//! something there is then taken as unblocked.
 //! Emitters' shafts keep the whole cell: their shadow boundaries are
 //! meshed, and a vertex on one sees an occluder's edge line up with the
 //! emitter's.
@@ -134,6 +129,27 @@ impl ReceiverShafts {
         self.verdicts[v as usize] = list + 1;
     }
 
+    /// Takes one patch's verdicts: its clear vertices, and its lists
+    /// offered to theirs.
+    fn take(&mut self, found: &PatchShafts) {
+        for &v in &found.clear {
+            self.mark(v);
+        }
+        // A shot's lists are its zone's elements' at most, eight
+        // triangles each: far under 2³² − 2 (`CLEAR` and `UNKNOWN`).
+        debug_assert!(self.occluders.len() + found.occluders.len() < CLEAR as usize);
+        debug_assert!(self.lists.len() + found.lists.len() < (CLEAR - 1) as usize);
+        let base = self.occluders.len() as u32;
+        self.occluders.extend_from_slice(&found.occluders);
+        for &((first, count), (start, length)) in &found.lists {
+            let list = self.lists.len() as u32;
+            self.lists.push((base + start, length));
+            for &v in &found.listed[first as usize..(first + count) as usize] {
+                self.offer(v, list);
+            }
+        }
+    }
+
     /// Whether vertex `v` sees all of the shooter.
     #[must_use]
     pub(crate) fn is_clear(&self, v: usize) -> bool {
@@ -161,10 +177,8 @@ const MOST_OCCLUDERS: usize = 8;
 
 /// The most triangles a patch's shaft to an emitter lists for its
 /// elements' shafts to pick theirs from; beyond, each element's shaft
-/// traverses the BVH. On the 16 cluttered offices' lamps' shots, where
-/// every element's shaft traversed the BVH the solve took 3.00 s; with a
-/// patch's list of up to 32, 64, 128 or 256 triangles 3.00, 2.85, 2.75
-/// and 2.89 s, the same image.
+/// traverses the BVH. Shorter or longer lists solve a building of
+/// furnished offices more slowly, with the same image.
 const PATCH_OCCLUDERS: usize = 128;
 
 /// What one receiving patch's shafts found: the vertices clear, and the
@@ -241,177 +255,231 @@ impl ReceivingBoxes {
     }
 
     /// Finds, for the vertices of the `patches` (all when `None`), what
-    /// their shafts to `shooter` hold, into `shafts` (reset for the
-    /// mesh's vertices), counting every triangle of `visibility` but the
-    /// shooter's and the patch's own surfaces'. Each patch's shaft to its
-    /// receiving points is tested for being clear; where it is not but its
-    /// elements would each cast [`ELEMENT_RAYS`] rays or more (an
-    /// emitter's shot), each element's shaft is, picking its triangles from
-    /// the patch's list when that held at most [`PATCH_OCCLUDERS`], and is
-    /// listed when it holds at most [`MOST_OCCLUDERS`] and `rim` is zero.
-    /// A vertex takes the shortest verdict of its patch's and elements'
-    /// shafts. A rim of the shooter `rim` wide is left out of the shafts
-    /// (see the code). Returns how many shafts were tested and how many of
-    /// them were clear.
+    /// their shafts to the query's shooter hold, into `shafts` (reset for
+    /// the mesh's vertices), counting every triangle of the query's
+    /// `visibility` but the shooter's and the patch's own surfaces'. Each
+    /// patch's shaft to its receiving points is tested for being clear;
+    /// where it is not but its elements would each cast [`ELEMENT_RAYS`]
+    /// rays or more (an emitter's shot), each element's shaft is, picking
+    /// its triangles from the patch's list when that held at most
+    /// [`PATCH_OCCLUDERS`], and is listed when it holds at most
+    /// [`MOST_OCCLUDERS`] and the rim is zero. A vertex takes the shortest
+    /// verdict of its patch's and elements' shafts. A rim of the shooter
+    /// `rim` wide is left out of the shafts (see [`ShaftTest::new`]).
+    /// Returns how many shafts were tested and how many of them were clear.
     pub(crate) fn find_occluders(
         &self,
-        (scene, mesh, visibility): (&Scene, &Mesh, &Visibility),
-        (shooter, density, rim): (&Shooter, f64, f64),
+        query: &ShaftQuery<'_>,
         patches: Option<&[u32]>,
         shafts: &mut ReceiverShafts,
     ) -> (usize, usize) {
+        let mesh = query.mesh;
         shafts.reset(mesh.vertices.len());
-        let offset = visibility.surface_offset();
-        let lift = |(min, max): (DVec3, DVec3), normal: DVec3| {
-            (min + normal * offset, max + normal * offset)
-        };
-        // The shooter's box less a rim as wide as its receivers' inset (or
-        // none), so that a wall meeting the shooter at its edge,
-        // which no ray to it crosses, does not touch the shaft. Rays aimed
-        // at that rim are answered by the shaft as if they were inside; a
-        // triangle would have to reach into the rim's sliver of the hull
-        // alone to tell, as an occluder does whose edge lines up with the
-        // shooter's as seen from a vertex on a shadow boundary.
-        let source = {
-            let (min, max) = bounds(shooter.cell.polygon().iter().copied());
-            let wide = (max - min).cmpgt(DVec3::splat(2.0 * rim));
-            let inset = DVec3::select(wide, DVec3::splat(rim), DVec3::ZERO);
-            lift((min + inset, max - inset), shooter.normal)
-        };
-        let centre = shooter.cell.centre();
-        // Appends to `list` the triangles in the shaft to a box of
-        // receiving points on a surface of `normal`, if there are at most
-        // `most` of them: false when it holds more.
-        let occluders = |(min, max): (DVec3, DVec3),
-                         (surface, normal): (SurfaceId, DVec3),
-                         most: usize,
-                         list: &mut Vec<u32>| {
-            visibility.shaft_occluders(
-                source,
-                lift((min, max), normal),
-                [surface, shooter.surface],
-                most,
-                list,
-            )
-        };
-        // About how many rays `vertices` receiving points round `at` cast.
-        let rays = |vertices: usize, at: DVec3| {
-            let side = shooter.side_at((at - centre).length(), density);
-            vertices * side * side
-        };
-        let test = |p: usize| -> PatchShafts {
-            let mut found = PatchShafts::default();
-            let patch = &mesh.patches[p];
-            let (min, max, vertices) = self.boxes[p];
-            let patch_box = (min, max);
-            let middle = 0.5 * (min + max);
-            if patch.surface == shooter.surface
-                || !min.cmple(max).all()
-                || rays(vertices, middle) < MIN_RAYS
-            {
-                return found;
-            }
-            let normal = scene.surface(patch.surface).normal();
-            // Patches wholly behind the shooter, or with all of it behind
-            // them, receive nothing and cast no rays anyway.
-            if corners(min, max).all(|q| shooter.normal.dot(q - centre) <= 0.0)
-                || shooter
-                    .cell
-                    .polygon()
-                    .iter()
-                    .all(|&q| normal.dot(q - patch.cell.centre()) <= 0.0)
-            {
-                return found;
-            }
-            found.tested += 1;
-            // Where the elements will be tested too (an emitter's shot), the
-            // patch's shaft lists its triangles, up to [`PATCH_OCCLUDERS`],
-            // and each element's shaft picks its own among them; otherwise
-            // it need only be clear. (Listing the patch's shaft for a
-            // reflected shot's rays saved nothing, and its rays aimed into
-            // the rim, which they would test against a list that left out
-            // what reaches only there, moved the Cornell box's light by
-            // 10⁻³.)
-            let by_elements = rays(1, middle) >= ELEMENT_RAYS;
-            let mut candidates = Vec::new();
-            let listed = occluders(
-                (min, max),
-                (patch.surface, normal),
-                if by_elements { PATCH_OCCLUDERS } else { 0 },
-                &mut candidates,
-            );
-            if listed && candidates.is_empty() {
-                let corners = |&e: &u32| mesh.elements[e as usize].corners().iter().copied();
-                found.clear.extend(patch.elements.iter().flat_map(corners));
-                found.cleared += 1;
-                return found;
-            }
-            if !by_elements {
-                return found;
-            }
-            // Lists only where the shafts keep the whole shooter: a ray
-            // aimed into the rim could meet what reaches only there.
-            let most = if rim == 0.0 { MOST_OCCLUDERS } else { 0 };
-            for &e in &patch.elements {
-                let element = &mesh.elements[e as usize];
-                let points = element
-                    .corners()
-                    .iter()
-                    .map(|&v| mesh.vertices[v as usize].receiver_position());
-                let (min, max) = bounds(points);
-                // The patch's list holds the element's triangles only if
-                // its shaft lies within the patch's.
-                debug_assert!(min.cmpge(patch_box.0).all() && max.cmple(patch_box.1).all());
-                found.tested += 1;
-                let start = found.occluders.len();
-                let few = if listed {
-                    visibility.shaft_occluders_among(
-                        (source, lift((min, max), normal)),
-                        &candidates,
-                        most,
-                        &mut found.occluders,
-                    )
-                } else {
-                    occluders(
-                        (min, max),
-                        (patch.surface, normal),
-                        most,
-                        &mut found.occluders,
-                    )
-                };
-                if few {
-                    found.record(element.corners(), start);
-                }
-            }
-            found
-        };
+        let test = ShaftTest::new(query, &self.boxes);
         let indices: Vec<usize> = match patches {
             Some(patches) => patches.iter().map(|&p| p as usize).collect(),
             None => (0..mesh.patches.len()).collect(),
         };
-        let results: Vec<PatchShafts> = indices.into_par_iter().map(test).collect();
+        let results: Vec<PatchShafts> = indices.into_par_iter().map(|p| test.patch(p)).collect();
         let (mut tested, mut cleared) = (0, 0);
         for found in results {
             tested += found.tested;
             cleared += found.cleared;
-            for &v in &found.clear {
-                shafts.mark(v);
-            }
-            // A shot's lists are its zone's elements' at most, eight
-            // triangles each: far under 2³² − 2 (`CLEAR` and `UNKNOWN`).
-            debug_assert!(shafts.occluders.len() + found.occluders.len() < CLEAR as usize);
-            debug_assert!(shafts.lists.len() + found.lists.len() < (CLEAR - 1) as usize);
-            let base = shafts.occluders.len() as u32;
-            shafts.occluders.extend_from_slice(&found.occluders);
-            for &((first, count), (start, length)) in &found.lists {
-                let list = shafts.lists.len() as u32;
-                shafts.lists.push((base + start, length));
-                for &v in &found.listed[first as usize..(first + count) as usize] {
-                    shafts.offer(v, list);
-                }
-            }
+            shafts.take(&found);
         }
         (tested, cleared)
+    }
+}
+
+/// One shot's shafts, as [`ReceivingBoxes::find_occluders`] tests them.
+pub(crate) struct ShaftQuery<'a> {
+    /// The scene, for the receiving surfaces' normals.
+    pub(crate) scene: &'a Scene,
+    /// The mesh whose vertices receive.
+    pub(crate) mesh: &'a Mesh,
+    /// The BVH the shot's rays traverse, whose triangles the shafts hold.
+    pub(crate) visibility: &'a Visibility,
+    /// The shooting patch.
+    pub(crate) shooter: &'a Shooter,
+    /// The settings' sample density, which sets how many rays a receiver
+    /// casts ([`Shooter::side_at`]).
+    pub(crate) density: f64,
+    /// How wide a rim of the shooter the shafts leave out.
+    pub(crate) rim: f64,
+}
+
+/// A shot's shafts, ready to be tested patch by patch.
+struct ShaftTest<'a> {
+    query: &'a ShaftQuery<'a>,
+    /// Per patch: its receiving points' box and vertex count.
+    boxes: &'a [(DVec3, DVec3, usize)],
+    /// How far the shafts' ends are lifted off their surfaces.
+    offset: f64,
+    /// The shooter's end of every shaft.
+    source: (DVec3, DVec3),
+    /// The shooter's centre.
+    centre: DVec3,
+}
+
+impl<'a> ShaftTest<'a> {
+    /// The shafts of `query`'s shot to patches with receiving `boxes`.
+    ///
+    /// Their source is the shooter's box less a rim as wide as its
+    /// receivers' inset (or none), so that a wall meeting the shooter at
+    /// its edge, which no ray to it crosses, does not touch the shaft. Rays
+    /// aimed at that rim are answered by the shaft as if they were inside;
+    /// a triangle would have to reach into the rim's sliver of the hull
+    /// alone to tell, as an occluder does whose edge lines up with the
+    /// shooter's as seen from a vertex on a shadow boundary.
+    fn new(query: &'a ShaftQuery<'a>, boxes: &'a [(DVec3, DVec3, usize)]) -> ShaftTest<'a> {
+        let (shooter, rim) = (query.shooter, query.rim);
+        let mut test = ShaftTest {
+            query,
+            boxes,
+            offset: query.visibility.surface_offset(),
+            source: (DVec3::ZERO, DVec3::ZERO),
+            centre: shooter.cell.centre(),
+        };
+        let (min, max) = bounds(shooter.cell.polygon().iter().copied());
+        let wide = (max - min).cmpgt(DVec3::splat(2.0 * rim));
+        let inset = DVec3::select(wide, DVec3::splat(rim), DVec3::ZERO);
+        test.source = test.lift(min + inset, max - inset, shooter.normal);
+        test
+    }
+
+    /// The box from `min` to `max` lifted off a surface of `normal`.
+    fn lift(&self, min: DVec3, max: DVec3, normal: DVec3) -> (DVec3, DVec3) {
+        (min + normal * self.offset, max + normal * self.offset)
+    }
+
+    /// Appends to `list` the triangles in the shaft to the box from `min`
+    /// to `max` of receiving points on `surface`, of `normal`, if there
+    /// are at most `most` of them: false when it holds more.
+    fn occluders(
+        &self,
+        min: DVec3,
+        max: DVec3,
+        surface: SurfaceId,
+        normal: DVec3,
+        most: usize,
+        list: &mut Vec<u32>,
+    ) -> bool {
+        self.query.visibility.shaft_occluders(
+            self.source,
+            self.lift(min, max, normal),
+            [surface, self.query.shooter.surface],
+            most,
+            list,
+        )
+    }
+
+    /// About how many rays `vertices` receiving points round `at` cast.
+    fn rays(&self, vertices: usize, at: DVec3) -> usize {
+        let side = self
+            .query
+            .shooter
+            .side_at((at - self.centre).length(), self.query.density);
+        vertices * side * side
+    }
+
+    /// What patch p's shafts hold: its own, and where its elements will be
+    /// tested too (an emitter's shot), its elements'.
+    fn patch(&self, p: usize) -> PatchShafts {
+        let (scene, mesh, shooter) = (self.query.scene, self.query.mesh, self.query.shooter);
+        let mut found = PatchShafts::default();
+        let patch = &mesh.patches[p];
+        let (min, max, vertices) = self.boxes[p];
+        let middle = 0.5 * (min + max);
+        if patch.surface == shooter.surface
+            || !min.cmple(max).all()
+            || self.rays(vertices, middle) < MIN_RAYS
+        {
+            return found;
+        }
+        let normal = scene.surface(patch.surface).normal();
+        // Patches wholly behind the shooter, or with all of it behind
+        // them, receive nothing and cast no rays anyway.
+        if corners(min, max).all(|q| shooter.normal.dot(q - self.centre) <= 0.0)
+            || shooter
+                .cell
+                .polygon()
+                .iter()
+                .all(|&q| normal.dot(q - patch.cell.centre()) <= 0.0)
+        {
+            return found;
+        }
+        found.tested += 1;
+        // Where the elements will be tested too (an emitter's shot), the
+        // patch's shaft lists its triangles, up to [`PATCH_OCCLUDERS`],
+        // and each element's shaft picks its own among them; otherwise
+        // it need only be clear. (Listing the patch's shaft for a
+        // reflected shot's rays saved nothing, and its rays aimed into
+        // the rim would test a list that left out what reaches only
+        // there.)
+        let by_elements = self.rays(1, middle) >= ELEMENT_RAYS;
+        let mut candidates = Vec::new();
+        let listed = self.occluders(
+            min,
+            max,
+            patch.surface,
+            normal,
+            if by_elements { PATCH_OCCLUDERS } else { 0 },
+            &mut candidates,
+        );
+        if listed && candidates.is_empty() {
+            let corners = |&e: &u32| mesh.elements[e as usize].corners().iter().copied();
+            found.clear.extend(patch.elements.iter().flat_map(corners));
+            found.cleared += 1;
+            return found;
+        }
+        if by_elements {
+            let candidates = listed.then_some(&candidates[..]);
+            self.elements(p, normal, candidates, &mut found);
+        }
+        found
+    }
+
+    /// The shafts of patch p's elements (its surface's `normal`), each
+    /// picking its triangles among the patch's `candidates` when the
+    /// patch's shaft listed them, into `found`.
+    fn elements(
+        &self,
+        p: usize,
+        normal: DVec3,
+        candidates: Option<&[u32]>,
+        found: &mut PatchShafts,
+    ) {
+        let (mesh, rim) = (self.query.mesh, self.query.rim);
+        let patch = &mesh.patches[p];
+        let patch_box = (self.boxes[p].0, self.boxes[p].1);
+        // Lists only where the shafts keep the whole shooter: a ray
+        // aimed into the rim could meet what reaches only there.
+        let most = if rim == 0.0 { MOST_OCCLUDERS } else { 0 };
+        for &e in &patch.elements {
+            let element = &mesh.elements[e as usize];
+            let points = element
+                .corners()
+                .iter()
+                .map(|&v| mesh.vertices[v as usize].receiver_position());
+            let (min, max) = bounds(points);
+            // The patch's list holds the element's triangles only if
+            // its shaft lies within the patch's.
+            debug_assert!(min.cmpge(patch_box.0).all() && max.cmple(patch_box.1).all());
+            found.tested += 1;
+            let start = found.occluders.len();
+            let few = match candidates {
+                Some(candidates) => self.query.visibility.shaft_occluders_among(
+                    (self.source, self.lift(min, max, normal)),
+                    candidates,
+                    most,
+                    &mut found.occluders,
+                ),
+                None => self.occluders(min, max, patch.surface, normal, most, &mut found.occluders),
+            };
+            if few {
+                found.record(element.corners(), start);
+            }
+        }
     }
 }
 

@@ -1,11 +1,10 @@
 //! Visibility memory: what each vertex saw of a patch the last time the
 //! patch shot, so that its next shot need not cast those rays again.
 //!
-//! A patch in a furnished room shoots several times over a solve (a wall
-//! patch of the cluttered office of `bench/generate_building.py` about five
-//! times), and half of that office's rays were cast by patches that had
-//! shot before, to vertices whose view of the patch had not changed: the
-//! geometry is fixed, only the light the patch sends differs. So each
+//! A patch in a furnished room shoots several times over a solve, and many
+//! of a solve's rays are cast by patches that have shot before, to vertices
+//! whose view of the patch has not changed: the geometry is fixed, only the
+//! light the patch sends differs. So each
 //! vertex that cast at least [`MIN_EVIDENCE`] rays to a shooter remembers
 //! whether all of them were unblocked, or all blocked; at the shooter's
 //! next shot it takes all of the shooter as visible, or none, without
@@ -63,7 +62,7 @@ pub(crate) struct VisibilityMemory {
 
 impl VisibilityMemory {
     /// Forgets everything if the mesh has changed.
-    pub(crate) fn refresh(&mut self, (vertices, patches): (usize, usize)) {
+    pub(crate) fn refresh(&mut self, vertices: usize, patches: usize) {
         if self.made_for == (vertices, patches) && self.seen.len() == patches {
             return;
         }
@@ -93,9 +92,11 @@ impl VisibilityMemory {
     /// no rays keep what they had.
     pub(crate) fn remember(
         &mut self,
-        (shooter, zone_size): (usize, usize),
+        shooter: usize,
+        zone_size: usize,
         places: ShotPlaces<'_>,
-        (vertices, gathered): (&[u32], &[Gathered]),
+        vertices: &[u32],
+        gathered: &[Gathered],
     ) {
         let Some(slot) = self.seen.get_mut(shooter) else {
             return;
@@ -154,20 +155,20 @@ mod tests {
         let places = ShotPlaces(Some(&[0, 0, 1, 1, 2]));
         let recall =
             |memory: &VisibilityMemory, shooter, v: u32| memory.recall(shooter, places.of(v));
-        memory.refresh((5, 2));
+        memory.refresh(5, 2);
         let views = [gathered(4, 0), gathered(4, 4), gathered(4, 1)];
-        memory.remember((1, 3), places, (&zone, &views));
+        memory.remember(1, 3, places, &zone, &views);
         assert_eq!(recall(&memory, 1, 0), Recall::Visible);
         assert_eq!(recall(&memory, 1, 2), Recall::Hidden);
         assert_eq!(recall(&memory, 1, 4), Recall::Unknown);
         assert_eq!(recall(&memory, 0, 0), Recall::Unknown, "another shooter");
         let again = [gathered(0, 0), gathered(2, 0), gathered(9, 0)];
-        memory.remember((1, 3), places, (&zone, &again));
+        memory.remember(1, 3, places, &zone, &again);
         assert_eq!(recall(&memory, 1, 0), Recall::Visible, "no rays: kept");
         assert_eq!(recall(&memory, 1, 2), Recall::Unknown, "two rays: too few");
         assert_eq!(recall(&memory, 1, 4), Recall::Visible);
         // A new mesh forgets.
-        memory.refresh((6, 2));
+        memory.refresh(6, 2);
         assert_eq!(recall(&memory, 1, 4), Recall::Unknown);
     }
 }
