@@ -21,10 +21,10 @@ mod zones;
 #[cfg(test)]
 pub(crate) use ambient::irradiance::AmbientIrradiance;
 pub use ambient::patch_shots::PatchShotSummary;
-pub use ambient::rooms::ReadingPlace;
 pub use light::energy_balance::EnergyBalance;
 pub use mesh_settings::{Length, MeshKind, MeshSettings};
 pub use progressive::Solver;
+pub use reading::places::ReadingPlace;
 pub use reading::solution::{PENUMBRA_RAY_BUDGET, Probe, ProbeMode, Solution, SurfaceTotals};
 pub use refinement::RefinementSettings;
 pub use run::{Progress, StopReason, Until};

@@ -17,7 +17,7 @@ use crate::solver::ambient::patch_shots::{PatchShotInput, PatchShotSummary, Patc
 use crate::solver::ambient::rays::{
     AmbientEstimate, LandingElement, PatchLocator, PatchRays, VertexRays,
 };
-use crate::solver::ambient::rooms::{AmbientCache, LocalIndex, ReadingPlace, Room, zones_read};
+use crate::solver::ambient::rooms::{AmbientCache, LocalIndex, Room};
 use crate::solver::ambient::smoothing;
 use crate::solver::ambient::state::AmbientState;
 use crate::solver::ambient::sweeps::{self, UnshotLight};
@@ -26,6 +26,7 @@ use crate::solver::light::energy_balance::EnergyBalance;
 use crate::solver::light::indexed_update;
 use crate::solver::light::state::LightState;
 use crate::solver::light::unshot::{FieldScale, PatchField};
+use crate::solver::reading::places::{ReadingPlace, zones_read};
 use crate::solver::reading::solution::Solution;
 use crate::solver::shot::element_power;
 use crate::solver::shot::patch_reception::ReceptionPlan;

@@ -22,18 +22,13 @@
 //! `zones.rs`) reads the patch it lands on at patch resolution, its
 //! unshot radiosity and the light it will still reflect (`solver/ambient/rays.rs`);
 //! in the term of some rooms alone, made for readings inside them (a
-//! view, probes, a calculation grid: [`ReadingPlace`],
+//! view, probes, a calculation grid: [`crate::solver::ReadingPlace`],
 //! [`crate::Solver::solution_with_ambient_for`]), its unshot radiosity
 //! alone.
 
-use glam::DVec3;
-use rayon::prelude::*;
-
 use crate::mesh::Mesh;
-use crate::scene::{ProbePoint, Scene, SurfaceId, Visibility};
+use crate::scene::SurfaceId;
 use crate::solver::ambient::rays::{PatchRays, VERTEX_RAYS, VertexRays};
-use crate::solver::reading::solution::locate_probe;
-use crate::solver::zones::ZoneLabels;
 
 /// The most vertex rays kept from one image to the next: 2²⁴, about
 /// 175,000 vertices' (96 MiB). A larger mesh's rooms cast theirs for each
@@ -109,72 +104,6 @@ impl Room {
     pub(crate) fn whole(mesh: &Mesh) -> Room {
         Room::all(mesh, 1, &|_| Some(0)).pop().unwrap_or_default()
     }
-}
-
-/// Where a reading of a solution is taken, for choosing the rooms whose
-/// ambient term it needs ([`crate::Solver::solution_with_ambient_for`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ReadingPlace {
-    /// A point on the front of a surface (a probe, a calculation grid's
-    /// point on a floor): it sees what that front sees, which in a closed
-    /// zone is the zone's own surfaces.
-    OnSurface(SurfaceId),
-    /// A point in space (a camera, a work plane's point): it sees the
-    /// closed zone that encloses it, the one on whose surfaces 64 rays
-    /// from it, spread over the sphere, all land, at least one on a front.
-    InSpace(DVec3),
-}
-
-impl ReadingPlace {
-    /// The place a probe reads: the front of the surface `point` lies on
-    /// (as [`crate::Solution::probe`] finds it), or `None` on no surface.
-    #[must_use]
-    pub fn of_probe(scene: &Scene, point: &ProbePoint) -> Option<ReadingPlace> {
-        locate_probe(scene, point).map(ReadingPlace::OnSurface)
-    }
-
-    /// The closed zone this place sees alone: its surface's, or the one
-    /// that encloses the point ([`ZoneLabels::enclosing`], 64 rays);
-    /// `None` in the open zone, or where a point's rays leave the scene,
-    /// land in another zone, or all on backs.
-    #[must_use]
-    pub(crate) fn zone(
-        &self,
-        labels: &ZoneLabels,
-        (scene, visibility): (&Scene, &Visibility),
-    ) -> Option<usize> {
-        match *self {
-            // A surface not of this scene is in no zone.
-            ReadingPlace::OnSurface(surface) if surface.index() >= scene.surfaces.len() => None,
-            ReadingPlace::OnSurface(surface) => {
-                let zone = labels.of(surface);
-                labels.is_lossless(zone).then_some(zone)
-            }
-            ReadingPlace::InSpace(point) => labels.enclosing(scene, visibility, point),
-        }
-    }
-}
-
-/// The closed zones that readings at `places` see, ascending
-/// ([`ReadingPlace::zone`], the places in parallel); `None` (they need
-/// the whole solution) when any place lies in no closed zone, or when
-/// no place is given.
-#[must_use]
-pub(crate) fn zones_read(
-    labels: &ZoneLabels,
-    parts: (&Scene, &Visibility),
-    places: &[ReadingPlace],
-) -> Option<Vec<usize>> {
-    if places.is_empty() {
-        return None;
-    }
-    let mut zones: Vec<usize> = places
-        .par_iter()
-        .map(|place| place.zone(labels, parts))
-        .collect::<Option<_>>()?;
-    zones.sort_unstable();
-    zones.dedup();
-    Some(zones)
 }
 
 /// Each vertex's, element's and patch's index in the room being worked on
@@ -255,6 +184,8 @@ impl LocalIndex {
 
 #[cfg(test)]
 mod tests {
+    use glam::DVec3;
+
     use super::*;
 
     /// Two unit quads on surfaces 0 and 1, one patch each.

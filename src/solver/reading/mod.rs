@@ -3,4 +3,5 @@
 //! interpolation), per-surface totals, and the places a reading is made at.
 
 pub(super) mod penumbra;
+pub(super) mod places;
 pub(super) mod solution;

@@ -14,9 +14,9 @@ use crate::scene::{
     polygon_contains,
 };
 use crate::solver::ambient::irradiance::AmbientIrradiance;
-use crate::solver::ambient::rooms::ReadingPlace;
 use crate::solver::light::vertex_irradiance::VertexIrradiance;
 use crate::solver::reading::penumbra::AdaptiveVisibility;
+use crate::solver::reading::places::{ReadingPlace, locate_probe};
 
 /// How a probe reads the solution.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -696,15 +696,6 @@ fn barycentric_gradients(a: DVec3, b: DVec3, c: DVec3, normal: DVec3) -> [DVec3;
     ]
 }
 
-/// Distance from a point outside a polygon to it (0 when inside).
-fn distance_outside_polygon(p: DVec2, polygon: &[DVec2]) -> f64 {
-    if polygon_contains(polygon, p) {
-        0.0
-    } else {
-        distance_to_boundary(polygon, p)
-    }
-}
-
 /// Distance from a point inside a polygon to its boundary (0 when outside).
 fn distance_inside_polygon(p: DVec2, polygon: &[DVec2]) -> f64 {
     if polygon_contains(polygon, p) {
@@ -712,28 +703,6 @@ fn distance_inside_polygon(p: DVec2, polygon: &[DVec2]) -> f64 {
     } else {
         0.0
     }
-}
-
-/// The surface a probe's point lies on: within 10⁻⁴ of the scene's diagonal of
-/// its plane and inside (or on the edge of) its polygon, facing along
-/// the point's normal if it has one; the nearest plane wins.
-pub(crate) fn locate_probe(scene: &Scene, point: &ProbePoint) -> Option<SurfaceId> {
-    let tolerance = 1e-4 * scene.diagonal();
-    let mut best: Option<(SurfaceId, f64)> = None;
-    for (id, surface) in scene.surfaces_with_ids() {
-        if point.normal.is_some_and(|n| n.dot(surface.normal()) < 0.99) {
-            continue;
-        }
-        let height = surface.frame().height(point.position).abs();
-        if height > tolerance || best.is_some_and(|(_, h)| h <= height) {
-            continue;
-        }
-        let plane_point = surface.frame().to_plane(point.position);
-        if distance_outside_polygon(plane_point, &surface.plane_vertices()) <= tolerance {
-            best = Some((id, height));
-        }
-    }
-    best.map(|(id, _)| id)
 }
 
 #[cfg(test)]
