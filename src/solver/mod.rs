@@ -16,6 +16,8 @@ mod settings;
 mod settings_file;
 mod shot;
 mod stats;
+#[cfg(test)]
+mod test_scenes;
 mod zones;
 
 #[cfg(test)]
@@ -25,6 +27,7 @@ pub use light::energy_balance::EnergyBalance;
 pub use mesh_settings::{Length, MeshKind, MeshSettings};
 pub use progressive::Solver;
 pub use reading::places::ReadingPlace;
+pub use reading::request::Ambient;
 pub use reading::solution::{PENUMBRA_RAY_BUDGET, Probe, ProbeMode, Solution, SurfaceTotals};
 pub use refinement::RefinementSettings;
 pub use run::{Progress, StopReason, Until};

@@ -11,3 +11,4 @@ pub(super) mod rooms;
 pub(super) mod smoothing;
 pub(super) mod state;
 pub(super) mod sweeps;
+pub(super) mod term;

@@ -63,6 +63,7 @@ use crate::mesh::Mesh;
 use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 use crate::solver::ambient::patch_clusters::{Clusters, PatchPlace};
 use crate::solver::ambient::rays::{MISS, PatchLocator, patch_ray, rays_counted};
+use crate::solver::ambient::term::AmbientTerm;
 
 /// Rays a node of a zone (a patch, or a cluster of small patches) has in
 /// its budget: each casts its share of the zone's in proportion to the
@@ -169,6 +170,50 @@ pub(crate) struct PatchShotInput<'a, 'v> {
 }
 
 impl PatchShots {
+    /// Shoots the unshot power of the solver whose parts are `term`, zone
+    /// by zone, until each zone holds at most `left_share` of what it had
+    /// ([`PatchShots::shoot`]).
+    pub(crate) fn shoot_from(term: &AmbientTerm<'_>, left_share: f64) -> PatchShots {
+        let visibility_of = |surface: SurfaceId| term.visibility_of(surface);
+        let locator = PatchLocator::new(term.scene, term.mesh);
+        let (layout, light) = (term.layout, term.light);
+        let input = PatchShotInput {
+            scene: term.scene,
+            mesh: term.mesh,
+            zones: light.unshot_by_zone.zone_patches(),
+            unshot: &light.unshot,
+            areas: &layout.patch_areas,
+            reflectance: &layout.surface_reflectance,
+            lossless: &layout.surface_lossless,
+            locator: &locator,
+            surface_zone: &layout.surface_zone,
+            cluster_edge: term.settings.patch_clusters.then_some(layout.patch_edge),
+            visibility_of: &visibility_of,
+        };
+        PatchShots::shoot(&input, left_share)
+    }
+
+    /// What they did, their unshot powers as fractions of the `emitted`
+    /// power (sums of channels; 0 for a dark scene).
+    pub(crate) fn summary(&self, emitted: Rgb) -> PatchShotSummary {
+        let emitted = emitted.element_sum();
+        let fraction = |power: Rgb| {
+            if emitted > 0.0 {
+                power.element_sum() / emitted
+            } else {
+                0.0
+            }
+        };
+        PatchShotSummary {
+            unshot_before: fraction(self.before),
+            unshot_after: fraction(self.left),
+            sweeps: self.sweeps,
+            rays: self.rays,
+            clusters: self.clusters,
+            clustered_patches: self.clustered_patches,
+        }
+    }
+
     /// Patch `p`'s irradiance from the patch shots, W/m² (zero for a patch
     /// they did not reach).
     pub(crate) fn irradiance(&self, p: usize) -> Rgb {
@@ -381,7 +426,7 @@ impl Links {
         clusters: &Clusters,
         counts: &[usize],
     ) -> Links {
-        let parts = (input.scene, input.mesh);
+        let (scene, mesh) = (input.scene, input.mesh);
         let (locator, visibility_of) = (input.locator, input.visibility_of);
         let mut starts = Vec::with_capacity(clusters.len() + 1);
         starts.push(0);
@@ -394,7 +439,7 @@ impl Links {
             .flat_map_iter(|&k| {
                 let (p, count) = (patches[k as usize] as usize, counts[k as usize]);
                 (0..count).map(move |ray| {
-                    let h = patch_ray(parts, (p, ray, count), locator, visibility_of);
+                    let h = patch_ray(scene, mesh, p, ray, count, locator, visibility_of);
                     match patches.binary_search(&h) {
                         Ok(landing) if input.areas[h as usize] > 0.0 => landing as u32,
                         _ => MISS,

@@ -110,8 +110,7 @@ const LOCATE_CHUNK: usize = 4096;
 /// and the point's coordinates in it, `None` where no element lies; the
 /// `usize` is a hint kept between reads on one patch (see
 /// [`VertexRays::landing_elements`]).
-pub(crate) type Locate<'a> =
-    dyn Fn(usize, (f64, f64), &mut usize) -> Option<LandingElement> + Sync + 'a;
+pub(crate) type Locate<'a> = dyn Fn(usize, DVec2, &mut usize) -> Option<LandingElement> + Sync + 'a;
 
 /// A value read where vertex ray k (its index among a [`VertexRays`]'s
 /// rays) landed, `None` to read its patch's value instead.
@@ -135,12 +134,13 @@ impl LandingElement {
         st: [0; 2],
     };
 
-    /// The point at (s, t) of element `element`, each coordinate in [0, 1].
-    pub(crate) fn new(element: u32, (s, t): (f64, f64)) -> LandingElement {
+    /// The point at `st` = (s, t) of element `element`, each coordinate in
+    /// [0, 1].
+    pub(crate) fn new(element: u32, st: DVec2) -> LandingElement {
         let step = |w: f64| (w.clamp(0.0, 1.0) * f64::from(u16::MAX)).round() as u16;
         LandingElement {
             element,
-            st: [step(s), step(t)],
+            st: [step(st.x), step(st.y)],
         }
     }
 
@@ -165,7 +165,7 @@ impl LandingElement {
 /// The patch each of the patches' cached rays hits, [`PATCH_RAYS`] per
 /// patch: cast once, read by every image. Only the patches a solution
 /// needs are cast (the rooms its readings lie in, see
-/// [`crate::Solver::solution_with_ambient_for`]), the others when one
+/// [`crate::Ambient::For`]), the others when one
 /// needs them; a patch's rays are the same whichever solution casts
 /// them.
 #[derive(Clone, Debug, Default)]
@@ -217,19 +217,41 @@ impl Landing {
     /// No point: the ray missed, or landed off its patch's cell.
     const NOWHERE: Landing = Landing([LANDING_STEPS; 2]);
 
-    /// The landing at parameters (s, t) of a cell, each in [0, 1].
-    fn at((s, t): (f64, f64)) -> Landing {
+    /// The landing at parameters `st` = (s, t) of a cell, each in [0, 1].
+    fn at(st: DVec2) -> Landing {
         let last = f64::from(LANDING_STEPS - 1);
         let step = |w: f64| (w * f64::from(LANDING_STEPS)).clamp(0.0, last) as u8;
-        Landing([step(s), step(t)])
+        Landing([step(st.x), step(st.y)])
     }
 
     /// The parameters (s, t) it stands for, or `None` for
     /// [`Landing::NOWHERE`].
-    fn parameters(self) -> Option<(f64, f64)> {
+    fn parameters(self) -> Option<DVec2> {
         let middle = |k: u8| (f64::from(k) + 0.5) / f64::from(LANDING_STEPS);
-        (self != Landing::NOWHERE).then(|| (middle(self.0[0]), middle(self.0[1])))
+        (self != Landing::NOWHERE).then(|| DVec2::new(middle(self.0[0]), middle(self.0[1])))
     }
+}
+
+/// Each patch's residual A_h, the light the unshot radiosity will still
+/// give it at patch resolution ([`PatchRays::residual`], or after patch
+/// shots ρ_h times the irradiance they brought), and its value
+/// ΔB_h + A_h, what a vertex ray reads where it lands on no element of
+/// its room.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct PatchResidual {
+    /// A_h per patch, W/m².
+    pub(crate) residual: Vec<Rgb>,
+    /// ΔB_h + A_h per patch, W/m².
+    pub(crate) value: Vec<Rgb>,
+}
+
+/// Where an ambient ray leaves a surface: a point on it, the surface's unit
+/// normal, and the surface (which the ray does not hit).
+#[derive(Clone, Copy, Debug)]
+struct RayStart {
+    origin: DVec3,
+    normal: DVec3,
+    surface: SurfaceId,
 }
 
 /// A vertex's ambient irradiance G_v, W/m², and the standard error of its
@@ -267,7 +289,8 @@ impl PatchRays {
     /// or the scene's.
     pub(crate) fn cast<'v>(
         &mut self,
-        (scene, mesh): (&Scene, &Mesh),
+        scene: &Scene,
+        mesh: &Mesh,
         patches: &[u32],
         locator: &PatchLocator,
         visibility_of: &(dyn Fn(SurfaceId) -> &'v Visibility + Sync),
@@ -279,7 +302,7 @@ impl PatchRays {
         let hits: Vec<u32> = patches
             .par_iter()
             .flat_map_iter(|&p| (0..PATCH_RAYS).map(move |k| (p as usize, k)))
-            .map(|(p, k)| patch_ray((scene, mesh), (p, k, PATCH_RAYS), locator, visibility_of))
+            .map(|(p, k)| patch_ray(scene, mesh, p, k, PATCH_RAYS, locator, visibility_of))
             .collect();
         let first = self.hits.len() / PATCH_RAYS;
         for (k, &p) in patches.iter().enumerate() {
@@ -296,7 +319,9 @@ impl PatchRays {
     #[must_use]
     pub(crate) fn residual(
         &self,
-        (unshot, reflectance, lossless): (&[Rgb], &[Rgb], &[bool]),
+        unshot: &[Rgb],
+        reflectance: &[Rgb],
+        lossless: &[bool],
         within: Option<&[u32]>,
     ) -> Vec<Rgb> {
         let patches = unshot.len();
@@ -370,8 +395,12 @@ impl VertexRays {
                     let origin = vertex.receiver_position();
                     let sectors = VERTEX_RAYS / VERTEX_RINGS;
                     let direction =
-                        stratified_direction(normal, k, (VERTEX_RINGS, sectors), &mut stream);
-                    let start = (origin, normal, vertex.surface);
+                        stratified_direction(normal, k, VERTEX_RINGS, sectors, &mut stream);
+                    let start = RayStart {
+                        origin,
+                        normal,
+                        surface: vertex.surface,
+                    };
                     let (patch, point) = locator.hit(scene, visibility, start, direction);
                     *hit = patch;
                     *landing = mesh
@@ -379,7 +408,7 @@ impl VertexRays {
                         .get(patch as usize)
                         .and_then(|patch| cell_coordinates(&patch.cell, point))
                         .filter(|(s, t)| s.is_finite() && t.is_finite())
-                        .map_or(Landing::NOWHERE, Landing::at);
+                        .map_or(Landing::NOWHERE, |st| Landing::at(st.into()));
                 }
             });
         VertexRays {
@@ -396,7 +425,7 @@ impl VertexRays {
 
     /// The ambient irradiance G_v of each listed vertex (see the module
     /// docs), in the list's order, for each patch's `residual` A_h
-    /// ([`PatchRays::residual`]) and its `patch_value` ΔB_h + A_h.
+    /// ([`PatchRays::residual`]) and its value ΔB_h + A_h (`patches`).
     /// Ray k reads the unshot radiosity where it lands, `unshot_at(k)` (on
     /// the element under its point, see [`VertexRays::landing_elements`]),
     /// or the patch's mean where that gives none: a floor patch half under
@@ -422,15 +451,15 @@ impl VertexRays {
     pub(crate) fn irradiance(
         &self,
         mesh: &Mesh,
-        (residual, patch_value): (&[Rgb], &[Rgb]),
+        patches: &PatchResidual,
         unshot_at: &RayValue<'_>,
         lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
     ) -> Vec<AmbientEstimate> {
         let value_at = |k: usize| {
             let h = self.hits[k] as usize;
-            unshot_at(k).map(|w| w + residual[h])
+            unshot_at(k).map(|w| w + patches.residual[h])
         };
-        self.gather(mesh, &value_at, &|h| patch_value[h], lossless)
+        self.gather(mesh, &value_at, &|h| patches.value[h], lossless)
     }
 
     /// The element under every ray's landing point, by
@@ -546,12 +575,12 @@ impl VertexRays {
                 let x = mesh.vertices[v as usize].receiver_position();
                 let (mut count, mut inverse) = (0.0, 0.0);
                 for (&h, landing) in self.hits[rays.clone()].iter().zip(&self.landings[rays]) {
-                    let (Some(patch), Some((s, t))) =
+                    let (Some(patch), Some(st)) =
                         (mesh.patches.get(h as usize), landing.parameters())
                     else {
                         continue;
                     };
-                    let d = patch.cell.point(s, t).distance(x);
+                    let d = patch.cell.point(st.x, st.y).distance(x);
                     if d > 0.0 && d.is_finite() {
                         count += 1.0;
                         inverse += 1.0 / d;
@@ -573,18 +602,25 @@ impl VertexRays {
 /// elements (all hidden) casts only misses. The same ray whoever casts it:
 /// seeded by the patch and its index.
 pub(crate) fn patch_ray<'v>(
-    (scene, mesh): (&Scene, &Mesh),
-    (p, k, count): (usize, usize, usize),
+    scene: &Scene,
+    mesh: &Mesh,
+    p: usize,
+    k: usize,
+    count: usize,
     locator: &PatchLocator,
     visibility_of: &(dyn Fn(SurfaceId) -> &'v Visibility + Sync),
 ) -> u32 {
     let patch = &mesh.patches[p];
     let normal = scene.surface(patch.surface).normal();
     let mut stream = SampleStream::new(p as u64, k as u64 | 1 << 40);
-    point_on_elements(mesh, p, (k, count), &mut stream).map_or(MISS, |origin| {
+    point_on_elements(mesh, p, k, count, &mut stream).map_or(MISS, |origin| {
         // Not stratified: the points are, by k.
         let direction = cosine_direction(normal, &mut stream);
-        let start = (origin, normal, patch.surface);
+        let start = RayStart {
+            origin,
+            normal,
+            surface: patch.surface,
+        };
         let visibility = visibility_of(patch.surface);
         locator.hit(scene, visibility, start, direction).0
     })
@@ -612,7 +648,8 @@ pub(crate) fn rays_counted(hits: &[u32], lossless: bool) -> f64 {
 fn stratified_direction(
     normal: DVec3,
     k: usize,
-    (rings, sectors): (usize, usize),
+    rings: usize,
+    sectors: usize,
     stream: &mut SampleStream,
 ) -> DVec3 {
     let (ring, sector) = (k / sectors % rings, k % sectors);
@@ -628,7 +665,8 @@ fn stratified_direction(
 fn point_on_elements(
     mesh: &Mesh,
     p: usize,
-    (k, count): (usize, usize),
+    k: usize,
+    count: usize,
     stream: &mut SampleStream,
 ) -> Option<DVec3> {
     let patch = &mesh.patches[p];
@@ -761,10 +799,15 @@ impl PatchLocator {
         &self,
         scene: &Scene,
         visibility: &Visibility,
-        (origin, normal, surface): (DVec3, DVec3, crate::scene::SurfaceId),
+        start: RayStart,
         direction: DVec3,
     ) -> (u32, DVec3) {
         const NONE: (u32, DVec3) = (MISS, DVec3::NAN);
+        let RayStart {
+            origin,
+            normal,
+            surface,
+        } = start;
         let start = origin + normal * visibility.surface_offset();
         let Some((hit, distance)) = visibility.closest_hit(start, direction, self.reach, surface)
         else {
@@ -826,7 +869,7 @@ mod tests {
         let rays = patch_rays([vec![1; PATCH_RAYS], vec![0; PATCH_RAYS]].concat());
         let unshot = [Rgb::splat(2.0), Rgb::splat(2.0)];
         let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];
-        let residual = rays.residual((&unshot, &reflectance, &[false; 2]), None);
+        let residual = rays.residual(&unshot, &reflectance, &[false; 2], None);
         for a in residual {
             // ρ ΔB / (1 − ρ) = 0.5 · 2 / 0.5.
             assert!((a.g - 2.0).abs() < 1e-5, "{a:?}");
@@ -847,12 +890,12 @@ mod tests {
             });
         }
         let corners = |_| [1.0, 2.0, 4.0, 8.0].map(Rgb::splat);
-        let quad = LandingElement::new(0, (0.25, 0.5)).value(&mesh, corners);
+        let quad = LandingElement::new(0, DVec2::new(0.25, 0.5)).value(&mesh, corners);
         // (1 − s)(1 − t)·1 + s(1 − t)·2 + s t·4 + (1 − s) t·8
         let expected = 0.375 + 0.25 + 0.5 + 3.0;
         // The coordinates are kept to 1/65,535.
         assert!((quad.unwrap().r - expected).abs() < 1e-3, "{quad:?}");
-        let triangle = LandingElement::new(1, (0.25, 0.5)).value(&mesh, corners);
+        let triangle = LandingElement::new(1, DVec2::new(0.25, 0.5)).value(&mesh, corners);
         assert!((triangle.unwrap().r - (0.25 + 0.5 + 2.0)).abs() < 1e-3);
         assert_eq!(LandingElement::NONE.value(&mesh, corners), None);
     }
@@ -864,8 +907,8 @@ mod tests {
     fn a_vertex_ray_reads_where_it_landed() {
         let landings: Vec<Landing> = (0..VERTEX_RAYS)
             .map(|k| match k % 4 {
-                0 | 1 => Landing::at((0.1, 0.9)),
-                2 => Landing::at((0.7, 0.2)),
+                0 | 1 => Landing::at(DVec2::new(0.1, 0.9)),
+                2 => Landing::at(DVec2::new(0.7, 0.2)),
                 _ => Landing::NOWHERE,
             })
             .collect();
@@ -885,12 +928,13 @@ mod tests {
         // 2 left of s = 0.5 and 4 right of it; each point read within a
         // step of where its ray landed.
         // Element 0 lies left of s = 0.5, element 1 right of it.
-        let locate = |patch: usize, (s, t): (f64, f64), _: &mut usize| {
+        let locate = |patch: usize, st: DVec2, _: &mut usize| {
+            let (s, t) = (st.x, st.y);
             assert_eq!(patch, 0);
             let step = 1.0 / f64::from(LANDING_STEPS);
             let near = |a: f64, b: f64| (a - b).abs() <= step;
             assert!((near(s, 0.1) && near(t, 0.9)) || (near(s, 0.7) && near(t, 0.2)));
-            Some(LandingElement::new(u32::from(s >= 0.5), (s, t)))
+            Some(LandingElement::new(u32::from(s >= 0.5), st))
         };
         let landed = rays.landing_elements(&locate);
         assert_eq!(landed.len(), VERTEX_RAYS);
@@ -899,7 +943,11 @@ mod tests {
             (landed[k] != LandingElement::NONE)
                 .then(|| Rgb::splat(if element == 0 { 2.0 } else { 4.0 }))
         };
-        let g = rays.irradiance(&mesh, (&[Rgb::ZERO], &unshot), &field, &|_| false);
+        let patches = PatchResidual {
+            residual: vec![Rgb::ZERO],
+            value: unshot.to_vec(),
+        };
+        let g = rays.irradiance(&mesh, &patches, &field, &|_| false);
         // Of every 8 rays: four at 2, two at 4, one nowhere (the mean, 1)
         // and one miss: (4·2 + 2·4 + 1) / 8.
         assert!((g[0].irradiance.g - 17.0 / 8.0).abs() < 1e-12, "{g:?}");
@@ -910,7 +958,7 @@ mod tests {
         let expected = (groups * (81.0 + 144.0)).sqrt() / n;
         assert!((g[0].standard_error - expected).abs() < 1e-12, "{g:?}");
         // In a zone that keeps its light the miss is left out: / 7.
-        let g = rays.irradiance(&mesh, (&[Rgb::ZERO], &unshot), &field, &|_| true);
+        let g = rays.irradiance(&mesh, &patches, &field, &|_| true);
         assert!((g[0].irradiance.g - 17.0 / 7.0).abs() < 1e-12, "{g:?}");
         // And so is the pair that holds it: 3 pairs kept in each group,
         // Σ = groups · 9², over the 7 rays in each that land.
@@ -932,7 +980,7 @@ mod tests {
             landings.push(if stream.next_f64() < 0.02 {
                 Landing::NOWHERE
             } else {
-                Landing::at((stream.next_f64(), stream.next_f64()))
+                Landing::at(DVec2::new(stream.next_f64(), stream.next_f64()))
             });
         }
         let rays = VertexRays {
@@ -941,9 +989,9 @@ mod tests {
             landings,
         };
         // An element per patch and step of s; the point's (s, t) kept.
-        let locate = |patch: usize, (s, t): (f64, f64), _: &mut usize| {
-            let step = (s * f64::from(LANDING_STEPS)) as u32;
-            Some(LandingElement::new(patch as u32 * 256 + step, (s, t)))
+        let locate = |patch: usize, st: DVec2, _: &mut usize| {
+            let step = (st.x * f64::from(LANDING_STEPS)) as u32;
+            Some(LandingElement::new(patch as u32 * 256 + step, st))
         };
         let landed = rays.landing_elements(&locate);
         assert_eq!(landed.len(), count);
@@ -1031,13 +1079,13 @@ mod tests {
         let rays = patch_rays([half, vec![MISS; PATCH_RAYS]].concat());
         let unshot = [Rgb::ZERO, Rgb::splat(4.0)];
         let reflectance = [Rgb::splat(0.5), Rgb::splat(0.5)];
-        let residual = rays.residual((&unshot, &reflectance, &[false; 2]), None);
+        let residual = rays.residual(&unshot, &reflectance, &[false; 2], None);
         assert!((residual[0].r - 1.0).abs() < 1e-12, "{residual:?}");
         assert_eq!(residual[1], Rgb::ZERO);
         // In a zone that keeps its light, the misses are left out of the
         // mean (half the rays land: just enough); a patch none of whose
         // rays land still sees nothing.
-        let residual = rays.residual((&unshot, &reflectance, &[true; 2]), None);
+        let residual = rays.residual(&unshot, &reflectance, &[true; 2], None);
         assert!((residual[0].r - 2.0).abs() < 1e-12, "{residual:?}");
         assert_eq!(residual[1], Rgb::ZERO);
         // Fewer than half landing: inside an object, the mean over all.
@@ -1045,7 +1093,7 @@ mod tests {
             .map(|k| if k % 4 == 0 { 1 } else { MISS })
             .collect();
         let rays = patch_rays([few, vec![MISS; PATCH_RAYS]].concat());
-        let residual = rays.residual((&unshot, &reflectance, &[true; 2]), None);
+        let residual = rays.residual(&unshot, &reflectance, &[true; 2], None);
         assert!((residual[0].r - 0.5).abs() < 1e-12, "{residual:?}");
     }
 }

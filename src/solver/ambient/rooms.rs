@@ -23,7 +23,7 @@
 //! unshot radiosity and the light it will still reflect (`solver/ambient/rays.rs`);
 //! in the term of some rooms alone, made for readings inside them (a
 //! view, probes, a calculation grid: [`crate::solver::ReadingPlace`],
-//! [`crate::Solver::solution_with_ambient_for`]), its unshot radiosity
+//! [`crate::Ambient::For`]), its unshot radiosity
 //! alone.
 
 use crate::mesh::Mesh;
@@ -104,6 +104,15 @@ impl Room {
     pub(crate) fn whole(mesh: &Mesh) -> Room {
         Room::all(mesh, 1, &|_| Some(0)).pop().unwrap_or_default()
     }
+}
+
+/// A room whose members [`LocalIndex`] has entered: what the ambient term
+/// reads of the room it is working on.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RoomView<'a> {
+    pub(crate) room: &'a Room,
+    /// Each member's place in the room's lists.
+    pub(crate) local: &'a LocalIndex,
 }
 
 /// Each vertex's, element's and patch's index in the room being worked on

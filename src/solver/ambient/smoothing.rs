@@ -101,7 +101,8 @@ impl Neighbourhood {
 #[must_use]
 pub(crate) fn smoothed(
     mesh: &Mesh,
-    (room, around): (&Room, &Neighbourhood),
+    room: &Room,
+    around: &Neighbourhood,
     estimates: &[AmbientEstimate],
     harmonic_distance: &[f64],
 ) -> Vec<Rgb> {
@@ -260,7 +261,7 @@ mod tests {
             .map(|v| Rgb::splat(2.0 + 0.3 * v.position.x - 0.1 * v.position.y))
             .collect();
         let far = vec![100.0; raw.len()];
-        let out = smoothed(&mesh, (&room, &around), &noisy(&raw, 1.0), &far);
+        let out = smoothed(&mesh, &room, &around, &noisy(&raw, 1.0), &far);
         for (v, (a, b)) in raw.iter().zip(&out).enumerate() {
             assert!((a.r - b.r).abs() < 1e-12, "vertex {v}: {a:?} → {b:?}");
         }
@@ -268,7 +269,7 @@ mod tests {
         // neighbour, which it pulls, is the only other to move.
         let mut spiked = raw.clone();
         spiked[0] = Rgb::splat(40.0);
-        let out = smoothed(&mesh, (&room, &around), &noisy(&spiked, 100.0), &far);
+        let out = smoothed(&mesh, &room, &around, &noisy(&spiked, 100.0), &far);
         let moved: Vec<usize> = (0..raw.len())
             .filter(|&v| (out[v].r - raw[v].r).abs() > 1e-9)
             .collect();
@@ -290,10 +291,10 @@ mod tests {
         let close = 3 * 7 + 3;
         let mut distances = vec![100.0; raw.len()];
         distances[close] = 0.1;
-        let out = smoothed(&mesh, (&room, &around), &noisy(&raw, 1.0), &distances);
+        let out = smoothed(&mesh, &room, &around, &noisy(&raw, 1.0), &distances);
         assert_eq!(out[close], raw[close]);
         let alone = distances.iter().map(|_| 100.0).collect::<Vec<_>>();
-        let with = smoothed(&mesh, (&room, &around), &noisy(&raw, 1.0), &alone);
+        let with = smoothed(&mesh, &room, &around, &noisy(&raw, 1.0), &alone);
         for neighbour in [close - 1, close + 1, close - 7, close + 7] {
             assert_ne!(
                 out[neighbour], with[neighbour],
@@ -343,7 +344,8 @@ mod tests {
         let smooth = |error: f64, reach: f64| {
             smoothed(
                 &mesh,
-                (&room, &around),
+                &room,
+                &around,
                 &noisy(&raw, error),
                 &vec![reach; raw.len()],
             )

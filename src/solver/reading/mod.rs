@@ -4,4 +4,5 @@
 
 pub(super) mod penumbra;
 pub(super) mod places;
+pub(super) mod request;
 pub(super) mod solution;

@@ -12,7 +12,7 @@ use crate::scene::{
 use crate::solver::zones::ZoneLabels;
 
 /// Where a reading of a solution is taken, for choosing the rooms whose
-/// ambient term it needs ([`crate::Solver::solution_with_ambient_for`]).
+/// ambient term it needs ([`crate::solver::Ambient::For`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ReadingPlace {
     /// A point on the front of a surface (a probe, a calculation grid's
@@ -41,7 +41,8 @@ impl ReadingPlace {
     pub(crate) fn zone(
         &self,
         labels: &ZoneLabels,
-        (scene, visibility): (&Scene, &Visibility),
+        scene: &Scene,
+        visibility: &Visibility,
     ) -> Option<usize> {
         match *self {
             // A surface not of this scene is in no zone.
@@ -62,7 +63,8 @@ impl ReadingPlace {
 #[must_use]
 pub(crate) fn zones_read(
     labels: &ZoneLabels,
-    parts: (&Scene, &Visibility),
+    scene: &Scene,
+    visibility: &Visibility,
     places: &[ReadingPlace],
 ) -> Option<Vec<usize>> {
     if places.is_empty() {
@@ -70,7 +72,7 @@ pub(crate) fn zones_read(
     }
     let mut zones: Vec<usize> = places
         .par_iter()
-        .map(|place| place.zone(labels, parts))
+        .map(|place| place.zone(labels, scene, visibility))
         .collect::<Option<_>>()?;
     zones.sort_unstable();
     zones.dedup();

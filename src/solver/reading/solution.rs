@@ -179,7 +179,7 @@ pub struct Solution<'a> {
     pub(crate) receiver_insets: &'a [f64],
     /// The closed zones, ascending, whose ambient term this solution
     /// holds when it was made for some alone
-    /// ([`crate::Solver::solution_with_ambient_for`]); a probe elsewhere
+    /// ([`crate::solver::Ambient::For`]); a probe elsewhere
     /// would read light that lacks the term, and is refused.
     pub(crate) ambient_zones: Option<Vec<usize>>,
 }
@@ -426,7 +426,7 @@ impl Solution<'_> {
 
     /// Whether the solution holds the ambient term at `place`: always,
     /// unless it was made for some rooms' readings alone
-    /// ([`crate::Solver::solution_with_ambient_for`]) and `place` lies in
+    /// ([`crate::solver::Ambient::For`]) and `place` lies in
     /// none of them. Probes and gathers in space are read only where it
     /// does; images, exports and totals read every vertex as it is.
     #[must_use]
@@ -434,7 +434,7 @@ impl Solution<'_> {
         let Some(zones) = self.zones.filter(|_| self.ambient_zones.is_some()) else {
             return true;
         };
-        self.holds_term_in(place.zone(zones, (self.scene, self.visibility)))
+        self.holds_term_in(place.zone(zones, self.scene, self.visibility))
     }
 
     /// [`Solution::holds_term_at`] a place in closed zone `zone` (`None`:
@@ -457,7 +457,7 @@ impl Solution<'_> {
         } else {
             ReadingPlace::OnSurface(surface)
         };
-        place.zone(self.zones?, (self.scene, self.visibility))
+        place.zone(self.zones?, self.scene, self.visibility)
     }
 
     /// The elements a gather at `x` facing `normal` on `surface`
