@@ -26,9 +26,10 @@ pub use ambient::patch_shots::PatchShotSummary;
 pub use light::energy_balance::EnergyBalance;
 pub use mesh_settings::{Length, MeshKind, MeshSettings};
 pub use progressive::Solver;
+pub use reading::gather::PENUMBRA_RAY_BUDGET;
 pub use reading::places::ReadingPlace;
 pub use reading::request::Ambient;
-pub use reading::solution::{PENUMBRA_RAY_BUDGET, Probe, ProbeMode, Solution, SurfaceTotals};
+pub use reading::solution::{Probe, ProbeMode, Solution, SurfaceTotals};
 pub use refinement::RefinementSettings;
 pub use run::{Progress, StopReason, Until};
 pub use scene_mesh::{

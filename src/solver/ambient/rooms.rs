@@ -3,9 +3,7 @@
 //! The ambient term (`solver/ambient/rays.rs`) holds, while an image is made, each
 //! vertex ray's hit and landing point (6 bytes) and the element under it
 //! (8 more), 96 rays a vertex: 1.3 KB a vertex, most of what a building
-//! needs at that moment (a floor of 16 furnished offices, 175,000
-//! vertices, peaked at 454 MB of heap, 312 MB of it the term's, by
-//! heaptrack). A closed room's rays land only in that room, and its
+//! needs at that moment. A closed room's rays land only in that room, and its
 //! sweeps read only its own vertices and elements, so the term is made
 //! room by room: each closed zone's vertices, elements and patches
 //! ([`Room`]), with its rays, landing elements, estimates and sweeps, and
@@ -13,9 +11,7 @@
 //! than [`KEPT_VERTEX_RAYS`] vertex rays casts each room's rays for the
 //! image and drops them after, so that one room's rays are held at a
 //! time, and the term's memory is that of the largest room, not of the
-//! building (README, How it works, 4): the 16 offices'
-//! render peaks at 115 MiB resident instead of 471 MiB, the same image
-//! pixel for pixel in the same time (BENCHMARKS.md, (e)).
+//! building, for the same image pixel for pixel.
 //!
 //! The rare ray that leaks out of a closed room through a seam (a zone
 //! stays closed while under 1/256 of the rays that find it leave,
@@ -28,7 +24,9 @@
 
 use crate::mesh::Mesh;
 use crate::scene::SurfaceId;
-use crate::solver::ambient::rays::{PatchRays, VERTEX_RAYS, VertexRays};
+use crate::solver::ambient::patch_rays::PatchRays;
+use crate::solver::ambient::rays::VERTEX_RAYS;
+use crate::solver::ambient::vertex_rays::VertexRays;
 
 /// The most vertex rays kept from one image to the next: 2²⁴, about
 /// 175,000 vertices' (96 MiB). A larger mesh's rooms cast theirs for each

@@ -32,12 +32,9 @@
 //! sits off the vertex, and the mean leans along the field's gradient by
 //! a fraction of an element.
 //!
-//! Under a lamp not yet shot, the floor's estimates of its light are 22 %
-//! off on average where they were 55 % (`tests/it/solver.rs`). The images,
-//! by the golden tests' metric at the references' sizes: the cluttered
-//! office 2.879 → 2.811 %, the furnished one 1.417 → 1.398 %, the shipped
-//! office 3.747 → 3.651 %, `scenes/table` 2.182 → 2.115 %, the Cornell box
-//! 1.876 → 1.862 %, `scenes/room` 1.485 → 1.481 % (BENCHMARKS.md, (e)).
+//! Under a lamp not yet shot, the floor's estimates of its light are
+//! about 22 % off on average (`tests/it/solver.rs`), less than half of
+//! what the raw estimates are off.
 //!
 //! # References
 //! G. J. Ward, F. M. Rubinstein, R. D. Clear, "A Ray Tracing Solution for
@@ -53,9 +50,8 @@ use crate::solver::ambient::rays::AmbientEstimate;
 use crate::solver::ambient::rooms::{LocalIndex, Room};
 
 /// A neighbour's weight falls to 0 this many times the smaller of its and
-/// the vertex's harmonic mean distance away (4 took the cluttered office
-/// to 2.809 %, 2 to 2.811 %; at 4 the wall above a book 2 cm in front of
-/// it read 5.2 % under a gather, at 2 within 5 %).
+/// the vertex's harmonic mean distance away: farther, the wall above a
+/// book 2 cm in front of it strays from a gather (`tests/it/contacts.rs`).
 pub(crate) const REACH: f64 = 2.0;
 
 /// A neighbour's weight falls to 0 where its estimate differs from the

@@ -7,9 +7,9 @@
 //! no number of rays averages out. A wall patch half behind a bookcase
 //! sends the books' backs, which see only its hidden half, the mean of its
 //! lit and hidden halves; a floor patch half under a desk sends the
-//! ceiling, which sees its open half, the same mean. Solved from the
-//! lamps' shots alone, the cluttered office's book backs took 31–73 % too
-//! much of the light still to come and its ceiling 2.7 % too little.
+//! ceiling, which sees its open half, the same mean: solved from the
+//! lamps' shots alone, the cluttered office's book backs would take far
+//! too much of the light still to come, and its ceiling too little.
 //!
 //! So the term is taken further by Jacobi sweeps over the vertices, along
 //! the same rays. With G⁽⁰⁾ the patch-level estimate (smoothed, as
@@ -47,8 +47,10 @@ use rayon::prelude::*;
 
 use crate::mesh::Mesh;
 use crate::scene::{Rgb, SurfaceId};
-use crate::solver::ambient::rays::{AmbientEstimate, LandingElement, VertexRays};
+use crate::solver::ambient::landing::LandingElement;
+use crate::solver::ambient::rays::AmbientEstimate;
 use crate::solver::ambient::rooms::RoomView;
+use crate::solver::ambient::vertex_rays::VertexRays;
 
 /// The sweeps stop when the mean absolute change of G over the room's
 /// vertices (channels summed) is below this fraction of G's mean. The

@@ -13,13 +13,15 @@ use crate::mesh::Mesh;
 use crate::phase::{Phase, PhaseCounter, PhaseReporter};
 use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
 use crate::solver::ambient::irradiance::AmbientIrradiance;
-use crate::solver::ambient::rays::{
-    AmbientEstimate, LandingElement, PatchLocator, PatchRays, PatchResidual, VertexRays,
-};
+use crate::solver::ambient::landing::LandingElement;
+use crate::solver::ambient::patch_locator::PatchLocator;
+use crate::solver::ambient::patch_rays::PatchRays;
+use crate::solver::ambient::rays::{AmbientEstimate, PatchResidual};
 use crate::solver::ambient::rooms::{AmbientCache, LocalIndex, Room, RoomView};
 use crate::solver::ambient::smoothing;
 use crate::solver::ambient::state::AmbientState;
 use crate::solver::ambient::sweeps::{self, UnshotLight};
+use crate::solver::ambient::vertex_rays::VertexRays;
 use crate::solver::layout::{CulledZones, Layout};
 use crate::solver::light::state::LightState;
 use crate::solver::light::unshot::{FieldScale, PatchField};
@@ -280,40 +282,7 @@ impl<'a> AmbientTerm<'a> {
             room: members,
             local,
         } = room;
-        // Each of the room's patches' unshot field over its elements, at
-        // the scale that carries its power, for the rays to read where
-        // they land.
-        let fields: Vec<(PatchField, FieldScale)> = members
-            .patches
-            .par_iter()
-            .map(|&p| {
-                let patch = &mesh.patches[p as usize];
-                let power = self.light.unshot[p as usize] * patch.area;
-                let field = self.light.unshot_corners.field(mesh, patch, power);
-                let scale = field.exact_scale();
-                (field, scale)
-            })
-            .collect();
-        // The element under each ray's landing point, found once for the
-        // first gather and every sweep; none outside the room.
-        let landed = rays.landing_elements(&|p, st, hint| {
-            let (field, _) = &fields[local.patch(p)?];
-            let patch = &mesh.patches[p];
-            field
-                .locate(patch.cell.point(st.x, st.y), hint)
-                .map(|(k, st)| LandingElement::new(patch.elements[k], st.into()))
-        });
-        let corners: Vec<[Rgb; 4]> = members
-            .elements
-            .par_iter()
-            .map(|&e| {
-                let corners = self.light.unshot_corners.of(e as usize);
-                let patch = mesh.elements[e as usize].patch as usize;
-                local
-                    .patch(patch)
-                    .map_or(corners, |i| corners.map(|c| fields[i].1.apply(c)))
-            })
-            .collect();
+        let (landed, corners) = self.unshot_in(room, rays);
         let unshot_at = |k: usize| {
             let landed = landed[k];
             let i = local.element(landed.element()?)?;
@@ -355,6 +324,57 @@ impl<'a> AmbientTerm<'a> {
             &lossless,
             &smooth,
         )
+    }
+
+    /// What `room`'s rays read of the unshot light: the element under each
+    /// ray's landing point, and the room's elements' corners' unshot
+    /// radiosity (in its order) at the scale that carries its patch's
+    /// power.
+    fn unshot_in(
+        &self,
+        room: RoomView<'_>,
+        rays: &VertexRays,
+    ) -> (Vec<LandingElement>, Vec<[Rgb; 4]>) {
+        let mesh = self.mesh;
+        let RoomView {
+            room: members,
+            local,
+        } = room;
+        // Each of the room's patches' unshot field over its elements, at
+        // the scale that carries its power, for the rays to read where
+        // they land.
+        let fields: Vec<(PatchField, FieldScale)> = members
+            .patches
+            .par_iter()
+            .map(|&p| {
+                let patch = &mesh.patches[p as usize];
+                let power = self.light.unshot[p as usize] * patch.area;
+                let field = self.light.unshot_corners.field(mesh, patch, power);
+                let scale = field.exact_scale();
+                (field, scale)
+            })
+            .collect();
+        // The element under each ray's landing point, found once for the
+        // first gather and every sweep; none outside the room.
+        let landed = rays.landing_elements(&|p, st, hint| {
+            let (field, _) = &fields[local.patch(p)?];
+            let patch = &mesh.patches[p];
+            field
+                .locate(patch.cell.point(st.x, st.y), hint)
+                .map(|(k, st)| LandingElement::new(patch.elements[k], st.into()))
+        });
+        let corners: Vec<[Rgb; 4]> = members
+            .elements
+            .par_iter()
+            .map(|&e| {
+                let corners = self.light.unshot_corners.of(e as usize);
+                let patch = mesh.elements[e as usize].patch as usize;
+                local
+                    .patch(patch)
+                    .map_or(corners, |i| corners.map(|c| fields[i].1.apply(c)))
+            })
+            .collect();
+        (landed, corners)
     }
 }
 
@@ -424,151 +444,4 @@ fn patches_of(rooms: &[Room]) -> Vec<u32> {
         .collect();
     patches.sort_unstable();
     patches
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::phase::silent;
-    use crate::solver::test_scenes::two_closed_rooms;
-    use crate::solver::{MeshKind, Settings, Solver};
-
-    /// The ambient term made room by room is the same whether the rooms'
-    /// rays are kept between images or cast for each and dropped, and
-    /// each room's rays stay in it: the second room, lit twice as
-    /// brightly, gets twice the first's light within the rays' noise.
-    #[test]
-    fn rooms_kept_or_cast_again_give_the_same_ambient_term() {
-        let mut settings = Settings::default();
-        settings.mesh.max_edge = crate::Length::Absolute(0.5);
-        let mut solver = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
-        assert!(solver.closed_zones() >= 2, "{}", solver.closed_zones());
-        // Both lamps' shots: half the rooms' light is still unshot.
-        solver.step();
-        solver.step();
-        let streamed = solver
-            .ambient_term()
-            .irradiance_keeping(false, None, &silent);
-        let kept = solver
-            .ambient_term()
-            .irradiance_keeping(true, None, &silent);
-        let again = solver
-            .ambient_term()
-            .irradiance_keeping(true, None, &silent);
-        assert!(streamed == kept, "kept and streamed rays differ");
-        assert!(kept == again, "the kept rays changed");
-        let kept = kept.at_every(solver.mesh().vertices.len());
-        // Σ A G over the elements of the room from x0 to x0 + 4.
-        let room_total = |x0: f64| -> f64 {
-            let mesh = solver.mesh();
-            let in_room = |x: f64| (x0 - 0.1..=x0 + 4.1).contains(&x);
-            mesh.elements
-                .iter()
-                .filter(|e| in_room(mesh.vertices[e.vertices[0] as usize].position.x))
-                .map(|e| e.corner_mean(|v| kept[v as usize]).element_sum() * e.area)
-                .sum()
-        };
-        let (a, b) = (room_total(0.0), room_total(5.0));
-        assert!(a > 0.0 && (2.0 * a - b).abs() < 0.01 * b, "{a} against {b}");
-    }
-
-    /// A term made in one room between two made in all keeps the other
-    /// rooms' rays and changes nothing: the rays found again by their
-    /// vertices, the patches' rays cast for the one room kept with the
-    /// rest.
-    #[test]
-    fn one_rooms_term_keeps_the_other_rooms_rays() {
-        let mut settings = Settings::default();
-        settings.mesh.max_edge = crate::Length::Absolute(0.5);
-        let mut solver = Solver::new(two_closed_rooms(), settings.clone()).expect("a valid scene");
-        solver.step();
-        solver.step();
-        let zones = solver
-            .ambient_term()
-            .layout
-            .zones
-            .as_ref()
-            .map(|culled| culled.zones.labels().clone());
-        let zones = zones.expect("closed zones");
-        let zone_of = |v: usize| zones.of(solver.mesh().vertices[v].surface);
-        let room = zone_of(0);
-        let one = solver
-            .ambient_term()
-            .irradiance_keeping(true, Some(&[room]), &silent);
-        let rays = |s: &Solver| {
-            let state = s.ambient_term().state;
-            state.rays.lock().map(|c| c.rooms.len()).unwrap_or(0)
-        };
-        assert_eq!(rays(&solver), 1, "one room's rays cast");
-        let all = solver
-            .ambient_term()
-            .irradiance_keeping(true, None, &silent);
-        let kept = rays(&solver);
-        let one_again = solver
-            .ambient_term()
-            .irradiance_keeping(true, Some(&[room]), &silent);
-        assert_eq!(rays(&solver), kept, "the other rooms' rays dropped");
-        let all_again = solver
-            .ambient_term()
-            .irradiance_keeping(true, None, &silent);
-        assert!(all == all_again && one == one_again);
-        let count = solver.mesh().vertices.len();
-        let (one_at, all_at) = (one.at_every(count), all.at_every(count));
-        for (v, g) in one_at.iter().enumerate() {
-            if zone_of(v) == room {
-                assert!((*g - all_at[v]).abs().max_element() <= 1e-6 * all_at[v].max_element());
-            } else {
-                assert_eq!(*g, Rgb::ZERO);
-            }
-        }
-        assert!(
-            matches!(one, AmbientIrradiance::At { .. }),
-            "one room's term alone"
-        );
-        // The whole term is the one a solver that never drew one room
-        // makes, streamed or kept: the rays do not depend on the order.
-        let mut fresh = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
-        fresh.step();
-        fresh.step();
-        assert!(
-            all == fresh
-                .ambient_term()
-                .irradiance_keeping(false, None, &silent)
-        );
-        assert!(all == fresh.ambient_term().irradiance_keeping(true, None, &silent));
-    }
-
-    /// An adaptive mesh's rooms keep the rays of the rooms whose vertices
-    /// stay as they were and cast those of the rooms refinement grows: the
-    /// term is what rays all cast afresh give.
-    #[test]
-    fn refined_rooms_cast_their_new_vertices_rays() {
-        let mut settings = Settings::default();
-        settings.mesh.max_edge = crate::Length::Absolute(0.5);
-        settings.mesh.kind = MeshKind::Adaptive;
-        let mut solver = Solver::new(two_closed_rooms(), settings).expect("a valid scene");
-        let before = solver.mesh().vertices.len();
-        let _ = solver
-            .ambient_term()
-            .irradiance_keeping(true, None, &silent);
-        for _ in 0..4 {
-            solver.step();
-        }
-        assert!(
-            solver.mesh().vertices.len() > before,
-            "{before} vertices, none added"
-        );
-        let kept = solver
-            .ambient_term()
-            .irradiance_keeping(true, None, &silent);
-        let streamed = solver
-            .ambient_term()
-            .irradiance_keeping(false, None, &silent);
-        assert!(
-            kept == streamed,
-            "kept and streamed rays differ after refinement"
-        );
-        let count = solver.mesh().vertices.len();
-        assert!(kept.at_every(count).iter().any(|g| g.element_sum() > 0.0));
-    }
 }
