@@ -2,7 +2,9 @@
 //! one and 3 × 3 samples per pixel. The solve (tolerance 0.05) is setup.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use isorad::{RenderSettings, Settings, Solver, load_scene, render::rasterize};
+use isorad::{
+    Ambient, RenderSettings, Settings, Solver, load_scene, phase::silent, render::rasterize,
+};
 
 fn rasterizer(c: &mut Criterion) {
     // Solve once: mesh, BVH, shooting to 5 % unshot power.
@@ -12,7 +14,7 @@ fn rasterizer(c: &mut Criterion) {
     settings.solver.tolerance = 0.05;
     let mut solver = Solver::new(scene, settings).expect("valid settings");
     solver.run();
-    let triangles = solver.solution_with_ambient().triangles();
+    let triangles = solver.solution(Ambient::Everywhere, &silent).triangles();
     (camera.width, camera.height) = (512, 512);
 
     let mut group = c.benchmark_group("rasterize_cornell_512");

@@ -7,7 +7,8 @@
 
 use glam::DVec3;
 use isorad::{
-    Camera, Material, ProbeMode, RenderSettings, Rgb, Scene, Settings, Solver, scene::ProbePoint,
+    Ambient, Camera, Material, ProbeMode, RenderSettings, Rgb, Scene, Settings, Solver,
+    phase::silent, scene::ProbePoint,
 };
 
 fn main() -> isorad::Result<()> {
@@ -39,7 +40,7 @@ fn main() -> isorad::Result<()> {
 
     // Irradiance under the light's centre, by a final gather, against the
     // exact unoccluded value: E_light × F for a square seen from its axis.
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     let centre = ProbePoint {
         position: DVec3::ZERO,
         normal: None,

@@ -10,7 +10,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use isorad::{PhaseProgress, Settings, Solver, StopReason, Until, load_scene};
+use isorad::{Ambient, PhaseProgress, Settings, Solver, StopReason, Until, load_scene};
 
 fn main() -> isorad::Result<()> {
     let scene = load_scene("cornell")?.scene;
@@ -64,7 +64,7 @@ fn main() -> isorad::Result<()> {
     assert!(imbalance < 1e-9);
 
     // The solution so far, with the ambient term for the light not yet shot.
-    let solution = solver.solution_with_ambient_progress(&phase);
+    let solution = solver.solution(Ambient::Everywhere, &phase);
     let floor = solution.surface_totals()[0];
     println!(
         "floor: mean radiosity {:.2} W/m² (ambient term added)",

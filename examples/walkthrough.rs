@@ -17,7 +17,9 @@ use std::f64::consts::TAU;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use isorad::{Camera, RenderSettings, Settings, Solver, load_scene, write_exr};
+use isorad::{
+    Ambient, Camera, RenderSettings, Settings, Solver, load_scene, phase::silent, write_exr,
+};
 use serde_json::json;
 
 type Report = Result<(), Box<dyn std::error::Error>>;
@@ -129,7 +131,7 @@ fn main() -> Report {
     solver.run();
     let solve_seconds = solve_start.elapsed().as_secs_f64();
     let (scene, mesh) = (solver.scene(), solver.mesh());
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
 
     // The scene's own view: the image compared with the reference.
     let mut camera = scene.camera_or_default();

@@ -71,22 +71,26 @@
 //!    or an `AtomicBool` set from another thread — calling back with
 //!    [`Progress`] after each shot, and says why it stopped ([`StopReason`]).
 //!    It stops only between shots, so the solution is always consistent.
-//! 4. **Query.** [`Solver::solution`] (or [`Solver::solution_with_ambient`],
-//!    with the ambient term for the light not yet shot) gives a [`Solution`]: values at any point of a
-//!    surface ([`Solution::probe`], by final gather or mesh interpolation),
-//!    per-surface totals ([`Solution::surface_totals`]), and the shaded
-//!    triangles for a viewer of your own ([`Solution::triangles`]). In a
-//!    building, [`Solver::solution_with_ambient_for`] makes the ambient
-//!    term only in the closed rooms of the [`ReadingPlace`]s you will
-//!    read (probes' surfaces, a calculation grid's points).
+//! 4. **Query.** [`Solver::solution`] gives a [`Solution`] with the
+//!    [`Ambient`] term you ask for, the light not yet shot gathered where
+//!    it will land: [`Ambient::Everywhere`], or [`Ambient::Omitted`] for
+//!    the light shot alone (pass `&isorad::phase::silent`, or a reporter
+//!    of your own, for the term's progress). It reads values at any point
+//!    of a surface ([`Solution::probe`], by final gather or mesh
+//!    interpolation), per-surface totals ([`Solution::surface_totals`]),
+//!    and the shaded triangles for a viewer of your own
+//!    ([`Solution::triangles`]). In a building, [`Ambient::For`] makes the
+//!    ambient term only in the closed rooms of the
+//!    [`solver::ReadingPlace`]s you will read (probes' surfaces, a
+//!    calculation grid's points).
 //! 5. **Look.** [`Solution::render`] rasterizes into an [`Image`] of linear
 //!    radiance that you own (for one view of a building,
-//!    [`Solver::solution_with_ambient_seen_from`] makes the ambient term
-//!    only in the closed room the camera stands in); [`write_exr`] and
-//!    [`write_png`] write it (to a
-//!    temporary file, then renamed). Beside them, [`export_solution`] (or
-//!    [`export::export_glb`] and [`export::export_ply`]) writes the solved
-//!    mesh with its light baked into the vertices, for a viewer or another
+//!    [`Ambient::SeenFrom`] makes the ambient term only in the closed room
+//!    the camera stands in); [`write_exr`] and [`write_png`] write it (to
+//!    a temporary file, then renamed). Beside them, [`export_solution`]
+//!    (or [`export::export_glb`] and [`export::export_ply`]) writes the
+//!    solved mesh with its light baked into the vertices, for a viewer or
+//!    another
 //!    tool, with the PNG's exposure ([`ToneMap`]).
 //!
 //! `examples/embed.rs` and `examples/progress.rs` show all of it. To compare
@@ -145,8 +149,8 @@ pub use phase::{Phase, PhaseProgress};
 pub use render::{Image, RenderSettings, ToneMap, write_exr, write_png};
 pub use scene::{Camera, LoadedScene, Material, Rgb, Scene, SurfaceId, load_scene};
 pub use solver::{
-    PatchShotSummary, Probe, ProbeMode, Progress, ReadingPlace, Settings, Solution, Solver,
-    SolverSettings, StopReason, Until,
+    Ambient, Probe, ProbeMode, Progress, Settings, Solution, Solver, SolverSettings, StopReason,
+    Until,
 };
 
 /// Helpers that exist for isorad's tests, fuzz targets and benchmarks:

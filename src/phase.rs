@@ -6,7 +6,7 @@
 //! nothing.
 //!
 //! [`crate::Solver::new_with_progress`] and
-//! [`crate::Solver::solution_with_ambient_progress`] call a reporter with a
+//! [`crate::Solver::solution`] (its ambient term) call a reporter with a
 //! [`PhaseProgress`] as each phase starts, as it goes (at most about 256
 //! times a phase, from any thread) and as it ends; the shots themselves
 //! report through [`crate::Solver::run_until`].
@@ -75,8 +75,9 @@ pub struct PhaseProgress {
 /// What a solver calls with its phases' progress, from any thread.
 pub type PhaseReporter<'a> = &'a (dyn Fn(PhaseProgress) + Sync);
 
-/// A reporter that ignores every report.
-pub(crate) fn silent(_: PhaseProgress) {}
+/// A reporter that ignores every report: `&silent` where a
+/// [`PhaseReporter`] is asked for and no progress is wanted.
+pub fn silent(_: PhaseProgress) {}
 
 /// Counts one phase's units from any thread and reports every 1/256 of
 /// the total: at the start on creation, at the end on

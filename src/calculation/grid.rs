@@ -282,7 +282,7 @@ impl CalculationGrid {
     }
 
     /// Where the grid's points read the solution, for
-    /// [`crate::Solver::solution_with_ambient_for`]: on the surface (height
+    /// [`crate::Ambient::For`]: on the surface (height
     /// 0), the front of the surface each point's probe lies on
     /// ([`ReadingPlace::of_probe`], as [`Solution::probe`] finds it);
     /// above it, each point in space. Points inside an object, which read

@@ -82,11 +82,12 @@ impl ExportFormat {
 /// unknown extension.
 ///
 /// ```
-/// use isorad::{Settings, Solver, ToneMap, export_solution, load_scene, render::auto_exposure};
+/// use isorad::phase::silent;
+/// use isorad::{Ambient, Settings, Solver, ToneMap, export_solution, load_scene, render::auto_exposure};
 ///
 /// let mut solver = Solver::new(load_scene("cornell")?.scene, Settings::preview())?;
 /// solver.run();
-/// let solution = solver.solution_with_ambient();
+/// let solution = solver.solution(Ambient::Everywhere, &silent);
 /// // The PNG's exposure, so the exported colours look as the image does.
 /// let image = solution.render(&solver.scene().camera_or_default(), &Default::default());
 /// let tone_map = ToneMap::new(auto_exposure(&image));
@@ -177,8 +178,9 @@ fn export_error(path: &Path, message: impl ToString) -> Error {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::phase::silent;
     use crate::solver::AmbientIrradiance;
-    use crate::{Length, Settings, Solver, load_scene};
+    use crate::{Ambient, Length, Settings, Solver, load_scene};
 
     /// A vertex whose radiosity is not finite is named, and neither format
     /// writes a file, nor leaves a temporary one.
@@ -189,7 +191,7 @@ mod tests {
         settings.mesh.max_edge = Length::OfDiagonal(0.15);
         let mut solver = Solver::new(scene, settings).expect("a valid scene");
         assert!(solver.step());
-        let mut solution = solver.solution();
+        let mut solution = solver.solution(Ambient::Omitted, &silent);
         let mut ambient = vec![Rgb::ZERO; solver.mesh().vertices.len()];
         ambient[7].g = f64::NAN;
         solution.ambient = AmbientIrradiance::Everywhere(ambient);

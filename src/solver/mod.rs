@@ -14,14 +14,18 @@ mod settings;
 mod settings_file;
 mod shot;
 mod stats;
+#[cfg(test)]
+mod test_scenes;
 
 #[cfg(test)]
 pub(crate) use ambient::irradiance::AmbientIrradiance;
 pub use ambient::patch_shots::PatchShotSummary;
-pub use ambient::rooms::ReadingPlace;
 pub use light::energy_balance::EnergyBalance;
 pub use progressive::Solver;
-pub use reading::solution::{PENUMBRA_RAY_BUDGET, Probe, ProbeMode, Solution, SurfaceTotals};
+pub use reading::gather::PENUMBRA_RAY_BUDGET;
+pub use reading::places::ReadingPlace;
+pub use reading::request::Ambient;
+pub use reading::solution::{Probe, ProbeMode, Solution, SurfaceTotals};
 pub use run::{Progress, StopReason, Until};
 pub use settings::{FormFactorKernel, Settings, ShootFrom, SolverSettings};
 pub use stats::SolveStats;

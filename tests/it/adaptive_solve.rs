@@ -3,7 +3,10 @@
 //! mesher's error with fewer vertices.
 
 use glam::DVec2;
-use isorad::{Length, MeshKind, ProbeMode, Scene, Settings, Solver, load_scene, scene::ProbePoint};
+use isorad::{
+    Ambient, Length, MeshKind, ProbeMode, Scene, Settings, Solver, load_scene, phase::silent,
+    scene::ProbePoint,
+};
 use rayon::prelude::*;
 
 fn cornell() -> Scene {
@@ -65,7 +68,7 @@ fn probe_points(scene: &Scene, names: &[&str], n: usize) -> Vec<ProbePoint> {
 /// The radiosity (sum of channels) at each point: the rendered mesh's, or
 /// a final gather's.
 fn radiosities(solver: &Solver, points: &[ProbePoint], mode: ProbeMode) -> Vec<f64> {
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     points
         .par_iter()
         .map(|p| {
@@ -206,9 +209,12 @@ fn the_ambient_term_follows_the_mesh_as_it_splits() {
     settings.mesh.kind = MeshKind::Adaptive;
     settings.mesh.max_edge = Length::OfDiagonal(1.0 / 20.0);
     let mut solver = Solver::new(cornell(), settings).expect("valid settings");
-    let before = solver.solution_with_ambient().irradiance().len();
+    let before = solver
+        .solution(Ambient::Everywhere, &silent)
+        .irradiance()
+        .len();
     solver.run();
-    let after = solver.solution_with_ambient().irradiance();
+    let after = solver.solution(Ambient::Everywhere, &silent).irradiance();
     assert!(
         after.len() > before,
         "{} vertices, {before} before",

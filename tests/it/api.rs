@@ -10,9 +10,9 @@ use std::time::Duration;
 
 use glam::DVec3;
 use isorad::{
-    Camera, Error, Length, Material, MeshKind, Phase, PhaseProgress, ProbeMode, RenderSettings,
-    Rgb, Scene, Settings, Solver, StopReason, ToneMap, Until, load_scene, scene::ProbePoint,
-    write_exr, write_png,
+    Ambient, Camera, Error, Length, Material, MeshKind, Phase, PhaseProgress, ProbeMode,
+    RenderSettings, Rgb, Scene, Settings, Solver, StopReason, ToneMap, Until, load_scene,
+    phase::silent, scene::ProbePoint, write_exr, write_png,
 };
 
 /// A room built in code, in coordinates and colours that f32 holds exactly
@@ -205,7 +205,7 @@ fn the_phases_outside_the_shots_report_their_progress_in_order() {
         prepared,
         "shots report elsewhere"
     );
-    let solution = solver.solution_with_ambient_progress(&record);
+    let solution = solver.solution(Ambient::Everywhere, &record);
     let reports = reports.into_inner().unwrap();
 
     // Each phase once, in the order it runs, from 0 to its total.
@@ -230,7 +230,7 @@ fn the_phases_outside_the_shots_report_their_progress_in_order() {
     // The reporter changes nothing: the same ambient term without one.
     assert_eq!(
         solution.radiosity(),
-        solver.solution_with_ambient().radiosity()
+        solver.solution(Ambient::Everywhere, &silent).radiosity()
     );
 
     // The contour mesher lays out its receivers between the two.
@@ -274,7 +274,10 @@ fn cancelling_half_way_leaves_a_balanced_solution_that_can_resume() {
     assert!(imbalance < 1e-9 * e.emitted.max_element(), "{e:?}");
     // The ambient term stands in for the unshot light: the ambient solution
     // is brighter everywhere, by the same vertex count.
-    let (plain, ambient) = (solver.solution(), solver.solution_with_ambient());
+    let (plain, ambient) = (
+        solver.solution(Ambient::Omitted, &silent),
+        solver.solution(Ambient::Everywhere, &silent),
+    );
     assert_eq!(plain.radiosity().len(), ambient.radiosity().len());
     assert!(
         plain
@@ -349,8 +352,8 @@ fn surface_totals_with_the_ambient_term_close_the_ledger_after_patch_shots() {
     assert!(summary.unshot_after <= 0.01 && summary.unshot_before > 0.01);
     let scene = solver.scene();
     let ledger = solver.energy_balance().absorbed;
-    let gathered = absorbed_in_totals(&solver.solution_with_ambient(), scene);
-    let shot = absorbed_in_totals(&solver.solution(), scene);
+    let gathered = absorbed_in_totals(&solver.solution(Ambient::Everywhere, &silent), scene);
+    let shot = absorbed_in_totals(&solver.solution(Ambient::Omitted, &silent), scene);
     println!("absorbed: ledger {ledger}, with the term {gathered}, vertex shots {shot}");
     assert!(
         (gathered - ledger).abs().max_element() < 0.01 * ledger.max_element(),
@@ -366,7 +369,7 @@ fn surface_totals_close_the_energy_ledger() {
     settings.solver.patch_tolerance = 1.0;
     let mut solver = Solver::new(room_in_code(), settings).unwrap();
     solver.run();
-    let solution = solver.solution();
+    let solution = solver.solution(Ambient::Omitted, &silent);
     let totals = solution.surface_totals();
     let scene = solver.scene();
     assert_eq!(totals.len(), scene.surfaces.len());
@@ -407,7 +410,7 @@ fn surface_totals_close_the_energy_ledger() {
 fn a_solution_renders_to_an_image_the_caller_owns() {
     let mut solver = Solver::new(room_in_code(), preview()).unwrap();
     solver.run();
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     let triangles = solution.triangles();
     let mesh = solver.mesh();
     assert!(triangles.len() >= mesh.elements.len());
@@ -543,7 +546,7 @@ fn library_work(dir: &Path) {
     settings.mesh.kind = isorad::MeshKind::Contour;
     let mut solver = Solver::new(scene, settings).unwrap();
     solver.run_until(&Until::default(), |_| {});
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     let _ = solution.surface_totals();
     let point = ProbePoint {
         position: DVec3::new(2.0, 0.0, 1.0),

@@ -18,7 +18,7 @@ use std::path::Path;
 use glam::DVec3;
 use isorad::calculation::{CalculationGrid, IlluminanceStatistics, illuminance_lux};
 use isorad::scene::ProbePoint;
-use isorad::{ProbeMode, Settings, Solver, StopReason, load_scene};
+use isorad::{Ambient, ProbeMode, Settings, Solver, StopReason, load_scene, phase::silent};
 
 /// The room: 4 m × 4 m, 3 m high, one quad per face, facing inwards.
 const ROOM: [f64; 3] = [4.0, 3.0, 4.0];
@@ -250,7 +250,7 @@ fn probe_lux(solver: &Solver, x: DVec3, n: DVec3) -> f64 {
         line: 0,
     };
     let probe = solver
-        .solution_with_ambient()
+        .solution(Ambient::Everywhere, &silent)
         .probe(&point, ProbeMode::Gather)
         .unwrap();
     illuminance_lux(probe.irradiance)
@@ -364,7 +364,7 @@ fn case_5_8_inter_reflections_in_a_closed_room() {
         let solver = solve(dir.path());
         let exact = flux / area / (1.0 - rho);
         // The mesh's mean over every face, weighted by area.
-        let solution = solver.solution_with_ambient();
+        let solution = solver.solution(Ambient::Everywhere, &silent);
         let totals = solution.surface_totals();
         let received: f64 = totals
             .iter()
@@ -605,7 +605,7 @@ fn work_plane_points_inside_furniture_are_left_out() {
     }
     let dir = room_folder(0.0, Some("asymmetric.ies"), &cabinet);
     let solver = solve(dir.path());
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     let grid = CalculationGrid::on_surface(solution.scene, "floor", 0.8, None).unwrap();
     let lux = grid.illuminance(&solution);
     let mut inside = 0;
@@ -637,7 +637,7 @@ fn work_plane_points_inside_furniture_are_left_out() {
 fn a_free_space_gather_just_above_a_surface_agrees_with_its_probe() {
     let dir = room_folder(0.6, Some("asymmetric.ies"), "");
     let solver = solve(dir.path());
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     for (x, n) in probe_points() {
         let on_surface = probe_lux(&solver, x, n);
         let (irradiance, _) = solution.irradiance_in_space(x + n * 1e-3, n);

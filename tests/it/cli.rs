@@ -691,8 +691,8 @@ fn a_grid_and_probes_in_one_room_read_what_the_whole_solution_gives() {
     let settings = isorad::Settings::from_scene_options(&loaded.options).unwrap();
     let mut solver = isorad::Solver::new(loaded.scene, settings).unwrap();
     solver.run();
-    let whole = solver.solution_with_ambient();
-    let shot = solver.solution();
+    let whole = solver.solution(isorad::Ambient::Everywhere, &isorad::phase::silent);
+    let shot = solver.solution(isorad::Ambient::Omitted, &isorad::phase::silent);
     let grid = CalculationGrid::on_surface(solver.scene(), "floor_0", 0.8, Some(0.5)).unwrap();
     let (expected, lacking) = (grid.illuminance(&whole), grid.illuminance(&shot));
     let csv = std::fs::read_to_string(dir.path().join("grid.csv")).unwrap();

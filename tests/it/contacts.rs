@@ -5,8 +5,9 @@
 use crate::support::*;
 use glam::{DVec2, DVec3};
 use isorad::{
-    Scene, Solver, SolverSettings, SurfaceId,
+    Ambient, Scene, Solver, SolverSettings, SurfaceId,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
+    phase::silent,
 };
 
 /// A 4 × 4 floor (z = 0) with a unit cube standing on it, centred at the
@@ -110,7 +111,7 @@ fn solved_block_on_floor() -> Solver {
 #[test]
 fn no_darkness_bleeds_out_from_under_a_block() {
     let solver = solved_block_on_floor();
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     // Just outside each side of the block, the rendered mesh agrees with an
     // exact gather: the dark floor under the block no longer exists.
     let mut points = Vec::new();
@@ -227,7 +228,7 @@ fn a_desk_keeps_its_light_beside_a_screen_standing_near_its_edge() {
     settings.solver.tolerance = 0.01;
     let mut solver = Solver::new(scene, settings).unwrap();
     solver.run();
-    let solution = solver.solution();
+    let solution = solver.solution(Ambient::Omitted, &silent);
     let desk = SurfaceId::new(1);
     let meshed = solution.surface_totals()[desk.index()];
     // The gathers: a jittered 24 × 24 grid over the desk beside the screen.
@@ -447,7 +448,7 @@ fn a_ceiling_is_cut_out_round_a_panel_hung_just_below_it() {
         "the ceiling keeps {ceiling} m² of elements"
     );
     let solver = solved_to_a_thousandth(scene, mesh);
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     // Just round the panel, the rendered ceiling agrees with an exact
     // gather: the dark gap behind the panel no longer spreads (a whole
     // element's width, -30 % at 1 cm, before the panel's outline was cut;
@@ -578,7 +579,7 @@ fn the_sides_of_books_a_millimetre_apart_keep_only_what_the_slot_leaves_open() {
     );
     assert!(short.abs() < 1e-12, "the short side keeps {short} m²");
     let solver = solved_to_a_thousandth(scene, mesh);
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     // The power the two sides receive is what exact gathers find over the
     // tall side's open strip (a 10 × 10 grid), plus at most what enters
     // the slot's two 1 mm × 25 cm mouths at the brightest irradiance on
@@ -631,7 +632,7 @@ fn books_farther_apart_than_the_contact_tolerance_keep_their_sides() {
 #[test]
 fn a_mesh_probe_under_a_block_reads_the_dark_the_mesh_dropped() {
     let solver = solved_block_on_floor();
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     let probe = |x: f64, mode| {
         let point = isorad::scene::ProbePoint {
             position: DVec3::new(x, 0.0, 0.0),
@@ -716,7 +717,7 @@ fn a_book_two_centimetres_before_a_wall_draws_its_outline_on_the_wall() {
         "the wall keeps all of its area"
     );
     let solver = solved_to_a_thousandth(scene, mesh);
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     // Just above the book, the mesh reads what a gather finds there.
     for z in [0.32, 0.36] {
         let point = isorad::scene::ProbePoint {

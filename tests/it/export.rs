@@ -5,9 +5,10 @@
 use std::path::Path;
 
 use isorad::{
-    Length, Settings, Solver, ToneMap,
+    Ambient, Length, Settings, Solver, ToneMap,
     export::{export_glb, export_ply},
     export_solution, load_scene,
+    phase::silent,
 };
 
 /// The Cornell box, coarsely meshed (elements of 3/40 of its diagonal) and
@@ -37,7 +38,7 @@ fn display_colour(radiosity: isorad::Rgb, tone_map: &ToneMap) -> [f32; 3] {
 #[test]
 fn glb_parses_back_with_the_solutions_vertices_and_colours() {
     let solver = solved_cornell();
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cornell.glb");
     export_glb(&solution, &tone_map(), &path).unwrap();
@@ -183,7 +184,7 @@ fn read_ply(bytes: &[u8]) -> Ply {
 #[test]
 fn ply_round_trips_positions_radiance_colours_and_faces() {
     let solver = solved_cornell();
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cornell.ply");
     let tone_map = tone_map();
@@ -226,7 +227,7 @@ fn ply_round_trips_positions_radiance_colours_and_faces() {
 #[test]
 fn unknown_extension_is_refused() {
     let solver = solved_cornell();
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     let error = export_solution(&solution, &tone_map(), Path::new("out.obj")).unwrap_err();
     assert!(error.to_string().contains(".ply or .glb"), "{error}");
 }

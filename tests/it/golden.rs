@@ -13,7 +13,9 @@
 //! mean radiance is good to 0.015 %.
 
 use isorad::meshing::MeshKind;
-use isorad::{Image, RenderSettings, Settings, Solver, load_scene, render::read_exr};
+use isorad::{
+    Ambient, Image, RenderSettings, Settings, Solver, load_scene, phase::silent, render::read_exr,
+};
 use std::path::Path;
 
 /// Rec. 709 luminance of a pixel.
@@ -63,7 +65,7 @@ fn errors_with(scene: &str, reference: &str, adjust: &dyn Fn(&mut Settings)) -> 
     (camera.width, camera.height) = (reference.width(), reference.height());
     // What `isorad render` writes: the solution with the ambient term.
     let image = solver
-        .solution_with_ambient()
+        .solution(Ambient::Everywhere, &silent)
         .render(&camera, &RenderSettings::default());
     let (mean_ratio, per_pixel) = image_errors(&image, &reference);
     println!(
@@ -209,7 +211,7 @@ fn gather_probes_across_the_table_shadow_match_the_path_tracer() {
     let settings = Settings::from_scene_options(&loaded.options).unwrap();
     let mut solver = Solver::new(loaded.scene, settings).unwrap();
     solver.run();
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     let luminance = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
     let peak = reference.iter().map(|r| luminance(r.1)).fold(0.0, f64::max);
     let (mut worst, mut umbra) = (0.0_f64, Vec::new());

@@ -7,7 +7,7 @@ use std::path::Path;
 use crate::support::solve_with_cull;
 use glam::DVec3;
 use isorad::scene::ProbePoint;
-use isorad::{ProbeMode, Settings, Solver, load_scene};
+use isorad::{Ambient, ProbeMode, Settings, Solver, load_scene, phase::silent};
 
 /// Vertical angles 0–90 every 10°, horizontal 0–90 every 30° (quadrant
 /// symmetric): I = 1000 (1 + C/90) cos γ + 100, so that every plane and
@@ -90,7 +90,7 @@ fn solve(dir: &Path) -> Solver {
 fn a_downlight_lights_the_floor_as_its_tabulated_intensity_over_distance_squared() {
     let dir = scene_folder(FLOOR, LUMINAIRE);
     let solver = solve(dir.path());
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     let (vertical, horizontal, candela) = table();
     // The colour normalised to unit luminance.
     let luminance = 0.2126 + 0.7152 * 0.9 + 0.0722 * 0.8;
@@ -163,7 +163,7 @@ fn a_luminous_opening_casts_penumbrae_and_keeps_the_point_law_in_the_open() {
     )
     .unwrap();
     let solver = solve(dir.path());
-    let solution = solver.solution_with_ambient();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
     let direct = |x: f64| {
         let point = ProbePoint {
             position: DVec3::new(x, 0.0, 0.5),
@@ -219,7 +219,7 @@ fn a_closed_room_lit_by_a_luminaire_keeps_its_ledger_and_lets_nothing_escape() {
         "{per_vertex_shot} rays per vertex and shot"
     );
     // Indirect light reaches the ceiling, which the downlight does not see.
-    let totals = solver.solution().surface_totals();
+    let totals = solver.solution(Ambient::Omitted, &silent).surface_totals();
     assert!(totals[1].mean_irradiance.g > 0.0);
 }
 
@@ -359,7 +359,7 @@ fn a_floor_under_one_photometric_luminaire_gets_the_contour_mesher() {
         solver.run();
         // The mesh carries the light: the rendered (interpolated) radiosity
         // against the exact ρ E at points between vertices, as an RMS.
-        let solution = solver.solution_with_ambient();
+        let solution = solver.solution(Ambient::Everywhere, &silent);
         let luminaire = &solution.scene.luminaires[0];
         let mut squares = 0.0;
         let n = 200;

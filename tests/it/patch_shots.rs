@@ -3,7 +3,7 @@
 
 use crate::support::*;
 use glam::DVec3;
-use isorad::{Rgb, Settings, Solver, StopReason};
+use isorad::{Ambient, Rgb, Settings, Solver, StopReason, phase::silent};
 
 /// Two closed rooms, each with a block on its floor and a lamp under its
 /// ceiling, meshed at 0.5 m in patches of 1 m and solved at the default
@@ -98,7 +98,7 @@ fn a_shot_after_the_patch_shots_drops_them() {
 #[test]
 fn the_ambient_term_reads_the_patch_shots() {
     let mean = |solver: &Solver| {
-        let radiosity = solver.radiosity_with_ambient();
+        let radiosity = solver.solution(Ambient::Everywhere, &silent).radiosity();
         radiosity.iter().copied().sum::<Rgb>().element_sum() / radiosity.len() as f64
     };
     let alone = two_rooms(1.0);
@@ -176,7 +176,7 @@ fn a_shelf_of_books_shoots_as_a_few_clusters() {
     // The same light, to the noise of the patch shots' few rays (measured
     // 0.01 %): over the room, and on the books themselves.
     let mean = |solver: &Solver, of: &dyn Fn(&str) -> bool| {
-        let radiosity = solver.radiosity_with_ambient();
+        let radiosity = solver.solution(Ambient::Everywhere, &silent).radiosity();
         let (scene, mesh) = (solver.scene(), solver.mesh());
         let (sum, count) = mesh
             .vertices

@@ -3,8 +3,9 @@
 use crate::support::*;
 use glam::DVec3;
 use isorad::{
-    ProbeMode, Scene, Solver, SolverSettings, SurfaceId,
+    Ambient, ProbeMode, Scene, Solver, SolverSettings, SurfaceId,
     mesh::{Mesh, SquareMeshSettings, mesh_square},
+    phase::silent,
     scene::ProbePoint,
 };
 use std::f64::consts::PI;
@@ -57,7 +58,7 @@ fn at(x: f64, y: f64) -> ProbePoint {
 fn gather_matches_the_exact_disc_formula() {
     let scene = disc_scene(false);
     solve(&scene, |solver| {
-        let solution = solver.solution_with_ambient();
+        let solution = solver.solution(Ambient::Everywhere, &silent);
         for x in [0.0, 0.3, 0.77, 1.0, 1.9, 3.3, 5.0] {
             let probe = solution.probe(&at(x, 0.1), ProbeMode::Gather).unwrap();
             let r = (x * x + 0.01_f64).sqrt();
@@ -78,7 +79,7 @@ fn gather_matches_the_exact_disc_formula() {
 fn gather_gradient_agrees_with_finite_differences() {
     let scene = disc_scene(false);
     solve(&scene, |solver| {
-        let solution = solver.solution_with_ambient();
+        let solution = solver.solution(Ambient::Everywhere, &silent);
         let value = |x: f64, y: f64| {
             solution
                 .probe(&at(x, y), ProbeMode::Gather)
@@ -108,7 +109,7 @@ fn gather_gradient_agrees_with_finite_differences() {
 fn a_shadowed_point_gets_no_direct_light() {
     let scene = disc_scene(true);
     solve(&scene, |solver| {
-        let solution = solver.solution();
+        let solution = solver.solution(Ambient::Omitted, &silent);
         for mode in [ProbeMode::Gather, ProbeMode::Mesh] {
             let probe = solution.probe(&at(0.05, -0.1), mode).unwrap();
             assert_eq!(probe.irradiance, isorad::Rgb::ZERO, "{mode:?}");
@@ -122,7 +123,7 @@ fn a_shadowed_point_gets_no_direct_light() {
 fn mesh_mode_interpolates_vertices_and_has_the_interpolant_gradient() {
     let scene = disc_scene(false);
     solve(&scene, |solver| {
-        let solution = solver.solution_with_ambient();
+        let solution = solver.solution(Ambient::Everywhere, &silent);
         let mesh = solution.mesh;
         // At a vertex, the value is the vertex's.
         let (index, vertex) = mesh
@@ -185,7 +186,7 @@ fn mesh_mode_interpolates_vertices_and_has_the_interpolant_gradient() {
 fn a_point_on_no_surface_is_an_error_naming_its_line() {
     let scene = disc_scene(false);
     solve(&scene, |solver| {
-        let solution = solver.solution_with_ambient();
+        let solution = solver.solution(Ambient::Everywhere, &silent);
         let point = ProbePoint {
             position: DVec3::new(0.0, 0.0, 0.5),
             normal: None,
@@ -264,7 +265,7 @@ fn exact_penumbra(x: f64) -> f64 {
 fn gather_resolves_a_penumbra_against_the_exact_visible_lamp() {
     let scene = penumbra_scene();
     solve(&scene, |solver| {
-        let solution = solver.solution();
+        let solution = solver.solution(Ambient::Omitted, &silent);
         let maximum = exact_penumbra(1.0);
         let xs: Vec<f64> = (-100..=110)
             .step_by(5)

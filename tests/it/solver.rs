@@ -3,8 +3,9 @@
 use crate::support::*;
 use glam::DVec3;
 use isorad::{
-    Scene, SolverSettings, StopReason, SurfaceId,
+    Ambient, Scene, SolverSettings, StopReason, SurfaceId,
     mesh::{SquareMeshSettings, mesh_square},
+    phase::silent,
     solver::FormFactorKernel,
 };
 use std::f64::consts::PI;
@@ -178,7 +179,10 @@ fn the_ambient_term_of_an_open_scene_adds_only_light_that_lands() {
         let (solver, unshot) = solved_with_patch_tolerance(scene, mesh, 0.01, patch_tolerance);
         assert!(unshot > 1e-3, "light is left unshot");
         assert_eq!(solver.patch_shot_summary().is_some(), patch_tolerance < 1.0);
-        let errors = disc_over_floor_errors(&solver.radiosity_with_ambient(), solver.mesh());
+        let errors = disc_over_floor_errors(
+            &solver.solution(Ambient::Everywhere, &silent).radiosity(),
+            solver.mesh(),
+        );
         let worst = errors.iter().copied().fold(0.0, f64::max);
         let mean = errors.iter().sum::<f64>() / errors.len() as f64;
         println!(
@@ -226,7 +230,7 @@ fn the_ambient_term_of_a_closed_scene_is_cohens() {
         assert!(unshot > 0.05, "much light is left unshot");
         assert!(solver.unshot_fraction() <= patch_tolerance);
         let expected = PI / (1.0 - 0.5);
-        let with_ambient = solver.radiosity_with_ambient();
+        let with_ambient = solver.solution(Ambient::Everywhere, &silent).radiosity();
         let count = with_ambient.len() as f64;
         let mean = with_ambient.iter().map(|b| b.r).sum::<f64>() / count;
         let without = solver.radiosity().iter().map(|b| b.r).sum::<f64>() / count;
@@ -451,7 +455,7 @@ fn a_view_from_inside_a_closed_room_draws_that_room_alone() {
     settings.solver.tolerance = 0.2;
     let mut solver = isorad::Solver::new(two_closed_rooms(), settings).unwrap();
     solver.run();
-    let solution = solver.solution();
+    let solution = solver.solution(Ambient::Omitted, &silent);
     let mut camera = isorad::Camera {
         position: DVec3::new(2.0, 1.5, 0.5),
         look_at: DVec3::new(2.5, 1.0, 3.5),
@@ -914,7 +918,9 @@ fn a_lamps_shot_gives_a_coarse_floor_its_exact_power() {
         }
     }
     exact *= cell * cell;
-    let trapezoid = solver.solution().surface_totals()[0].received_power.r;
+    let trapezoid = solver.solution(Ambient::Omitted, &silent).surface_totals()[0]
+        .received_power
+        .r;
     let error = received / exact - 1.0;
     let trapezoid_error = trapezoid / exact - 1.0;
     println!(
@@ -979,7 +985,7 @@ fn solved_room(scene: &Scene, conserve: bool) -> isorad::Solver {
 /// ρ = 0.7), less 1.
 fn received_against_the_closed_room(solver: &isorad::Solver) -> f64 {
     let total: f64 = solver
-        .solution_with_ambient()
+        .solution(Ambient::Everywhere, &silent)
         .surface_totals()
         .iter()
         .map(|t| t.received_power.r)
@@ -1107,7 +1113,7 @@ fn the_smoothed_ambient_term_is_nearer_an_unshot_lamps_light() {
         settings.smooth_ambient = smooth;
         let solver =
             isorad::Solver::with_mesh(scene.clone(), mesh.clone(), settings).expect("solver");
-        let solution = solver.solution_with_ambient();
+        let solution = solver.solution(Ambient::Everywhere, &silent);
         let (mut sum, mut count, mut total, mut exact_total) = (0.0, 0.0, 0.0, 0.0);
         for (vertex, h) in solver.mesh().vertices.iter().zip(&solution.irradiance()) {
             let p = vertex.position;
@@ -1160,7 +1166,9 @@ fn the_ambient_sweeps_send_a_hidden_face_the_light_it_sees() {
         .expect("the block's back");
     let mesh = mesh(&scene, 0.2, 1.0);
     let received = |solver: &isorad::Solver| {
-        solver.solution_with_ambient().surface_totals()[back]
+        solver
+            .solution(Ambient::Everywhere, &silent)
+            .surface_totals()[back]
             .received_power
             .r
     };
@@ -1304,7 +1312,7 @@ fn a_room_far_from_the_rest_gathers_at_its_boundaries_as_alone() {
             normal: Some(DVec3::Y),
             line: 1,
         };
-        let solution = solver.solution();
+        let solution = solver.solution(Ambient::Omitted, &silent);
         solution
             .probe(&foot, isorad::ProbeMode::Gather)
             .unwrap()
@@ -1374,9 +1382,9 @@ fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
         height: 32,
     };
     let inside = camera(DVec3::new(0.5, 2.0, 0.5));
-    let whole = solver.solution_with_ambient();
-    let shot = solver.solution();
-    let seen = solver.solution_with_ambient_seen_from(&inside, &|_| {});
+    let whole = solver.solution(Ambient::Everywhere, &silent);
+    let shot = solver.solution(Ambient::Omitted, &silent);
+    let seen = solver.solution(Ambient::SeenFrom(&inside), &|_| {});
     let mut gained = 0;
     for (v, vertex) in solver.mesh().vertices.iter().enumerate() {
         let (value, expected) = (seen.radiosity_at(v), whole.radiosity_at(v));
@@ -1412,7 +1420,7 @@ fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
     }
     // From outside both rooms, the whole term.
     let outside = camera(DVec3::new(5.0, 1.5, -3.0));
-    let seen = solver.solution_with_ambient_seen_from(&outside, &|_| {});
+    let seen = solver.solution(Ambient::SeenFrom(&outside), &|_| {});
     assert_eq!(seen.radiosity(), whole.radiosity());
 }
 
@@ -1425,8 +1433,8 @@ fn a_view_from_inside_a_room_makes_the_ambient_term_of_that_room_alone() {
 /// does no place.
 #[test]
 fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
-    use isorad::ReadingPlace;
     use isorad::calculation::CalculationGrid;
+    use isorad::solver::ReadingPlace;
     let solver = solved_rooms_in_a_row(3);
     let scene = solver.scene();
     let floor_0 = scene
@@ -1434,14 +1442,14 @@ fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
         .find(|(_, s)| s.name == "floor_0")
         .map(|(id, _)| id)
         .unwrap();
-    let whole = solver.solution_with_ambient();
-    let shot = solver.solution();
+    let whole = solver.solution(Ambient::Everywhere, &silent);
+    let shot = solver.solution(Ambient::Omitted, &silent);
     // A probe on room 0's floor, a point in the air of room 2.
     let places = [
         ReadingPlace::OnSurface(floor_0),
         ReadingPlace::InSpace(DVec3::new(20.5, 1.0, 0.5)),
     ];
-    let read = solver.solution_with_ambient_for(&places, &|_| {});
+    let read = solver.solution(Ambient::For(&places), &|_| {});
     for (v, vertex) in solver.mesh().vertices.iter().enumerate() {
         let (value, expected) = (read.radiosity_at(v), whole.radiosity_at(v));
         if (5.0..15.0).contains(&vertex.position.x) {
@@ -1494,7 +1502,7 @@ fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
             "{} of {inside} places",
             places.len()
         );
-        let read = solver.solution_with_ambient_for(&places, &|_| {});
+        let read = solver.solution(Ambient::For(&places), &|_| {});
         let (lux, expected) = (grid.illuminance(&read), grid.illuminance(&whole));
         for (a, b) in lux.iter().zip(&expected) {
             assert!(
@@ -1512,11 +1520,11 @@ fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
     let foreign = [places[0], ReadingPlace::OnSurface(isorad::SurfaceId::NONE)];
     let nowhere = [places[0], ReadingPlace::InSpace(DVec3::NAN)];
     for places in [&outside[..], &foreign[..], &nowhere[..], &[]] {
-        let read = solver.solution_with_ambient_for(places, &|_| {});
+        let read = solver.solution(Ambient::For(places), &|_| {});
         assert_eq!(read.radiosity(), whole.radiosity());
     }
     // A work-plane point in a room not read reads nothing.
-    let read = solver.solution_with_ambient_for(&places[..1], &|_| {});
+    let read = solver.solution(Ambient::For(&places[..1]), &|_| {});
     let (value, _) = read.irradiance_in_space(DVec3::new(11.0, 0.8, 1.0), DVec3::Y);
     assert!(value.g.is_nan());
     assert!(!read.holds_term_at(&ReadingPlace::InSpace(DVec3::INFINITY)));

@@ -4,8 +4,9 @@
 use crate::support::*;
 use glam::DVec3;
 use isorad::{
-    Scene, Solver, SolverSettings, SurfaceId,
+    Ambient, Scene, Solver, SolverSettings, SurfaceId,
     mesh::{SquareMeshSettings, mesh_square},
+    phase::silent,
 };
 
 /// Width and height of the spine.
@@ -109,7 +110,7 @@ fn a_spine_one_element_across_shows_its_mean_light() {
         );
     }
     let solver = solved_to_a_thousandth(scene, mesh);
-    let solution = solver.solution();
+    let solution = solver.solution(Ambient::Omitted, &silent);
     let shown = solution.surface_totals()[spine.index()].mean_irradiance.r;
     let exact = probed_mean(&solution, (0.0, 1.0), 12);
     // What the spine's corners see, in the strips along its two edges the
@@ -230,7 +231,7 @@ fn a_spine_gets_a_row_where_a_neighbour_standing_further_forward_ends() {
         "rows at {heights:?} µm, none at the neighbour's top, {row} µm"
     );
     let solver = solved_to_a_thousandth(scene, mesh);
-    let solution = solver.solution();
+    let solution = solver.solution(Ambient::Omitted, &silent);
     // Mesh and gather over the spine's width, in bands above and below the
     // neighbour's top.
     let band = |y0: f64, y1: f64, mode: isorad::ProbeMode| {

@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use isorad::{
-    ReadingPlace, Rgb, calculation::illuminance_lux, photometry::LUMENS_PER_WATT,
-    scene::load_probe_points,
+    Rgb, calculation::illuminance_lux, photometry::LUMENS_PER_WATT, scene::load_probe_points,
+    solver::ReadingPlace,
 };
 use rayon::prelude::*;
 

@@ -6,7 +6,10 @@ use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
-use isorad::{Phase, PhaseProgress, Progress, ReadingPlace, Solution, Solver, StopReason, Until};
+use isorad::{
+    Ambient, Phase, PhaseProgress, Progress, Solution, Solver, StopReason, Until,
+    solver::ReadingPlace,
+};
 
 /// Set by Ctrl-C: the solve stops between two shots and the solution so far
 /// is written.
@@ -178,17 +181,17 @@ impl PhaseBars {
 
     /// The solver's solution with its ambient term, behind a bar.
     pub fn solution_with_ambient<'a>(&self, solver: &'a Solver) -> Solution<'a> {
-        let solution = solver.solution_with_ambient_progress(&|p| self.report(p));
+        let solution = solver.solution(Ambient::Everywhere, &|p| self.report(p));
         self.finish();
         solution
     }
 
     /// The solution that readings at `places` need, behind a bar: the
     /// ambient term of the closed rooms they lie in alone
-    /// ([`Solver::solution_with_ambient_for`]; a camera's position for
+    /// ([`isorad::Ambient::For`]; a camera's position for
     /// its images).
     pub fn solution_for<'a>(&self, solver: &'a Solver, places: &[ReadingPlace]) -> Solution<'a> {
-        let solution = solver.solution_with_ambient_for(places, &|p| self.report(p));
+        let solution = solver.solution(Ambient::For(places), &|p| self.report(p));
         self.finish();
         solution
     }

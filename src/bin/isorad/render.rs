@@ -8,13 +8,14 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use isorad::{
-    Camera, ReadingPlace, RenderSettings, Rgb, Scene, Solution, Solver, StopReason, ToneMap, Until,
+    Camera, RenderSettings, Rgb, Scene, Solution, Solver, StopReason, ToneMap, Until,
     calculation::{FalseColorScale, write_falsecolor_image},
     export::ExportFormat,
     export_solution,
     lighting::area_lights,
     photometry::LUMENS_PER_WATT,
     render::auto_exposure,
+    solver::ReadingPlace,
     write_exr, write_png,
 };
 

@@ -3,9 +3,7 @@
 //! The ambient term (`solver/ambient/rays.rs`) holds, while an image is made, each
 //! vertex ray's hit and landing point (6 bytes) and the element under it
 //! (8 more), 96 rays a vertex: 1.3 KB a vertex, most of what a building
-//! needs at that moment (a floor of 16 furnished offices, 175,000
-//! vertices, peaked at 454 MB of heap, 312 MB of it the term's, by
-//! heaptrack). A closed room's rays land only in that room, and its
+//! needs at that moment. A closed room's rays land only in that room, and its
 //! sweeps read only its own vertices and elements, so the term is made
 //! room by room: each closed zone's vertices, elements and patches
 //! ([`Room`]), with its rays, landing elements, estimates and sweeps, and
@@ -13,27 +11,22 @@
 //! than [`KEPT_VERTEX_RAYS`] vertex rays casts each room's rays for the
 //! image and drops them after, so that one room's rays are held at a
 //! time, and the term's memory is that of the largest room, not of the
-//! building (README, How it works, 4): the 16 offices'
-//! render peaks at 115 MiB resident instead of 471 MiB, the same image
-//! pixel for pixel in the same time (BENCHMARKS.md, (e)).
+//! building, for the same image pixel for pixel.
 //!
 //! The rare ray that leaks out of a closed room through a seam (a zone
 //! stays closed while under 1/256 of the rays that find it leave,
 //! `zones.rs`) reads the patch it lands on at patch resolution, its
 //! unshot radiosity and the light it will still reflect (`solver/ambient/rays.rs`);
 //! in the term of some rooms alone, made for readings inside them (a
-//! view, probes, a calculation grid: [`ReadingPlace`],
-//! [`crate::Solver::solution_with_ambient_for`]), its unshot radiosity
+//! view, probes, a calculation grid: [`crate::solver::ReadingPlace`],
+//! [`crate::Ambient::For`]), its unshot radiosity
 //! alone.
 
-use glam::DVec3;
-use rayon::prelude::*;
-
 use crate::mesh::Mesh;
-use crate::meshing::ZoneLabels;
-use crate::scene::{ProbePoint, Scene, SurfaceId, Visibility};
-use crate::solver::ambient::rays::{PatchRays, VERTEX_RAYS, VertexRays};
-use crate::solver::reading::solution::locate_probe;
+use crate::scene::SurfaceId;
+use crate::solver::ambient::patch_rays::PatchRays;
+use crate::solver::ambient::rays::VERTEX_RAYS;
+use crate::solver::ambient::vertex_rays::VertexRays;
 
 /// The most vertex rays kept from one image to the next: 2²⁴, about
 /// 175,000 vertices' (96 MiB). A larger mesh's rooms cast theirs for each
@@ -111,70 +104,13 @@ impl Room {
     }
 }
 
-/// Where a reading of a solution is taken, for choosing the rooms whose
-/// ambient term it needs ([`crate::Solver::solution_with_ambient_for`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ReadingPlace {
-    /// A point on the front of a surface (a probe, a calculation grid's
-    /// point on a floor): it sees what that front sees, which in a closed
-    /// zone is the zone's own surfaces.
-    OnSurface(SurfaceId),
-    /// A point in space (a camera, a work plane's point): it sees the
-    /// closed zone that encloses it, the one on whose surfaces 64 rays
-    /// from it, spread over the sphere, all land, at least one on a front.
-    InSpace(DVec3),
-}
-
-impl ReadingPlace {
-    /// The place a probe reads: the front of the surface `point` lies on
-    /// (as [`crate::Solution::probe`] finds it), or `None` on no surface.
-    #[must_use]
-    pub fn of_probe(scene: &Scene, point: &ProbePoint) -> Option<ReadingPlace> {
-        locate_probe(scene, point).map(ReadingPlace::OnSurface)
-    }
-
-    /// The closed zone this place sees alone: its surface's, or the one
-    /// that encloses the point ([`ZoneLabels::enclosing`], 64 rays);
-    /// `None` in the open zone, or where a point's rays leave the scene,
-    /// land in another zone, or all on backs.
-    #[must_use]
-    pub(crate) fn zone(
-        &self,
-        labels: &ZoneLabels,
-        (scene, visibility): (&Scene, &Visibility),
-    ) -> Option<usize> {
-        match *self {
-            // A surface not of this scene is in no zone.
-            ReadingPlace::OnSurface(surface) if surface.index() >= scene.surfaces.len() => None,
-            ReadingPlace::OnSurface(surface) => {
-                let zone = labels.of(surface);
-                labels.is_lossless(zone).then_some(zone)
-            }
-            ReadingPlace::InSpace(point) => labels.enclosing(scene, visibility, point),
-        }
-    }
-}
-
-/// The closed zones that readings at `places` see, ascending
-/// ([`ReadingPlace::zone`], the places in parallel); `None` (they need
-/// the whole solution) when any place lies in no closed zone, or when
-/// no place is given.
-#[must_use]
-pub(crate) fn zones_read(
-    labels: &ZoneLabels,
-    parts: (&Scene, &Visibility),
-    places: &[ReadingPlace],
-) -> Option<Vec<usize>> {
-    if places.is_empty() {
-        return None;
-    }
-    let mut zones: Vec<usize> = places
-        .par_iter()
-        .map(|place| place.zone(labels, parts))
-        .collect::<Option<_>>()?;
-    zones.sort_unstable();
-    zones.dedup();
-    Some(zones)
+/// A room whose members [`LocalIndex`] has entered: what the ambient term
+/// reads of the room it is working on.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RoomView<'a> {
+    pub(crate) room: &'a Room,
+    /// Each member's place in the room's lists.
+    pub(crate) local: &'a LocalIndex,
 }
 
 /// Each vertex's, element's and patch's index in the room being worked on
@@ -255,6 +191,8 @@ impl LocalIndex {
 
 #[cfg(test)]
 mod tests {
+    use glam::DVec3;
+
     use super::*;
 
     /// Two unit quads on surfaces 0 and 1, one patch each.

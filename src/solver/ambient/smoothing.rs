@@ -32,12 +32,9 @@
 //! sits off the vertex, and the mean leans along the field's gradient by
 //! a fraction of an element.
 //!
-//! Under a lamp not yet shot, the floor's estimates of its light are 22 %
-//! off on average where they were 55 % (`tests/it/solver.rs`). The images,
-//! by the golden tests' metric at the references' sizes: the cluttered
-//! office 2.879 → 2.811 %, the furnished one 1.417 → 1.398 %, the shipped
-//! office 3.747 → 3.651 %, `scenes/table` 2.182 → 2.115 %, the Cornell box
-//! 1.876 → 1.862 %, `scenes/room` 1.485 → 1.481 % (BENCHMARKS.md, (e)).
+//! Under a lamp not yet shot, the floor's estimates of its light are
+//! about 22 % off on average (`tests/it/solver.rs`), less than half of
+//! what the raw estimates are off.
 //!
 //! # References
 //! G. J. Ward, F. M. Rubinstein, R. D. Clear, "A Ray Tracing Solution for
@@ -53,9 +50,8 @@ use crate::solver::ambient::rays::AmbientEstimate;
 use crate::solver::ambient::rooms::{LocalIndex, Room};
 
 /// A neighbour's weight falls to 0 this many times the smaller of its and
-/// the vertex's harmonic mean distance away (4 took the cluttered office
-/// to 2.809 %, 2 to 2.811 %; at 4 the wall above a book 2 cm in front of
-/// it read 5.2 % under a gather, at 2 within 5 %).
+/// the vertex's harmonic mean distance away: farther, the wall above a
+/// book 2 cm in front of it strays from a gather (`tests/it/contacts.rs`).
 pub(crate) const REACH: f64 = 2.0;
 
 /// A neighbour's weight falls to 0 where its estimate differs from the
@@ -101,7 +97,8 @@ impl Neighbourhood {
 #[must_use]
 pub(crate) fn smoothed(
     mesh: &Mesh,
-    (room, around): (&Room, &Neighbourhood),
+    room: &Room,
+    around: &Neighbourhood,
     estimates: &[AmbientEstimate],
     harmonic_distance: &[f64],
 ) -> Vec<Rgb> {
@@ -260,7 +257,7 @@ mod tests {
             .map(|v| Rgb::splat(2.0 + 0.3 * v.position.x - 0.1 * v.position.y))
             .collect();
         let far = vec![100.0; raw.len()];
-        let out = smoothed(&mesh, (&room, &around), &noisy(&raw, 1.0), &far);
+        let out = smoothed(&mesh, &room, &around, &noisy(&raw, 1.0), &far);
         for (v, (a, b)) in raw.iter().zip(&out).enumerate() {
             assert!((a.r - b.r).abs() < 1e-12, "vertex {v}: {a:?} → {b:?}");
         }
@@ -268,7 +265,7 @@ mod tests {
         // neighbour, which it pulls, is the only other to move.
         let mut spiked = raw.clone();
         spiked[0] = Rgb::splat(40.0);
-        let out = smoothed(&mesh, (&room, &around), &noisy(&spiked, 100.0), &far);
+        let out = smoothed(&mesh, &room, &around, &noisy(&spiked, 100.0), &far);
         let moved: Vec<usize> = (0..raw.len())
             .filter(|&v| (out[v].r - raw[v].r).abs() > 1e-9)
             .collect();
@@ -290,10 +287,10 @@ mod tests {
         let close = 3 * 7 + 3;
         let mut distances = vec![100.0; raw.len()];
         distances[close] = 0.1;
-        let out = smoothed(&mesh, (&room, &around), &noisy(&raw, 1.0), &distances);
+        let out = smoothed(&mesh, &room, &around, &noisy(&raw, 1.0), &distances);
         assert_eq!(out[close], raw[close]);
         let alone = distances.iter().map(|_| 100.0).collect::<Vec<_>>();
-        let with = smoothed(&mesh, (&room, &around), &noisy(&raw, 1.0), &alone);
+        let with = smoothed(&mesh, &room, &around, &noisy(&raw, 1.0), &alone);
         for neighbour in [close - 1, close + 1, close - 7, close + 7] {
             assert_ne!(
                 out[neighbour], with[neighbour],
@@ -343,7 +340,8 @@ mod tests {
         let smooth = |error: f64, reach: f64| {
             smoothed(
                 &mesh,
-                (&room, &around),
+                &room,
+                &around,
                 &noisy(&raw, error),
                 &vec![reach; raw.len()],
             )

@@ -7,9 +7,9 @@
 //! no number of rays averages out. A wall patch half behind a bookcase
 //! sends the books' backs, which see only its hidden half, the mean of its
 //! lit and hidden halves; a floor patch half under a desk sends the
-//! ceiling, which sees its open half, the same mean. Solved from the
-//! lamps' shots alone, the cluttered office's book backs took 31–73 % too
-//! much of the light still to come and its ceiling 2.7 % too little.
+//! ceiling, which sees its open half, the same mean: solved from the
+//! lamps' shots alone, the cluttered office's book backs would take far
+//! too much of the light still to come, and its ceiling too little.
 //!
 //! So the term is taken further by Jacobi sweeps over the vertices, along
 //! the same rays. With G⁽⁰⁾ the patch-level estimate (smoothed, as
@@ -47,8 +47,10 @@ use rayon::prelude::*;
 
 use crate::mesh::Mesh;
 use crate::scene::{Rgb, SurfaceId};
-use crate::solver::ambient::rays::{AmbientEstimate, LandingElement, VertexRays};
-use crate::solver::ambient::rooms::{LocalIndex, Room};
+use crate::solver::ambient::landing::LandingElement;
+use crate::solver::ambient::rays::AmbientEstimate;
+use crate::solver::ambient::rooms::RoomView;
+use crate::solver::ambient::vertex_rays::VertexRays;
 
 /// The sweeps stop when the mean absolute change of G over the room's
 /// vertices (channels summed) is below this fraction of G's mean. The
@@ -69,15 +71,19 @@ pub(crate) struct UnshotLight<'a> {
     pub(crate) outside: &'a [Rgb],
 }
 
-/// G of `room`'s vertices (in its order; `local` has entered it) after up
-/// to `max_sweeps` sweeps from `first` (see the module docs), with
+/// G of `room`'s vertices (in its order) after up to `max_sweeps` sweeps
+/// along their `rays` from `first` (see the module docs), with
 /// `reflectance` per vertex of the room; `smooth` turns a sweep's
 /// estimates into the values the next sweep reads.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn swept(
-    (rays, mesh): (&VertexRays, &Mesh),
-    (room, local): (&Room, &LocalIndex),
-    (first, max_sweeps): (Vec<Rgb>, usize),
-    (unshot, reflectance): (&UnshotLight<'_>, &[Rgb]),
+    rays: &VertexRays,
+    mesh: &Mesh,
+    room: RoomView<'_>,
+    first: Vec<Rgb>,
+    max_sweeps: usize,
+    unshot: &UnshotLight<'_>,
+    reflectance: &[Rgb],
     lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
     smooth: &dyn Fn(&[AmbientEstimate]) -> Vec<Rgb>,
 ) -> Vec<Rgb> {
@@ -88,7 +94,7 @@ pub(crate) fn swept(
             .zip(reflectance)
             .map(|(g, rho)| *rho * *g)
             .collect();
-        let estimates = gathered_once((rays, mesh), (room, local), unshot, &further, lossless);
+        let estimates = gathered_once(rays, mesh, room, unshot, &further, lossless);
         let next = smooth(&estimates);
         let change = mean_change(&next, &ambient);
         ambient = next;
@@ -104,12 +110,14 @@ pub(crate) fn swept(
 /// interpolated on the element under each landing point, or their patch's
 /// area-weighted means where none is.
 fn gathered_once(
-    (rays, mesh): (&VertexRays, &Mesh),
-    (room, local): (&Room, &LocalIndex),
+    rays: &VertexRays,
+    mesh: &Mesh,
+    room: RoomView<'_>,
     unshot: &UnshotLight<'_>,
     further: &[Rgb],
     lossless: &(dyn Fn(SurfaceId) -> bool + Sync),
 ) -> Vec<AmbientEstimate> {
+    let RoomView { room, local } = room;
     let further_at = |v: u32| local.vertex(v as usize).map_or(Rgb::ZERO, |i| further[i]);
     let per_patch: Vec<Rgb> = room
         .patches

@@ -16,7 +16,7 @@
 //! separates its corners, so even a sliver thinner than the stratum, which
 //! its jittered rays would miss, keeps it on the frontier.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use crate::fixed_hash::FixedMap;
 use crate::lighting::SampleStream;
@@ -75,7 +75,37 @@ const CORNERS: [(u32, u32); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
 
 /// Where a stratum sits: its level below the base grid and its column and
 /// row in that level's (m · 2^level)² grid over the element's parameters.
-type Key = (u8, u32, u32);
+/// (Hashed as the tuple of its fields, in order.)
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct Key {
+    level: u8,
+    i: u32,
+    j: u32,
+}
+
+impl Key {
+    const fn new(level: u8, i: u32, j: u32) -> Key {
+        Key { level, i, j }
+    }
+}
+
+/// The point a gather reads at: its position, the unit normal it faces
+/// along, and its surface ([`SurfaceId::NONE`] in free space).
+#[derive(Clone, Copy, Debug)]
+pub struct GatherPoint {
+    pub position: DVec3,
+    pub normal: DVec3,
+    pub surface: SurfaceId,
+}
+
+/// A source element a gather reads: its cell, its surface's front normal
+/// and its surface.
+#[derive(Clone, Copy, Debug)]
+pub struct SourceElement {
+    pub cell: Cell,
+    pub normal: DVec3,
+    pub surface: SurfaceId,
+}
 
 /// One source element seen from one receiving point.
 pub struct AdaptiveVisibility<'a> {
@@ -105,22 +135,30 @@ pub struct AdaptiveVisibility<'a> {
 }
 
 impl<'a> AdaptiveVisibility<'a> {
-    /// Samples `cell` (a source element on surface `source`, front normal
-    /// `source_normal`) from `x` on surface `receiver` (normal `n`) with
-    /// `base` × `base` strata of one jittered ray each. `corner_witnesses`
-    /// are the shadow rays to the element's corners in polygon order (none
-    /// where no ray could be cast), which the caller casts once for all the
-    /// elements that share a corner.
+    /// Samples the `source` element from the point `at` with `base` ×
+    /// `base` strata of one jittered ray each. `corner_witnesses` are the
+    /// shadow rays to the element's corners in polygon order (none where no
+    /// ray could be cast), which the caller casts once for all the elements
+    /// that share a corner.
     #[must_use]
     pub fn new(
-        cell: Cell,
-        (x, n, receiver): (DVec3, DVec3, SurfaceId),
-        (source_normal, source): (DVec3, SurfaceId),
+        source: SourceElement,
+        at: GatherPoint,
         base: usize,
         corner_witnesses: [Option<bool>; 4],
         visibility: &'a Visibility,
         random: SampleStream,
     ) -> Self {
+        let SourceElement {
+            cell,
+            normal: source_normal,
+            surface: source,
+        } = source;
+        let GatherPoint {
+            position: x,
+            normal: n,
+            surface: receiver,
+        } = at;
         let base = base.max(1) as u32;
         let mut this = AdaptiveVisibility {
             cell,
@@ -139,7 +177,7 @@ impl<'a> AdaptiveVisibility<'a> {
             rays: 0,
         };
         let keys: Vec<Key> = (0..base)
-            .flat_map(|j| (0..base).map(move |i| (0, i, j)))
+            .flat_map(|j| (0..base).map(move |i| Key::new(0, i, j)))
             .collect();
         let strata: Vec<Stratum> = keys.iter().map(|&key| this.sample(key, 1)).collect();
         // The usual case, wholly lit or wholly hidden: every ray cast and all agreeing.
@@ -180,14 +218,14 @@ impl<'a> AdaptiveVisibility<'a> {
             .into_iter()
             .zip(polygon_corners)
         {
-            let point = this.lattice((0, i, j));
+            let point = this.lattice(Key::new(0, i, j));
             this.witnesses.insert(point, corner_witnesses[k]);
         }
         this.mark_frontier(&keys);
         if !this.frontier.is_empty() {
-            for &(level, i, j) in &keys {
+            for &Key { level, i, j } in &keys {
                 for (di, dj) in CORNERS {
-                    this.witness((level, i + di, j + dj));
+                    this.witness(Key::new(level, i + di, j + dj));
                 }
             }
             this.mark_frontier(&keys);
@@ -247,21 +285,18 @@ impl<'a> AdaptiveVisibility<'a> {
     /// is settled as it stands.
     pub fn refine(&mut self) {
         let frontier = std::mem::take(&mut self.frontier);
-        if frontier
-            .first()
-            .is_some_and(|&(level, _, _)| level >= MAX_LEVEL)
-        {
+        if frontier.first().is_some_and(|key| key.level >= MAX_LEVEL) {
             return;
         }
         let mut children = Vec::with_capacity(4 * frontier.len());
-        for (level, i, j) in frontier {
-            self.strata.remove(&(level, i, j));
+        for Key { level, i, j } in frontier {
+            self.strata.remove(&Key::new(level, i, j));
             for (di, dj) in CORNERS {
-                let key = (level + 1, 2 * i + di, 2 * j + dj);
+                let key = Key::new(level + 1, 2 * i + di, 2 * j + dj);
                 let stratum = self.sample(key, RAYS_PER_CHILD);
                 self.strata.insert(key, stratum);
                 for (ci, cj) in CORNERS {
-                    self.witness((key.0, key.1 + ci, key.2 + cj));
+                    self.witness(Key::new(key.level, key.i + ci, key.j + cj));
                 }
                 children.push(key);
             }
@@ -299,7 +334,7 @@ impl<'a> AdaptiveVisibility<'a> {
         let stratum = &self.strata[&key];
         let (mut rays, mut unblocked) = (stratum.cast, stratum.unblocked);
         for (di, dj) in CORNERS {
-            let corner = self.lattice((key.0, key.1 + di, key.2 + dj));
+            let corner = self.lattice(Key::new(key.level, key.i + di, key.j + dj));
             if let Some(&Some(witness)) = self.witnesses.get(&corner) {
                 rays += 1;
                 unblocked += u32::from(witness);
@@ -310,20 +345,21 @@ impl<'a> AdaptiveVisibility<'a> {
 
     /// The leaf stratum covering a grid cell: the cell itself or the
     /// nearest coarser stratum that holds it.
-    fn leaf_over(&self, (mut level, mut i, mut j): Key) -> Option<Key> {
+    fn leaf_over(&self, mut key: Key) -> Option<Key> {
         loop {
-            if self.strata.contains_key(&(level, i, j)) {
-                return Some((level, i, j));
+            if self.strata.contains_key(&key) {
+                return Some(key);
             }
-            if level == 0 {
+            if key.level == 0 {
                 return None;
             }
-            (level, i, j) = (level - 1, i / 2, j / 2);
+            key = Key::new(key.level - 1, key.i / 2, key.j / 2);
         }
     }
 
     /// A corner of a level's grid as a point of the finest level's lattice.
-    fn lattice(&self, (level, i, j): Key) -> (u32, u32) {
+    fn lattice(&self, key: Key) -> (u32, u32) {
+        let Key { level, i, j } = key;
         (i << (MAX_LEVEL - level), j << (MAX_LEVEL - level))
     }
 
@@ -337,16 +373,16 @@ impl<'a> AdaptiveVisibility<'a> {
         let side = f64::from(self.base << MAX_LEVEL);
         let inside = 1e-3 / side;
         let parameter = |k: u32| (f64::from(k) / side).clamp(inside, 1.0 - inside);
-        let ray = self.ray((parameter(point.0), parameter(point.1)));
+        let ray = self.ray(DVec2::new(parameter(point.0), parameter(point.1)));
         self.witnesses
             .insert(point, ray.map(|(_, unblocked)| unblocked));
     }
 
-    /// The shadow ray to the element's point at parameters (s, t): its
-    /// kernel κ and whether it is unblocked; none when the point is behind
-    /// the receiver or the receiver behind the source.
-    fn ray(&mut self, (s, t): (f64, f64)) -> Option<(f64, bool)> {
-        let y = self.cell.point(s, t);
+    /// The shadow ray to the element's point at parameters `st` = (s, t):
+    /// its kernel κ and whether it is unblocked; none when the point is
+    /// behind the receiver or the receiver behind the source.
+    fn ray(&mut self, st: DVec2) -> Option<(f64, bool)> {
+        let y = self.cell.point(st.x, st.y);
         let d = y - self.x;
         let r2 = d.length_squared();
         let kernel = self.n.dot(d) * -self.source_normal.dot(d) / (r2 * r2);
@@ -364,19 +400,20 @@ impl<'a> AdaptiveVisibility<'a> {
     }
 
     /// `count` jittered shadow rays into a stratum.
-    fn sample(&mut self, (level, i, j): Key, count: usize) -> Stratum {
+    fn sample(&mut self, key: Key, count: usize) -> Stratum {
+        let Key { level, i, j } = key;
         let side = f64::from(self.base << level);
         let mut stratum = Stratum {
             area: 1.0 / (side * side),
             ..Stratum::default()
         };
         for _ in 0..count {
-            let (s, t) = (
+            let st = DVec2::new(
                 (f64::from(i) + self.random.next_f64()) / side,
                 (f64::from(j) + self.random.next_f64()) / side,
             );
             stratum.samples += 1;
-            let Some((kernel, unblocked)) = self.ray((s, t)) else {
+            let Some((kernel, unblocked)) = self.ray(st) else {
                 continue;
             };
             stratum.cast += 1;
@@ -392,7 +429,8 @@ impl<'a> AdaptiveVisibility<'a> {
 }
 
 /// The up-to-eight neighbours of a grid cell within its level's grid.
-fn neighbours((level, i, j): Key, base: u32) -> impl Iterator<Item = Key> {
+fn neighbours(key: Key, base: u32) -> impl Iterator<Item = Key> {
+    let Key { level, i, j } = key;
     let side = i64::from(base << level);
     (-1i64..=1)
         .flat_map(|dj| (-1i64..=1).map(move |di| (di, dj)))
@@ -400,6 +438,6 @@ fn neighbours((level, i, j): Key, base: u32) -> impl Iterator<Item = Key> {
         .filter_map(move |(di, dj)| {
             let (p, q) = (i64::from(i) + di, i64::from(j) + dj);
             ((0..side).contains(&p) && (0..side).contains(&q))
-                .then_some((level, p as u32, q as u32))
+                .then_some(Key::new(level, p as u32, q as u32))
         })
 }

@@ -1,22 +1,16 @@
-//! A solved scene, and reading it at any point (the probes).
+//! A solved scene ([`Solution`]): radiosity and irradiance at its mesh
+//! vertices, per-surface totals, and probes read at any point of a
+//! surface, by final gather (`reading/gather.rs`) or on the mesh
+//! (`reading/interpolation.rs`).
 
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
-
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 
 use crate::error::{Error, Result};
-use crate::lighting::SampleStream;
-use crate::mesh::{Cell, Mesh, receiver_inset};
-use crate::radiometry::{polygon_form_factor, polygon_form_factor_gradient};
-use crate::scene::{
-    ProbePoint, Rgb, Scene, SurfaceId, Visibility, distance_to_boundary, distance_to_segment,
-    polygon_contains,
-};
+use crate::mesh::{Mesh, receiver_inset};
+use crate::scene::{ProbePoint, Rgb, Scene, SurfaceId, Visibility};
 use crate::solver::ambient::irradiance::AmbientIrradiance;
-use crate::solver::ambient::rooms::ReadingPlace;
 use crate::solver::light::vertex_irradiance::VertexIrradiance;
-use crate::solver::reading::penumbra::AdaptiveVisibility;
+use crate::solver::reading::places::{ReadingPlace, locate_probe};
 
 /// How a probe reads the solution.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -48,92 +42,6 @@ pub struct Probe {
     /// In-plane gradient of the radiosity of each channel (r, g, b), as
     /// world-space vectors, W/m³ (per scene unit).
     pub gradient: [DVec3; 3],
-}
-
-/// Extra shadow rays one gather probe may cast refining partly hidden
-/// sources, beyond one ray per base stratum: 16 384 (a few milliseconds).
-pub const PENUMBRA_RAY_BUDGET: usize = 16_384;
-
-/// The standard error, relative to the probe's irradiance (summed over
-/// channels), under which a gather stops refining penumbrae.
-const PENUMBRA_RELATIVE_ERROR: f64 = 0.005;
-
-/// One element a gather sees: its mean radiosity, its unoccluded form
-/// factor and its shadow rays.
-struct GatherSource<'a> {
-    radiosity: Rgb,
-    factor: f64,
-    visibility: AdaptiveVisibility<'a>,
-}
-
-/// Refines the sources' visibility, the largest contributor to the
-/// variance first, until the irradiance's standard error is under
-/// [`PENUMBRA_RELATIVE_ERROR`] of its value, every source is settled, or the
-/// next step would pass [`PENUMBRA_RAY_BUDGET`]. Returns each source's
-/// visible share and its variance.
-fn refine_penumbrae(sources: &mut [GatherSource<'_>]) -> Vec<(f64, f64)> {
-    let weight = |source: &GatherSource<'_>| source.factor * source.radiosity.element_sum();
-    let mut estimates: Vec<(f64, f64)> = sources.iter().map(|s| s.visibility.estimate()).collect();
-    // The irradiance (all channels) and its variance, kept up to date as
-    // sources are refined, and the unsettled sources by their variance.
-    let (mut value, mut variance) = (0.0, 0.0);
-    let mut unsettled = BinaryHeap::new();
-    for (k, (source, &(visible, visible_variance))) in sources.iter().zip(&estimates).enumerate() {
-        let w = weight(source);
-        value += w * visible;
-        variance += w * w * visible_variance;
-        if !source.visibility.is_settled() {
-            unsettled.push(VarianceShare(w * w * visible_variance, k));
-        }
-    }
-    let mut rays = 0;
-    while variance.max(0.0).sqrt() > PENUMBRA_RELATIVE_ERROR * value {
-        // The unsettled source contributing most variance.
-        let Some(VarianceShare(_, k)) = unsettled.pop() else {
-            break;
-        };
-        let next = sources[k].visibility.next_rays();
-        if rays + next > PENUMBRA_RAY_BUDGET {
-            break;
-        }
-        let before = sources[k].visibility.rays;
-        sources[k].visibility.refine();
-        rays += sources[k].visibility.rays - before;
-        let (old_visible, old_variance) = estimates[k];
-        estimates[k] = sources[k].visibility.estimate();
-        let w = weight(&sources[k]);
-        value += w * (estimates[k].0 - old_visible);
-        variance += w * w * (estimates[k].1 - old_variance);
-        if !sources[k].visibility.is_settled() {
-            unsettled.push(VarianceShare(w * w * estimates[k].1, k));
-        }
-    }
-    estimates
-}
-
-/// A source's share of a gather's variance, ordered by that share (the
-/// source's index breaks ties), for the refinement's priority queue.
-#[derive(Clone, Copy, Debug)]
-struct VarianceShare(f64, usize);
-
-impl PartialEq for VarianceShare {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-
-impl Eq for VarianceShare {}
-
-impl PartialOrd for VarianceShare {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for VarianceShare {
-    fn cmp(&self, other: &Self) -> Ordering {
-        self.0.total_cmp(&other.0).then(self.1.cmp(&other.1))
-    }
 }
 
 /// Totals over one surface's mesh elements: area-weighted means of the
@@ -179,7 +87,7 @@ pub struct Solution<'a> {
     pub(crate) receiver_insets: &'a [f64],
     /// The closed zones, ascending, whose ambient term this solution
     /// holds when it was made for some alone
-    /// ([`crate::Solver::solution_with_ambient_for`]); a probe elsewhere
+    /// ([`crate::solver::Ambient::For`]); a probe elsewhere
     /// would read light that lacks the term, and is refused.
     pub(crate) ambient_zones: Option<Vec<usize>>,
 }
@@ -301,132 +209,9 @@ impl Solution<'_> {
         locate_probe(self.scene, point)
     }
 
-    /// The final gather at a point of a surface: every element's mean
-    /// radiosity times its exact form factor and its visible share, with
-    /// partly hidden elements refined until the irradiance's standard error
-    /// is under [`PENUMBRA_RELATIVE_ERROR`] of its value or the probe has cast
-    /// [`PENUMBRA_RAY_BUDGET`] extra rays.
-    fn gather(&self, position: DVec3, surface: SurfaceId) -> Probe {
-        let s = self.scene.surface(surface);
-        let material = self.scene.material_of(s);
-        let x = self.gather_point(position, surface);
-        let zone = self.gathered_zone(x, surface);
-        let (irradiance, standard_error, gradient) =
-            self.gather_irradiance((x, zone), s.normal(), surface, material.reflectance);
-        Probe {
-            position,
-            surface,
-            irradiance,
-            standard_error,
-            radiosity: material.emitted_radiosity() + material.reflectance * irradiance,
-            gradient,
-        }
-    }
-
-    /// The irradiance a gather finds at a point `x` in free space (a point
-    /// of a work plane above a floor, say) on a small receiver facing the
-    /// unit `normal`, W/m², with its standard error per channel: the light of
-    /// every element in front of it, as [`Solution::probe`] gathers it on a
-    /// surface, and of every photometric luminaire. NaN where the
-    /// solution's ambient term was made for other rooms
-    /// ([`Solution::holds_term_at`]).
-    #[must_use]
-    pub fn irradiance_in_space(&self, x: DVec3, normal: DVec3) -> (Rgb, Rgb) {
-        // The room around the point, found once for the check and the
-        // sources (64 rays).
-        let zone = self.gathered_zone(x, SurfaceId::NONE);
-        if !self.holds_term_in(zone) {
-            return (Rgb::splat(f64::NAN), Rgb::splat(f64::NAN));
-        }
-        let (irradiance, standard_error, _) =
-            self.gather_irradiance((x, zone), normal, SurfaceId::NONE, Rgb::ZERO);
-        (irradiance, standard_error)
-    }
-
-    /// The gather's irradiance at `x` (unit `normal`) on `surface`
-    /// ([`SurfaceId::NONE`] in free space), in closed zone `zone` if any
-    /// ([`Solution::gathered_zone`]), its standard error, and the
-    /// in-plane gradient of ρ H per channel for reflectance `reflectance`.
-    fn gather_irradiance(
-        &self,
-        (x, zone): (DVec3, Option<usize>),
-        normal: DVec3,
-        surface: SurfaceId,
-        reflectance: Rgb,
-    ) -> (Rgb, Rgb, [DVec3; 3]) {
-        let mut sources = self.gather_sources((x, zone), normal, surface);
-        let visible = refine_penumbrae(&mut sources);
-        let mut irradiance = Rgb::ZERO;
-        let mut variance = Rgb::ZERO;
-        let mut gradient = [DVec3::ZERO; 3];
-        let reflectance = reflectance.to_array();
-        for (source, (visible, visible_variance)) in sources.iter().zip(visible) {
-            let light = source.radiosity * source.factor;
-            irradiance += light * visible;
-            variance += light * light * visible_variance;
-            if visible <= 0.0 || reflectance == [0.0; 3] {
-                continue;
-            }
-            let factor_gradient =
-                polygon_form_factor_gradient(x, normal, source.visibility.cell().polygon());
-            let in_plane = factor_gradient - normal * factor_gradient.dot(normal);
-            let radiosity = source.radiosity.to_array();
-            for (channel, g) in gradient.iter_mut().enumerate() {
-                *g += in_plane * (radiosity[channel] * visible * reflectance[channel]);
-            }
-        }
-        let (direct, direct_gradient) =
-            self.luminaire_light(x, normal, surface, reflectance != [0.0; 3]);
-        irradiance += direct;
-        for (channel, g) in gradient.iter_mut().enumerate() {
-            *g += direct_gradient[channel] * reflectance[channel];
-        }
-        let standard_error = Rgb::new(variance.r.sqrt(), variance.g.sqrt(), variance.b.sqrt());
-        (irradiance, standard_error, gradient)
-    }
-
-    /// The direct irradiance the photometric luminaires that have shot give
-    /// `x` on `surface` (unit `normal`), and (`with_gradient`) its in-plane
-    /// gradient per channel by central differences over a ten-thousandth of the scene's
-    /// diagonal (within that of a point light's sharp shadow edge the
-    /// difference spans the jump: there the gradient is not defined).
-    fn luminaire_light(
-        &self,
-        x: DVec3,
-        normal: DVec3,
-        surface: SurfaceId,
-        with_gradient: bool,
-    ) -> (Rgb, [DVec3; 3]) {
-        let mut total = Rgb::ZERO;
-        let mut gradient = [DVec3::ZERO; 3];
-        let h = 1e-4 * self.visibility.diagonal();
-        let u = normal.any_orthonormal_vector();
-        let v = normal.cross(u);
-        for (luminaire, _) in self
-            .scene
-            .luminaires
-            .iter()
-            .zip(&self.luminaires_shot)
-            .filter(|(_, shot)| **shot)
-        {
-            let at = |p: DVec3| luminaire.irradiance_at(p, normal, surface, self.visibility);
-            total += at(x);
-            if !with_gradient {
-                continue;
-            }
-            for axis in [u, v] {
-                let slope = (at(x + axis * h) - at(x - axis * h)) / (2.0 * h);
-                for (channel, g) in gradient.iter_mut().enumerate() {
-                    *g += axis * slope.to_array()[channel];
-                }
-            }
-        }
-        (total, gradient)
-    }
-
     /// Whether the solution holds the ambient term at `place`: always,
     /// unless it was made for some rooms' readings alone
-    /// ([`crate::Solver::solution_with_ambient_for`]) and `place` lies in
+    /// ([`crate::solver::Ambient::For`]) and `place` lies in
     /// none of them. Probes and gathers in space are read only where it
     /// does; images, exports and totals read every vertex as it is.
     #[must_use]
@@ -434,12 +219,12 @@ impl Solution<'_> {
         let Some(zones) = self.zones.filter(|_| self.ambient_zones.is_some()) else {
             return true;
         };
-        self.holds_term_in(place.zone(zones, (self.scene, self.visibility)))
+        self.holds_term_in(place.zone(zones, self.scene, self.visibility))
     }
 
     /// [`Solution::holds_term_at`] a place in closed zone `zone` (`None`:
     /// in none).
-    fn holds_term_in(&self, zone: Option<usize>) -> bool {
+    pub(super) fn holds_term_in(&self, zone: Option<usize>) -> bool {
         match (self.zones, &self.ambient_zones) {
             (Some(_), Some(made)) => zone.is_some_and(|z| made.binary_search(&z).is_ok()),
             _ => true,
@@ -457,326 +242,13 @@ impl Solution<'_> {
         } else {
             ReadingPlace::OnSurface(surface)
         };
-        place.zone(self.zones?, (self.scene, self.visibility))
-    }
-
-    /// The elements a gather at `x` facing `normal` on `surface`
-    /// ([`SurfaceId::NONE`] in free space) sees in front of it, each with
-    /// its unoccluded factor and its shadow rays' base strata; only closed
-    /// zone `zone`'s where it lies in one ([`Solution::gathered_zone`]).
-    fn gather_sources(
-        &self,
-        (x, zone): (DVec3, Option<usize>),
-        normal: DVec3,
-        surface: SurfaceId,
-    ) -> Vec<GatherSource<'_>> {
-        let in_zone = |source: SurfaceId| match (zone, self.zones) {
-            (Some(zone), Some(zones)) => zones.of(source) == zone,
-            _ => true,
-        };
-        // Jitter keyed by the point: deterministic and independent of the order of probes.
-        let key = x.x.to_bits() ^ x.y.to_bits().rotate_left(21) ^ x.z.to_bits().rotate_left(42);
-        let mut sources = Vec::new();
-        // The shadow ray to each mesh vertex, cast once for all the elements
-        // around it: 0 not yet cast, 1 none possible, 2 blocked, 3 unblocked.
-        let mut vertex_witnesses = vec![0u8; self.mesh.vertices.len()];
-        let offset = self.visibility.surface_offset();
-        let mut vertex_witness = |v: u32| {
-            let slot = &mut vertex_witnesses[v as usize];
-            if *slot == 0 {
-                let vertex = &self.mesh.vertices[v as usize];
-                // The corner itself, a hair inside its surface: not where a
-                // thin surface's vertex gathers, at its Gauss point.
-                let y = vertex.position
-                    + (vertex.receiver_position() - vertex.position)
-                        .clamp_length_max(self.receiver_inset(vertex.surface));
-                let source_normal = self.scene.surface(vertex.surface).normal();
-                let d = y - x;
-                *slot = if normal.dot(d) > 0.0 && source_normal.dot(d) < 0.0 {
-                    let unblocked = self.visibility.is_unblocked(
-                        x + normal * offset,
-                        y + source_normal * offset,
-                        [surface, vertex.surface],
-                    );
-                    2 + u8::from(unblocked)
-                } else {
-                    1
-                };
-            }
-            match *slot {
-                2 => Some(false),
-                3 => Some(true),
-                _ => None,
-            }
-        };
-        for (index, element) in self.mesh.elements.iter().enumerate() {
-            if element.surface == surface || !in_zone(element.surface) {
-                continue;
-            }
-            let ids = element.corners();
-            let mut corners = [DVec3::ZERO; 4];
-            for (corner, &v) in corners.iter_mut().zip(ids) {
-                *corner = self.mesh.vertices[v as usize].position;
-            }
-            let corners = &corners[..ids.len()];
-            let source_normal = self.scene.surface(element.surface).normal();
-            // One-sided: the element must face the point.
-            if source_normal.dot(x - corners[0]) <= 0.0 {
-                continue;
-            }
-            let factor = polygon_form_factor(x, normal, corners);
-            if factor <= 0.0 {
-                continue;
-            }
-            let cell = if corners.len() == 3 {
-                Cell::triangle(corners[0], corners[1], corners[2])
-            } else {
-                Cell::quad(corners[0], corners[1], corners[2], corners[3])
-            };
-            // m × m base strata, m growing with the element's apparent size.
-            let distance = (cell.centre() - x).length().max(f64::MIN_POSITIVE);
-            let base = ((3.0 * cell.area.sqrt() / distance).ceil() as usize).clamp(2, 8);
-            let visibility = AdaptiveVisibility::new(
-                cell,
-                (x, normal, surface),
-                (source_normal, element.surface),
-                base,
-                {
-                    let mut witnesses = [None; 4];
-                    for (witness, &v) in witnesses.iter_mut().zip(ids) {
-                        *witness = vertex_witness(v);
-                    }
-                    witnesses
-                },
-                self.visibility,
-                SampleStream::new(key, index as u64),
-            );
-            sources.push(GatherSource {
-                radiosity: element.corner_mean(|v| self.radiosity_at(v as usize)),
-                factor,
-                visibility,
-            });
-        }
-        sources
+        place.zone(self.zones?, self.scene, self.visibility)
     }
 
     /// How far `surface`'s boundary vertices gather inside it: its room's
     /// inset, or the scene's for a mesh the caller brought.
-    fn receiver_inset(&self, surface: SurfaceId) -> f64 {
+    pub(super) fn receiver_inset(&self, surface: SurfaceId) -> f64 {
         let own = self.receiver_insets.get(surface.index()).copied();
         own.unwrap_or_else(|| receiver_inset(self.scene))
-    }
-
-    /// Where a probe on a surface gathers: the point itself, moved inside its
-    /// polygon when it is on (or within the inset of) the polygon's edge, as
-    /// mesh vertices are.
-    fn gather_point(&self, position: DVec3, surface: SurfaceId) -> DVec3 {
-        let s = self.scene.surface(surface);
-        let inset = self.receiver_inset(surface);
-        let plane_vertices = s.plane_vertices();
-        let p = s.frame().to_plane(position);
-        let on_plane = s.frame().to_world(p);
-        if distance_inside_polygon(p, &plane_vertices) >= inset {
-            return on_plane;
-        }
-        let centroid = plane_vertices.iter().copied().sum::<DVec2>() / plane_vertices.len() as f64;
-        let towards = (centroid - p).normalize_or_zero();
-        s.frame().to_world(p + towards * inset)
-    }
-
-    /// The mesh's piecewise-linear value at a point of a surface, split into
-    /// triangles as the renderer splits it. A point that no element covers
-    /// lies where meshing dropped the surface as hidden (under a block
-    /// standing on it, behind a book a millimetre away,
-    /// `mesh/contacts.rs`): no light reaches it, and the renderer shows
-    /// none of it, so it gets no irradiance and only its own emission.
-    fn interpolate(&self, position: DVec3, surface: SurfaceId) -> Probe {
-        let normal = self.scene.surface(surface).normal();
-        let frame = self.scene.surface(surface).frame();
-        let at = frame.to_plane(position);
-        let hidden = Probe {
-            position,
-            surface,
-            irradiance: Rgb::ZERO,
-            standard_error: Rgb::ZERO,
-            radiosity: self
-                .scene
-                .material_of(self.scene.surface(surface))
-                .emitted_radiosity(),
-            gradient: [DVec3::ZERO; 3],
-        };
-        let radiosity = |v: u32| self.radiosity_at(v as usize);
-        let gap = |p: u32, q: u32| (radiosity(p) - radiosity(q)).abs().element_sum();
-        let mut best: Option<(f64, [u32; 3], [f64; 3])> = None;
-        let mut split = Vec::new();
-        for element in self.mesh.elements.iter().filter(|e| e.surface == surface) {
-            self.mesh.element_triangles(element, gap, &mut split);
-            for &triangle in &split {
-                let [a, b, c] = triangle.map(|v| self.mesh.vertices[v as usize].position);
-                let weights = barycentric(position, a, b, c, normal);
-                // How far outside the triangle (0 inside).
-                let corners = [a, b, c].map(|q| frame.to_plane(q));
-                let outside = distance_outside_triangle(at, corners, weights);
-                if best.is_none_or(|(o, _, _)| outside < o) {
-                    best = Some((outside, triangle, weights));
-                }
-            }
-        }
-        // Farther from every element than a point may be from its surface
-        // (`Solution::locate`'s tolerance): in a dropped part.
-        let covered = 1e-4 * self.scene.diagonal();
-        let Some((_, triangle, weights)) = best.filter(|&(outside, _, _)| outside <= covered)
-        else {
-            return hidden;
-        };
-        let weights = weights.map(|w| w.max(0.0));
-        let total: f64 = weights.iter().sum();
-        let value = |at: &dyn Fn(u32) -> Rgb| {
-            (0..3)
-                .map(|k| at(triangle[k]) * (weights[k] / total))
-                .sum::<Rgb>()
-        };
-        let [a, b, c] = triangle.map(|v| self.mesh.vertices[v as usize].position);
-        let gradients = barycentric_gradients(a, b, c, normal);
-        let gradient = [0, 1, 2].map(|channel| {
-            (0..3)
-                .map(|k| gradients[k] * radiosity(triangle[k]).to_array()[channel])
-                .sum()
-        });
-        Probe {
-            position,
-            surface,
-            irradiance: value(&|v| self.irradiance_at(v as usize)),
-            standard_error: Rgb::ZERO,
-            radiosity: value(&radiosity),
-            gradient,
-        }
-    }
-}
-
-/// The distance from `p` to the triangle `corners` (plane coordinates), 0
-/// inside it, given `p`'s barycentric `weights` there: the distance to the
-/// nearest of its sides when a weight is negative. Infinite for weights a
-/// degenerate triangle leaves undefined: it covers nothing.
-fn distance_outside_triangle(p: DVec2, corners: [DVec2; 3], weights: [f64; 3]) -> f64 {
-    if !weights.iter().all(|w| w.is_finite()) {
-        return f64::INFINITY;
-    }
-    if weights.iter().all(|&w| w >= 0.0) {
-        return 0.0;
-    }
-    (0..3)
-        .map(|k| distance_to_segment(p, corners[k], corners[(k + 1) % 3]))
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// Barycentric weights of `p` (projected onto the triangle's plane) in the
-/// triangle (a, b, c) whose front normal is `normal`.
-fn barycentric(p: DVec3, a: DVec3, b: DVec3, c: DVec3, normal: DVec3) -> [f64; 3] {
-    let twice_area = (b - a).cross(c - a).dot(normal);
-    if twice_area.abs() <= f64::MIN_POSITIVE {
-        return [-f64::INFINITY; 3];
-    }
-    let wa = (c - b).cross(p - b).dot(normal) / twice_area;
-    let wb = (a - c).cross(p - c).dot(normal) / twice_area;
-    [wa, wb, 1.0 - wa - wb]
-}
-
-/// Gradients of the barycentric coordinates of a counter-clockwise triangle:
-/// ∇λ_a = n × (c − b) / (2A), and cyclically.
-fn barycentric_gradients(a: DVec3, b: DVec3, c: DVec3, normal: DVec3) -> [DVec3; 3] {
-    let twice_area = (b - a).cross(c - a).dot(normal);
-    if twice_area.abs() <= f64::MIN_POSITIVE {
-        return [DVec3::ZERO; 3];
-    }
-    [
-        normal.cross(c - b) / twice_area,
-        normal.cross(a - c) / twice_area,
-        normal.cross(b - a) / twice_area,
-    ]
-}
-
-/// Distance from a point outside a polygon to it (0 when inside).
-fn distance_outside_polygon(p: DVec2, polygon: &[DVec2]) -> f64 {
-    if polygon_contains(polygon, p) {
-        0.0
-    } else {
-        distance_to_boundary(polygon, p)
-    }
-}
-
-/// Distance from a point inside a polygon to its boundary (0 when outside).
-fn distance_inside_polygon(p: DVec2, polygon: &[DVec2]) -> f64 {
-    if polygon_contains(polygon, p) {
-        distance_to_boundary(polygon, p)
-    } else {
-        0.0
-    }
-}
-
-/// The surface a probe's point lies on: within 10⁻⁴ of the scene's diagonal of
-/// its plane and inside (or on the edge of) its polygon, facing along
-/// the point's normal if it has one; the nearest plane wins.
-pub(crate) fn locate_probe(scene: &Scene, point: &ProbePoint) -> Option<SurfaceId> {
-    let tolerance = 1e-4 * scene.diagonal();
-    let mut best: Option<(SurfaceId, f64)> = None;
-    for (id, surface) in scene.surfaces_with_ids() {
-        if point.normal.is_some_and(|n| n.dot(surface.normal()) < 0.99) {
-            continue;
-        }
-        let height = surface.frame().height(point.position).abs();
-        if height > tolerance || best.is_some_and(|(_, h)| h <= height) {
-            continue;
-        }
-        let plane_point = surface.frame().to_plane(point.position);
-        if distance_outside_polygon(plane_point, &surface.plane_vertices()) <= tolerance {
-            best = Some((id, height));
-        }
-    }
-    best.map(|(id, _)| id)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    const SLIVER: [DVec2; 3] = [
-        DVec2::new(0.0, 0.0),
-        DVec2::new(1.0, 0.0),
-        DVec2::new(1.0, 0.01),
-    ];
-
-    /// The weights of `p` in the sliver, through the 3-D barycentric.
-    fn weights(p: DVec2) -> [f64; 3] {
-        let lift = |q: DVec2| DVec3::new(q.x, q.y, 0.0);
-        let [a, b, c] = SLIVER.map(lift);
-        barycentric(lift(p), a, b, c, DVec3::Z)
-    }
-
-    #[test]
-    fn the_distance_outside_a_triangle_is_to_its_nearest_side() {
-        let inside = DVec2::new(0.9, 0.005);
-        assert_eq!(
-            distance_outside_triangle(inside, SLIVER, weights(inside)),
-            0.0
-        );
-        // Beyond the sharp corner at the origin: a unit from it, where the
-        // sides' lines are a hundredth away.
-        let beyond = DVec2::new(-1.0, 0.005);
-        let d = distance_outside_triangle(beyond, SLIVER, weights(beyond));
-        assert!((d - 1.0).abs() < 1e-4, "{d}");
-        let below = DVec2::new(0.5, -0.25);
-        let d = distance_outside_triangle(below, SLIVER, weights(below));
-        assert!((d - 0.25).abs() < 1e-12, "{d}");
-    }
-
-    #[test]
-    fn a_degenerate_triangle_covers_nothing() {
-        let flat = [DVec2::ZERO, DVec2::X, 2.0 * DVec2::X];
-        let lift = |q: DVec2| DVec3::new(q.x, q.y, 0.0);
-        let [a, b, c] = flat.map(lift);
-        let p = DVec2::new(0.5, 0.0);
-        let w = barycentric(lift(p), a, b, c, DVec3::Z);
-        assert_eq!(distance_outside_triangle(p, flat, w), f64::INFINITY);
     }
 }
