@@ -60,11 +60,11 @@ use serde::Deserialize;
 
 use crate::error::{Error, Result};
 
+use super::build::check_not_empty;
 use super::loaded::LoadedScene;
 use super::obj::load_obj_from;
 use super::source::{Disk, SourceFiles};
 use crate::photometry::read_photometric_file;
-use crate::scene::build::check_not_empty;
 use crate::scene::{Camera, PhotometricLuminaire, Rgb, SceneOptions};
 
 #[derive(Deserialize)]

@@ -14,7 +14,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
 use super::shaft::Shaft;
-use super::{Scene, SurfaceId};
+use crate::scene::{Scene, SurfaceId};
 
 /// Shaft boxes are widened by this many BVH units (the scene's
 /// half-diagonal, about): for the rounding of their corners to f32, and so

@@ -233,7 +233,7 @@ fn collapse_needles(points: &[DVec2], faces: &[[usize; 3]], outline: &[DVec2]) -
 /// runs through it: a rounding error must not leave a point on the wrong
 /// side of a constraint in a sliver. A constraint may so bend by up to this
 /// fraction of the polygon's size, and the area on either side change by
-/// that times its length ([`Mesh::validate`](super::Mesh::validate) allows
+/// that times its length ([`Mesh::validate`](crate::mesh::Mesh::validate) allows
 /// for it).
 pub(crate) const CHAIN_DISTANCE: f64 = 1e-9;
 
@@ -360,7 +360,7 @@ impl Snapper {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::plane_polygon::L_SHAPE;
+    use crate::scene::geometry::plane_polygon::L_SHAPE;
 
     fn area(t: &PlaneTriangulation) -> f64 {
         t.triangles

@@ -9,11 +9,11 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::assembly::CONTACT_TOLERANCE;
-use super::constrained::triangulate_constrained;
-use super::contour::ContourLayout;
-use super::patch::Cell;
-use super::topology::Mesh;
+use super::surfaces::CONTACT_TOLERANCE;
+use crate::mesh::data::patch::Cell;
+use crate::mesh::data::topology::Mesh;
+use crate::mesh::meshers::constrained::triangulate_constrained;
+use crate::mesh::meshers::contour::ContourLayout;
 use crate::scene::{
     PlaneFrame, Scene, Surface, SurfaceBoxes, SurfaceId, Visibility, clip_segment_to_polygon,
     distance_to_boundary, distance_to_segment, polygon_contains, segment_parameter,

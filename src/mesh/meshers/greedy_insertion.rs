@@ -16,7 +16,7 @@
 //! Nothing in it knows about light: the vertices follow wherever the field
 //! changes, a soft shadow's penumbra as much as a lamp's peak, and the
 //! error that the meshes are judged by (the RMS error of
-//! [`super::ErrorGrid`]) is the one it spends vertices on. Inserting a
+//! [`crate::mesh::ErrorGrid`]) is the one it spends vertices on. Inserting a
 //! batch per round instead of one point is Garland and Heckbert's
 //! "parallel" variant: a little less greedy, and the rounds stay few
 //! (about log₁.₀₃ of the vertex count). On the furnished office's floor

@@ -205,7 +205,7 @@ pub fn contour_layout(
 }
 
 impl ContourLayout {
-    pub(super) fn push(&mut self, p: DVec2, level: Option<usize>) {
+    pub(crate) fn push(&mut self, p: DVec2, level: Option<usize>) {
         self.points.push(p);
         self.point_levels.push(level);
     }
@@ -540,7 +540,7 @@ enum LevelRule {
 /// Below this fraction of the top, the relative-error rule treats the field
 /// as this fraction of the top: a receiver's light that ends at a
 /// luminaire's horizon need not be meshed to a relative error of nothing.
-pub(super) const RELATIVE_FLOOR: f64 = 1e-3;
+pub(crate) const RELATIVE_FLOOR: f64 = 1e-3;
 
 /// The most levels the relative-error rule adds.
 const MAX_LEVELS: usize = 64;
@@ -710,7 +710,7 @@ fn boundary_extreme(outline: &[DVec2], field: &ScalarField, largest: bool) -> f6
 
 /// Points where the field crosses `level` on the polygon's edges: sign
 /// changes between samples, refined by bisection.
-pub(super) fn boundary_crossings(outline: &[DVec2], field: &ScalarField, level: f64) -> Vec<DVec2> {
+pub(crate) fn boundary_crossings(outline: &[DVec2], field: &ScalarField, level: f64) -> Vec<DVec2> {
     const SAMPLES: usize = 64;
     let mut crossings = Vec::new();
     for k in 0..outline.len() {
@@ -765,7 +765,7 @@ fn segment_ray_crossing(a: DVec2, b: DVec2, ray: &Ray) -> Option<f64> {
     (t > ray.entry && s > 0.0 && s < 1.0).then_some(s)
 }
 
-pub(super) fn scale_of(outline: &[DVec2]) -> f64 {
+pub(crate) fn scale_of(outline: &[DVec2]) -> f64 {
     outline
         .iter()
         .map(|p| p.abs().max_element())

@@ -6,8 +6,8 @@ use std::collections::HashMap;
 use std::iter::Sum;
 use std::ops::Div;
 
-use super::constrained::CHAIN_DISTANCE;
 use super::patch::{Cell, Patch};
+use crate::mesh::meshers::constrained::CHAIN_DISTANCE;
 use crate::scene::SurfaceId;
 
 /// A mesh vertex. It belongs to one surface; neighbouring surfaces do not

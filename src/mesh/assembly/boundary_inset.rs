@@ -14,7 +14,7 @@ use rayon::prelude::*;
 use std::collections::HashMap;
 use std::ops::Range;
 
-use super::topology::{Element, Mesh};
+use crate::mesh::data::topology::{Element, Mesh};
 use crate::scene::SurfaceId;
 
 /// (1 − 1/√3)/2: the lower two-point Gauss–Legendre abscissa on [0, 1].

@@ -13,9 +13,9 @@ use super::contacts::{
     Contact, contact_segments, gather_beside_covering_outlines, remesh_surface,
     remove_hidden_elements,
 };
-use super::contour::ContourLayout;
-use super::square::{SquareMeshSettings, square_grid};
-use super::topology::Mesh;
+use crate::mesh::data::topology::Mesh;
+use crate::mesh::meshers::contour::ContourLayout;
+use crate::mesh::meshers::square::{SquareMeshSettings, square_grid};
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Scene, Surface, SurfaceBoxes, SurfaceId, Visibility, surface_offset_for};
 
