@@ -24,9 +24,10 @@
 //! decide coverage (see the `setup` module), so a mesh still covers each
 //! sample exactly once.
 
+use glam::DVec2;
 use rayon::prelude::*;
 
-use super::rasterizer::{binned_setups, row_span, shade_sample};
+use super::sampling::{binned_setups, row_span, shade_sample};
 use super::setup::{Setup, View};
 use super::shaded_triangle::ShadedTriangle;
 use crate::scene::Camera;
@@ -104,7 +105,8 @@ pub(super) fn edge_pixels(width: u32, means: &[[f32; 3]], disagree: &[bool]) -> 
 /// samples each and writes their means into `pixels`; the other pixels are
 /// left as they are.
 pub(super) fn refine_edges(
-    (pixels, edges): (&mut [[f32; 3]], &[bool]),
+    pixels: &mut [[f32; 3]],
+    edges: &[bool],
     triangles: &[ShadedTriangle],
     camera: &Camera,
     samples: u32,
@@ -130,7 +132,8 @@ pub(super) fn refine_edges(
             }
             let mut buffer = EdgeSamples::new(
                 band as u32 * BAND_PIXEL_ROWS,
-                (marked, width),
+                marked,
+                width,
                 samples,
                 background,
             );
@@ -164,7 +167,8 @@ impl EdgeSamples {
     /// marked row-major in `marked` (rows of `width` pixels).
     fn new(
         first_row: u32,
-        (marked, width): (&[bool], usize),
+        marked: &[bool],
+        width: usize,
         samples: u32,
         background: [f32; 3],
     ) -> Self {
@@ -225,9 +229,10 @@ impl EdgeSamples {
                     shade_sample(
                         setup,
                         view,
-                        (x, y),
+                        DVec2::new(x, y),
                         partial,
-                        (&mut self.depth[index], &mut self.radiance[index]),
+                        &mut self.depth[index],
+                        &mut self.radiance[index],
                     );
                 }
             }

@@ -594,7 +594,8 @@ fn unit_scale(min: DVec3, max: DVec3) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Material, Rgb};
+    use crate::rgb::Rgb;
+    use crate::scene::Material;
 
     /// A floor at y = 0 under a plate at y = 1 (x, z in [−1, 1]).
     fn plate_over_floor() -> Scene {
