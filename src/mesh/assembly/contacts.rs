@@ -9,7 +9,6 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::surfaces::CONTACT_TOLERANCE;
 use crate::mesh::data::patch::Cell;
 use crate::mesh::data::topology::Mesh;
 use crate::mesh::meshers::constrained::triangulate_constrained;
@@ -18,6 +17,10 @@ use crate::scene::{
     PlaneFrame, Scene, Surface, SurfaceBoxes, SurfaceId, Visibility, clip_segment_to_polygon,
     distance_to_boundary, distance_to_segment, polygon_contains, segment_parameter,
 };
+
+/// How close to a plane, as a fraction of the scene's diagonal, another
+/// surface's edge must lie to stand on it.
+pub(crate) const CONTACT_TOLERANCE: f64 = 1e-3;
 
 /// A contact segment in a receiver's plane coordinates, with the side the
 /// touching surface faces (its normal projected into the receiver's plane):

@@ -10,7 +10,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::contacts::{
-    Contact, contact_segments, gather_beside_covering_outlines, remesh_surface,
+    CONTACT_TOLERANCE, Contact, contact_segments, gather_beside_covering_outlines, remesh_surface,
     remove_hidden_elements,
 };
 use crate::mesh::data::topology::Mesh;
@@ -18,10 +18,6 @@ use crate::mesh::meshers::contour::ContourLayout;
 use crate::mesh::meshers::square::{SquareMeshSettings, square_grid};
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Scene, Surface, SurfaceBoxes, SurfaceId, Visibility, surface_offset_for};
-
-/// How close to a plane, as a fraction of the scene's diagonal, another
-/// surface's edge must lie to stand on it.
-pub(crate) const CONTACT_TOLERANCE: f64 = 1e-3;
 
 /// How far boundary vertices gather inside their surface, as a fraction of
 /// the diagonal of the surface's room (its closed zone) or of the scene.
