@@ -10,6 +10,7 @@ pub(crate) mod surface;
 mod surface_id;
 
 pub use camera::{Camera, CameraFrame};
+pub use geometry::Box3;
 pub(crate) use geometry::{
     clip_segment_to_polygon, distance_to_boundary, distance_to_segment, polygon, polygon_contains,
     segment_parameter, triangulate, triangulate_polygon,

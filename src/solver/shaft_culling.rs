@@ -287,8 +287,8 @@ impl ReceivingBoxes {
                          most: usize,
                          list: &mut Vec<u32>| {
             visibility.shaft_occluders(
-                source,
-                lift((min, max), normal),
+                source.into(),
+                lift((min, max), normal).into(),
                 [surface, shooter.surface],
                 most,
                 list,
@@ -366,7 +366,8 @@ impl ReceivingBoxes {
                 let start = found.occluders.len();
                 let few = if listed {
                     visibility.shaft_occluders_among(
-                        (source, lift((min, max), normal)),
+                        source.into(),
+                        lift((min, max), normal).into(),
                         &candidates,
                         most,
                         &mut found.occluders,

@@ -109,7 +109,7 @@ impl Zones {
                     );
                     let within = boxes.near(min, max, margin);
                     (within.len() < scene.surfaces.len())
-                        .then(|| Visibility::of_listed_surfaces(scene, &within, bounds))
+                        .then(|| Visibility::of_listed_surfaces(scene, &within, bounds.into()))
                 })
                 .collect()
         } else {

@@ -2,6 +2,7 @@
 //! shafts between two segments, and per-surface bounding boxes.
 
 mod shaft;
+mod shaft_queries;
 mod surface_boxes;
 mod visibility;
 
