@@ -4,8 +4,10 @@
 
 pub(super) mod boundary_inset;
 pub(super) mod contacts;
+pub(super) mod hidden;
+pub(super) mod remesh;
 pub(super) mod surfaces;
 
-pub use contacts::is_enclosed;
+pub use hidden::is_enclosed;
 pub use surfaces::{SurfaceGuides, mesh_square, mesh_surfaces};
 pub(crate) use surfaces::{mesh_surfaces_counted, receiver_inset};

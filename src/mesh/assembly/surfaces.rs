@@ -10,9 +10,10 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::contacts::{
-    CONTACT_TOLERANCE, Contact, contact_segments, gather_beside_covering_outlines, remesh_surface,
-    remove_hidden_elements,
+    CONTACT_TOLERANCE, Contact, contact_segments, gather_beside_covering_outlines,
 };
+use super::hidden::remove_hidden_elements;
+use super::remesh::remesh_surface;
 use crate::mesh::data::topology::Mesh;
 use crate::mesh::meshers::contour::ContourLayout;
 use crate::mesh::meshers::square::{SquareMeshSettings, square_grid};
