@@ -102,7 +102,7 @@ pub(crate) fn mesh_scene_in_zones(
             contact_scale: contact_scales[surface.index()],
         };
         let (mesh, receiver_insets) =
-            mesh_surfaces_counted((scene, Some(visibility)), &square, &guides, report);
+            mesh_surfaces_counted(scene, Some(visibility), &square, &guides, report);
         return SceneMesh {
             mesh,
             analysis,
@@ -174,7 +174,7 @@ pub(crate) fn mesh_scene_in_zones(
         contact_scale: contact_scales[surface.index()],
     };
     let (mesh, receiver_insets) =
-        mesh_surfaces_counted((scene, Some(visibility)), &square, &guides, report);
+        mesh_surfaces_counted(scene, Some(visibility), &square, &guides, report);
     SceneMesh {
         mesh,
         analysis,

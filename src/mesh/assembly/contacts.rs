@@ -6,6 +6,8 @@
 //! under the block), which no interpolation across it can represent. The
 //! meshers put element edges along contact lines instead.
 
+use std::ops::RangeInclusive;
+
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
@@ -92,100 +94,179 @@ pub fn contact_segments(
     scene: &Scene,
     boxes: &SurfaceBoxes,
     receiver: SurfaceId,
-    (tolerance, inset): (f64, f64),
+    distances: ContactDistances,
     spacing: f64,
 ) -> ReceiverContacts {
     let target = scene.surface(receiver);
     let frame = target.frame();
     let outline = target.plane_vertices();
+    let plane = ReceiverPlane {
+        surface: target,
+        frame: &frame,
+        outline: &outline,
+    };
     let (min, max) = boxes.bounds(receiver);
     let mut contacts = ReceiverContacts::default();
     // Outlines of parallel surfaces too far in front to cover the receiver.
     let mut near = Vec::new();
     let largest_gap =
         (COVERING_GAP * target.area().sqrt()).max(near_outline_gap(target, target, spacing));
-    for id in boxes.near(min, max, tolerance.max(largest_gap)) {
+    for id in boxes.near(min, max, distances.tolerance.max(largest_gap)) {
         let other = scene.surface(id);
         if id == receiver {
             continue;
         }
         let alignment = other.normal().dot(target.normal());
         if alignment.abs() > 0.999 {
-            // One lying on the receiver must be clear of its plane (nearer,
-            // it is a decal); one facing it, across a slot however narrow,
-            // but not back to back with it (the two sides of a partition).
-            let (above, gap) = if alignment > 0.0 {
-                (tolerance, covering_gap(target, other))
-            } else {
-                (
-                    FACING_CLEARANCE * tolerance,
-                    slot_gap(target, other, tolerance),
-                )
-            };
-            if let Some(lines) =
-                covering_outline(other, id, frame, &outline, (above, gap), (tolerance, inset))
-            {
-                contacts.lines.extend(lines);
-                contacts.covered = true;
-            } else if let Some(lines) = covering_outline(
-                other,
-                id,
-                frame,
-                &outline,
-                (gap, near_outline_gap(target, other, spacing)),
-                (tolerance, inset),
-            ) {
-                // Its vertices gather one gap, not two, beyond the line: the
-                // dark band behind it is as wide as the gap.
-                near.extend(lines.into_iter().map(|line| Contact {
-                    clearance: 0.5 * line.clearance,
-                    ..line
-                }));
+            match parallel_outline(&plane, other, id, alignment, distances, spacing) {
+                Some(ParallelOutline::Covering(lines)) => {
+                    contacts.lines.extend(lines);
+                    contacts.covered = true;
+                }
+                Some(ParallelOutline::Near(lines)) => near.extend(lines),
+                None => {}
             }
             continue;
         }
-        let heights: Vec<f64> = other.vertices().iter().map(|&p| frame.height(p)).collect();
-        // It must touch the plane, and stand in front of the receiver.
-        let touches = heights.iter().any(|h| h.abs() <= tolerance);
-        let crosses =
-            heights.iter().any(|&h| h < -tolerance) && heights.iter().any(|&h| h > tolerance);
-        if !(touches || crosses) || heights.iter().all(|&h| h <= tolerance) {
-            continue;
-        }
-        let Some(ends) = plane_section(other, &heights, tolerance, frame) else {
-            continue;
-        };
-        let clipped = clip_segment_to_polygon(ends, &outline);
-        if clipped.is_none() {
-            contacts
-                .marks
-                .extend(outline_mark(ends, &outline, tolerance));
-        }
-        if let Some(clipped) = clipped {
-            // A wall standing on the floor's edge makes no line inside it.
-            let along_outline = [clipped[0], clipped[1], clipped[0].lerp(clipped[1], 0.5)]
-                .iter()
-                .all(|&p| distance_to_boundary(&outline, p) <= inset);
-            if clipped[0].distance(clipped[1]) > tolerance && !along_outline {
-                let origin = frame.to_plane(DVec3::ZERO);
-                let facing = (frame.to_plane(other.normal()) - origin).normalize_or_zero();
-                contacts.lines.push(Contact {
-                    ends: clipped,
-                    surface: id,
-                    facing,
-                    clearance: 0.0,
-                });
-            }
+        match standing_contact(&plane, other, id, distances) {
+            Some(Standing::Line(line)) => contacts.lines.push(line),
+            Some(Standing::Mark(mark)) => contacts.marks.push(mark),
+            None => {}
         }
     }
-    // A near outline's edge adds nothing along another line within
-    // `tolerance`: along the whole of a contact (the board a book stands
-    // on), or beside another near outline's edge that faces the other way
-    // (the next book's side, a millimetre off: dark on both sides; its
-    // middle is enough, so that only the taller of two neighbours' sides
-    // is looked at again). Of two facing the same way along each other's
-    // whole length (the back and front of a panel hung in front of a
-    // wall), the one nearer the receiver is kept.
+    let kept = near_outlines_kept(&contacts.lines, &near, distances.tolerance);
+    contacts.lines.extend(kept);
+    contacts
+}
+
+/// The distances at which contacts are found on one receiver.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactDistances {
+    /// How close to the receiver's plane another surface's edge must lie to
+    /// stand on it ([`CONTACT_TOLERANCE`] of the room's diagonal); lines
+    /// shorter than this are dropped.
+    pub tolerance: f64,
+    /// How far the receiver's boundary vertices gather inside it: lines
+    /// along its outline within this distance are dropped.
+    pub inset: f64,
+}
+
+/// A receiver in its own plane: its surface, plane frame and outline in
+/// the frame's coordinates.
+struct ReceiverPlane<'a> {
+    surface: &'a Surface,
+    frame: &'a PlaneFrame,
+    outline: &'a [DVec2],
+}
+
+/// What a surface parallel to a receiver draws on it.
+enum ParallelOutline {
+    /// The contact lines of a surface covering it ([`covering_outline`]).
+    Covering(Vec<Contact>),
+    /// The outline of one a little farther in front, which hides nothing.
+    Near(Vec<Contact>),
+}
+
+/// The outline that `other` (surface `id`), parallel to the receiver with
+/// normals' dot product `alignment`, draws on it, if any: covering it, or
+/// a little farther off ([`near_outline_gap`] for elements of `spacing`).
+fn parallel_outline(
+    receiver: &ReceiverPlane,
+    other: &Surface,
+    id: SurfaceId,
+    alignment: f64,
+    distances: ContactDistances,
+    spacing: f64,
+) -> Option<ParallelOutline> {
+    let target = receiver.surface;
+    let tolerance = distances.tolerance;
+    // One lying on the receiver must be clear of its plane (nearer, it is a
+    // decal); one facing it, across a slot however narrow, but not back to
+    // back with it (the two sides of a partition).
+    let (above, gap) = if alignment > 0.0 {
+        (tolerance, covering_gap(target, other))
+    } else {
+        (
+            FACING_CLEARANCE * tolerance,
+            slot_gap(target, other, tolerance),
+        )
+    };
+    let outline_within =
+        |heights: RangeInclusive<f64>| covering_outline(receiver, other, id, heights, distances);
+    if let Some(lines) = outline_within(above..=gap) {
+        return Some(ParallelOutline::Covering(lines));
+    }
+    let lines = outline_within(gap..=near_outline_gap(target, other, spacing))?;
+    // Its vertices gather one gap, not two, beyond the line: the dark band
+    // behind it is as wide as the gap.
+    Some(ParallelOutline::Near(
+        lines
+            .into_iter()
+            .map(|line| Contact {
+                clearance: 0.5 * line.clearance,
+                ..line
+            })
+            .collect(),
+    ))
+}
+
+/// What a surface standing on a receiver's plane gives it.
+enum Standing {
+    /// A contact line inside its outline.
+    Line(Contact),
+    /// A point of its outline where the surface ends beside it
+    /// ([`outline_mark`]).
+    Mark(DVec2),
+}
+
+/// The contact line that `other` (surface `id`), not parallel to the
+/// receiver, makes on it where it touches or crosses its plane and stands
+/// in front of it, or the mark it makes beside its outline.
+fn standing_contact(
+    receiver: &ReceiverPlane,
+    other: &Surface,
+    id: SurfaceId,
+    distances: ContactDistances,
+) -> Option<Standing> {
+    let ContactDistances { tolerance, inset } = distances;
+    let (frame, outline) = (receiver.frame, receiver.outline);
+    let heights: Vec<f64> = other.vertices().iter().map(|&p| frame.height(p)).collect();
+    // It must touch the plane, and stand in front of the receiver.
+    let touches = heights.iter().any(|h| h.abs() <= tolerance);
+    let crosses = heights.iter().any(|&h| h < -tolerance) && heights.iter().any(|&h| h > tolerance);
+    if !(touches || crosses) || heights.iter().all(|&h| h <= tolerance) {
+        return None;
+    }
+    let ends = plane_section(other, &heights, tolerance, frame)?;
+    let Some(clipped) = clip_segment_to_polygon(ends, outline) else {
+        return outline_mark(ends, outline, tolerance).map(Standing::Mark);
+    };
+    // A wall standing on the floor's edge makes no line inside it.
+    let along_outline = [clipped[0], clipped[1], clipped[0].lerp(clipped[1], 0.5)]
+        .iter()
+        .all(|&p| distance_to_boundary(outline, p) <= inset);
+    if clipped[0].distance(clipped[1]) > tolerance && !along_outline {
+        let origin = frame.to_plane(DVec3::ZERO);
+        let facing = (frame.to_plane(other.normal()) - origin).normalize_or_zero();
+        return Some(Standing::Line(Contact {
+            ends: clipped,
+            surface: id,
+            facing,
+            clearance: 0.0,
+        }));
+    }
+    None
+}
+
+/// The near outlines worth adding to the contact `lines`. A near outline's
+/// edge adds nothing along another line within `tolerance`: along the
+/// whole of a contact (the board a book stands on), or beside another near
+/// outline's edge that faces the other way (the next book's side, a
+/// millimetre off: dark on both sides; its middle is enough, so that only
+/// the taller of two neighbours' sides is looked at again). Of two facing
+/// the same way along each other's whole length (the back and front of a
+/// panel hung in front of a wall), the one nearer the receiver is kept.
+fn near_outlines_kept(lines: &[Contact], near: &[Contact], tolerance: f64) -> Vec<Contact> {
     let near_line = |p: DVec2, other: &Contact| {
         distance_to_segment(p, other.ends[0], other.ends[1]) <= tolerance
     };
@@ -196,11 +277,10 @@ pub fn contact_segments(
                 .iter()
                 .all(|&p| near_line(p, other))
     };
-    let kept: Vec<Contact> = near
-        .iter()
+    near.iter()
         .filter(|line| {
             let middle = line.ends[0].lerp(line.ends[1], 0.5);
-            let along_contact = contacts.lines.iter().any(|other| whole_along(line, other));
+            let along_contact = lines.iter().any(|other| whole_along(line, other));
             let along_near = near.iter().any(|other| {
                 if other.facing.dot(line.facing) < 0.0 {
                     other.surface != line.surface && near_line(middle, other)
@@ -213,9 +293,7 @@ pub fn contact_segments(
             !(along_contact || along_near)
         })
         .copied()
-        .collect();
-    contacts.lines.extend(kept);
-    contacts
+        .collect()
 }
 
 /// Where a surface standing in front of a receiver, whose section with the
@@ -320,13 +398,13 @@ pub fn slot_gap(receiver: &Surface, other: &Surface, tolerance: f64) -> f64 {
 }
 
 /// The contact lines of a parallel surface covering the receiver, or `None`
-/// when it does not: its whole polygon in front of the receiver's plane by at
-/// least `above` and at most `gap`, its footprint on the receiver's polygon.
-/// Lines shorter than `tolerance`, or along the receiver's outline within
-/// `inset`, are left out. It lies on the receiver, facing the same way, or
+/// when it does not: its whole polygon in front of the receiver's plane by a
+/// height `within`, its footprint on the receiver's polygon. Lines shorter
+/// than the `distances`' tolerance, or along the receiver's outline within
+/// their inset, are left out. It lies on the receiver, facing the same way, or
 /// faces it across a slot. The receiver under it is hidden and unlit, like
 /// the floor under a block, so its outline, projected onto the receiver's
-/// plane and clipped to `outline`, bounds the elements (none when the
+/// plane and clipped to the receiver's outline, bounds the elements (none when the
 /// footprint covers the receiver's whole polygon): without it, the vertices
 /// in the gap behind a ceiling panel spread their darkness a whole element
 /// round the panel, and those in the slots between books gathered the room's
@@ -339,16 +417,17 @@ pub fn slot_gap(receiver: &Surface, other: &Surface, tolerance: f64) -> f64 {
 /// the line then gather two gaps out, so that the elements beside it are not
 /// dimmed across their width ([`gather_beside_covering_outlines`]).
 fn covering_outline(
+    receiver: &ReceiverPlane,
     other: &Surface,
     id: SurfaceId,
-    frame: &PlaneFrame,
-    outline: &[DVec2],
-    (above, gap): (f64, f64),
-    (tolerance, inset): (f64, f64),
+    within: RangeInclusive<f64>,
+    distances: ContactDistances,
 ) -> Option<Vec<Contact>> {
+    let ContactDistances { tolerance, inset } = distances;
+    let (frame, outline) = (receiver.frame, receiver.outline);
     let vertices = other.vertices();
     let heights: Vec<f64> = vertices.iter().map(|&p| frame.height(p)).collect();
-    if !heights.iter().all(|h| (above..=gap).contains(h)) {
+    if !heights.iter().all(|h| within.contains(h)) {
         return None;
     }
     let height = heights.iter().copied().fold(0.0, f64::max);

@@ -18,7 +18,8 @@ use crate::scene::{Scene, Surface, SurfaceId, Visibility};
 /// `visibility` is the scene's BVH ([`Visibility::new`]).
 pub(crate) fn remove_hidden_elements(
     mesh: &mut Mesh,
-    (scene, visibility): (&Scene, &Visibility),
+    scene: &Scene,
+    visibility: &Visibility,
     surfaces: &[(SurfaceId, f64)],
 ) {
     let mut tolerance = vec![None; scene.surfaces.len()];
@@ -31,7 +32,7 @@ pub(crate) fn remove_hidden_elements(
         .map(|element| {
             tolerance[element.surface.index()].is_some_and(|within| {
                 let centroid = element.corner_mean(|v| mesh.vertices[v as usize].position);
-                is_enclosed_within(scene, visibility, (element.surface, centroid), within)
+                is_enclosed_within(scene, visibility, element.surface, centroid, within)
             })
         })
         .collect();
@@ -47,7 +48,7 @@ pub(crate) fn remove_hidden_elements(
 #[must_use]
 pub fn is_enclosed(scene: &Scene, visibility: &Visibility, surface: SurfaceId, x: DVec3) -> bool {
     let tolerance = CONTACT_TOLERANCE * visibility.diagonal();
-    is_enclosed_within(scene, visibility, (surface, x), tolerance)
+    is_enclosed_within(scene, visibility, surface, x, tolerance)
 }
 
 /// [`is_enclosed`] with the contact `tolerance` the slots are judged
@@ -56,7 +57,8 @@ pub fn is_enclosed(scene: &Scene, visibility: &Visibility, surface: SurfaceId, x
 pub fn is_enclosed_within(
     scene: &Scene,
     visibility: &Visibility,
-    (surface, x): (SurfaceId, DVec3),
+    surface: SurfaceId,
+    x: DVec3,
     tolerance: f64,
 ) -> bool {
     // Ten times the shadow rays' lift for a scene of the room's size: a

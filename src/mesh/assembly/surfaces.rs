@@ -10,7 +10,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::contacts::{
-    CONTACT_TOLERANCE, Contact, contact_segments, gather_beside_covering_outlines,
+    CONTACT_TOLERANCE, Contact, ContactDistances, contact_segments, gather_beside_covering_outlines,
 };
 use super::hidden::remove_hidden_elements;
 use super::remesh::remesh_surface;
@@ -133,7 +133,7 @@ pub fn mesh_surfaces(
     settings: &SquareMeshSettings,
     guides: &(dyn Fn(SurfaceId) -> SurfaceGuides + Sync),
 ) -> Mesh {
-    mesh_surfaces_counted((scene, None), settings, guides, &silent).0
+    mesh_surfaces_counted(scene, None, settings, guides, &silent).0
 }
 
 /// [`mesh_surfaces`], reporting its progress surface by surface, and one
@@ -143,7 +143,8 @@ pub fn mesh_surfaces(
 /// parts are found through the scene's BVH ([`Visibility::new`]) when it
 /// is given, else through one built for them.
 pub(crate) fn mesh_surfaces_counted(
-    (scene, visibility): (&Scene, Option<&Visibility>),
+    scene: &Scene,
+    visibility: Option<&Visibility>,
     settings: &SquareMeshSettings,
     guides: &(dyn Fn(SurfaceId) -> SurfaceGuides + Sync),
     report: PhaseReporter,
@@ -164,10 +165,11 @@ pub(crate) fn mesh_surfaces_counted(
             .par_iter()
             .map(|&id| {
                 let guides = guides(id);
-                let tolerance = CONTACT_TOLERANCE * guides.contact_scale.unwrap_or(diagonal);
-                let inset = rule.within(guides.contact_scale);
-                let meshed =
-                    mesh_surface(scene, &boxes, (id, &guides), (tolerance, inset), settings);
+                let distances = ContactDistances {
+                    tolerance: CONTACT_TOLERANCE * guides.contact_scale.unwrap_or(diagonal),
+                    inset: rule.within(guides.contact_scale),
+                };
+                let meshed = mesh_surface(scene, &boxes, id, &guides, distances, settings);
                 counter.add(1);
                 meshed
             })
@@ -192,7 +194,7 @@ pub(crate) fn mesh_surfaces_counted(
                 &built
             }
         };
-        remove_hidden_elements(&mut mesh, (scene, visibility), &touched);
+        remove_hidden_elements(&mut mesh, scene, visibility, &touched);
     }
     let scene_inset = rule.within(None);
     mesh.inset_boundary_receivers_by(&|surface| {
@@ -227,16 +229,17 @@ struct MeshedSurface {
 
 /// Meshes surface `id` alone: its square grid, re-triangulated along its
 /// contact lines and `guides`' boundaries or layout; contacts are found at
-/// `tolerance` and boundary points inset by `inset`.
+/// the `distances`' tolerance and boundary points inset by their inset.
 fn mesh_surface(
     scene: &Scene,
     boxes: &SurfaceBoxes,
-    (id, guides): (SurfaceId, &SurfaceGuides),
-    (tolerance, inset): (f64, f64),
+    id: SurfaceId,
+    guides: &SurfaceGuides,
+    distances: ContactDistances,
     settings: &SquareMeshSettings,
 ) -> MeshedSurface {
     let surface = scene.surface(id);
-    let contacts = contact_segments(scene, boxes, id, (tolerance, inset), settings.max_edge);
+    let contacts = contact_segments(scene, boxes, id, distances, settings.max_edge);
     let frame = surface.frame();
     let marks: Vec<DVec3> = contacts.marks.iter().map(|&m| frame.to_world(m)).collect();
     let grid = square_grid(surface, id, settings, &marks);
@@ -263,8 +266,8 @@ fn mesh_surface(
     MeshedSurface {
         mesh,
         touched,
-        tolerance,
-        inset,
+        tolerance: distances.tolerance,
+        inset: distances.inset,
         covering,
     }
 }
