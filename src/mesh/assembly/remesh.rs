@@ -7,11 +7,11 @@ use glam::DVec2;
 use super::contacts::{BESIDE_CONTACT_ROWS, Contact};
 use crate::mesh::data::patch::Cell;
 use crate::mesh::data::topology::Mesh;
-use crate::mesh::meshers::constrained::triangulate_constrained;
+use crate::mesh::meshers::constrained::{PlaneTriangulation, triangulate_constrained};
 use crate::mesh::meshers::contour::ContourLayout;
 use crate::scene::{
-    Surface, SurfaceId, clip_segment_to_polygon, distance_to_boundary, distance_to_segment,
-    polygon_contains,
+    PlaneFrame, Surface, SurfaceId, clip_segment_to_polygon, distance_to_boundary,
+    distance_to_segment, polygon_contains,
 };
 
 /// The rows of [`BESIDE_CONTACT_ROWS`] beside every contact at least one
@@ -66,53 +66,15 @@ pub fn remesh_surface(
 ) -> Mesh {
     let frame = surface.frame();
     let outline = surface.plane_vertices();
-    let scale = outline
-        .iter()
-        .map(|p| p.length())
-        .fold(0.0, f64::max)
-        .max(f64::MIN_POSITIVE);
     let segments: Vec<[DVec2; 2]> = contacts.iter().map(|c| c.ends).collect();
     let beside = rows_beside_contacts(contacts, spacing, &outline);
-    let near_contact = |p: DVec2, distance: f64| {
-        segments
-            .iter()
-            .any(|&[a, b]| distance_to_segment(p, a, b) < distance)
+    let boundaries = boundaries_off_contacts(boundaries, &segments, spacing);
+    let lines = GuideLines {
+        contacts: &segments,
+        beside: &beside,
+        boundaries: &boundaries,
     };
-    let boundaries: Vec<[DVec2; 2]> = boundaries
-        .iter()
-        .filter(|s| {
-            let middle = s[0].lerp(s[1], 0.5);
-            ![s[0], s[1], middle]
-                .iter()
-                .all(|&p| near_contact(p, BOUNDARY_CLEARANCE * spacing))
-        })
-        .copied()
-        .collect();
-    // Grid points, except those crowding a contact line, a row beside one or
-    // a boundary (outline points stay).
-    let crowds = |p: DVec2| {
-        near_contact(p, 0.6 * spacing)
-            || beside
-                .iter()
-                .any(|&[a, b]| distance_to_segment(p, a, b) < 0.3 * spacing)
-            || boundaries
-                .iter()
-                .any(|&[a, b]| distance_to_segment(p, a, b) < BOUNDARY_CLEARANCE * spacing)
-    };
-    let mut points: Vec<DVec2> = match layout {
-        Some(layout) => layout.points.clone(),
-        None => grid
-            .vertices
-            .iter()
-            .map(|v| frame.to_plane(v.position))
-            .filter(|&p| distance_to_boundary(&outline, p) <= 1e-12 * scale || !crowds(p))
-            .collect(),
-    };
-    // Points along each contact line, the rows beside it and the boundaries.
-    for [a, b] in segments.iter().chain(&beside).chain(&boundaries) {
-        let n = (a.distance(*b) / spacing).ceil().clamp(1.0, 4096.0) as usize;
-        points.extend((1..n).map(|k| a.lerp(*b, k as f64 / n as f64)));
-    }
+    let points = remesh_points(grid, &frame, &outline, &lines, spacing, layout);
     // Patch cells as constraints, so that no triangle straddles two patches.
     let cells: Vec<Vec<DVec2>> = grid
         .patches
@@ -135,7 +97,111 @@ pub fn remesh_surface(
         constraints.extend((0..cell.len()).map(|k| [cell[k], cell[(k + 1) % cell.len()]]));
     }
     let triangulation = triangulate_constrained(&outline, &points, &constraints);
-    // Rebuild the mesh: the grid's patches, each holding the triangles inside it.
+    mesh_in_patches(&triangulation, grid, &cells, &frame)
+}
+
+/// The lines element edges follow on a surface being remeshed, in its
+/// plane coordinates.
+struct GuideLines<'a> {
+    /// The contact lines.
+    contacts: &'a [[DVec2; 2]],
+    /// The rows of vertices beside them ([`rows_beside_contacts`]).
+    beside: &'a [[DVec2; 2]],
+    /// The shadow boundaries not along a contact line.
+    boundaries: &'a [[DVec2; 2]],
+}
+
+/// The shadow `boundaries` less those lying along a contact line (the
+/// shadow of an object's foot is the contact), for elements of `spacing`.
+fn boundaries_off_contacts(
+    boundaries: &[[DVec2; 2]],
+    contacts: &[[DVec2; 2]],
+    spacing: f64,
+) -> Vec<[DVec2; 2]> {
+    let near_contact = |p: DVec2, distance: f64| {
+        contacts
+            .iter()
+            .any(|&[a, b]| distance_to_segment(p, a, b) < distance)
+    };
+    boundaries
+        .iter()
+        .filter(|s| {
+            let middle = s[0].lerp(s[1], 0.5);
+            ![s[0], s[1], middle]
+                .iter()
+                .all(|&p| near_contact(p, BOUNDARY_CLEARANCE * spacing))
+        })
+        .copied()
+        .collect()
+}
+
+/// The points a surface is remeshed through, in its plane coordinates: the
+/// layout's points, or the grid's vertices less those crowding one of the
+/// `lines` (outline points stay), and points about `spacing` apart along
+/// every line.
+fn remesh_points(
+    grid: &Mesh,
+    frame: &PlaneFrame,
+    outline: &[DVec2],
+    lines: &GuideLines,
+    spacing: f64,
+    layout: Option<&ContourLayout>,
+) -> Vec<DVec2> {
+    let scale = outline
+        .iter()
+        .map(|p| p.length())
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let near_contact = |p: DVec2, distance: f64| {
+        lines
+            .contacts
+            .iter()
+            .any(|&[a, b]| distance_to_segment(p, a, b) < distance)
+    };
+    // Grid points, except those crowding a contact line, a row beside one or
+    // a boundary (outline points stay).
+    let crowds = |p: DVec2| {
+        near_contact(p, 0.6 * spacing)
+            || lines
+                .beside
+                .iter()
+                .any(|&[a, b]| distance_to_segment(p, a, b) < 0.3 * spacing)
+            || lines
+                .boundaries
+                .iter()
+                .any(|&[a, b]| distance_to_segment(p, a, b) < BOUNDARY_CLEARANCE * spacing)
+    };
+    let mut points: Vec<DVec2> = match layout {
+        Some(layout) => layout.points.clone(),
+        None => grid
+            .vertices
+            .iter()
+            .map(|v| frame.to_plane(v.position))
+            .filter(|&p| distance_to_boundary(outline, p) <= 1e-12 * scale || !crowds(p))
+            .collect(),
+    };
+    // Points along each contact line, the rows beside it and the boundaries.
+    for [a, b] in lines
+        .contacts
+        .iter()
+        .chain(lines.beside)
+        .chain(lines.boundaries)
+    {
+        let n = (a.distance(*b) / spacing).ceil().clamp(1.0, 4096.0) as usize;
+        points.extend((1..n).map(|k| a.lerp(*b, k as f64 / n as f64)));
+    }
+    points
+}
+
+/// The mesh of a remeshed surface: the `grid`'s patches (whose `cells` are
+/// in plane coordinates), each holding the triangles of `triangulation`
+/// inside it.
+fn mesh_in_patches(
+    triangulation: &PlaneTriangulation,
+    grid: &Mesh,
+    cells: &[Vec<DVec2>],
+    frame: &PlaneFrame,
+) -> Mesh {
     let mut mesh = Mesh::default();
     let surface_id = grid
         .patches
