@@ -58,7 +58,7 @@ use rayon::prelude::*;
 
 use super::shooter::Shooter;
 use crate::mesh::Mesh;
-use crate::scene::{Scene, SurfaceId, Visibility};
+use crate::scene::{Box3, Scene, SurfaceId, Visibility};
 
 /// A patch is tested only when its vertices would cast at least this many
 /// shadow rays to the shooter in all (vertices times samples per vertex).
@@ -263,7 +263,7 @@ impl ReceivingBoxes {
         shafts.reset(mesh.vertices.len());
         let offset = visibility.surface_offset();
         let lift = |(min, max): (DVec3, DVec3), normal: DVec3| {
-            (min + normal * offset, max + normal * offset)
+            Box3::new(min + normal * offset, max + normal * offset)
         };
         // The shooter's box less a rim as wide as its receivers' inset (or
         // none), so that a wall meeting the shooter at its edge,
@@ -287,8 +287,8 @@ impl ReceivingBoxes {
                          most: usize,
                          list: &mut Vec<u32>| {
             visibility.shaft_occluders(
-                source.into(),
-                lift((min, max), normal).into(),
+                source,
+                lift((min, max), normal),
                 [surface, shooter.surface],
                 most,
                 list,
@@ -366,8 +366,8 @@ impl ReceivingBoxes {
                 let start = found.occluders.len();
                 let few = if listed {
                     visibility.shaft_occluders_among(
-                        source.into(),
-                        lift((min, max), normal).into(),
+                        source,
+                        lift((min, max), normal),
                         &candidates,
                         most,
                         &mut found.occluders,

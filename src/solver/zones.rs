@@ -108,8 +108,13 @@ impl Zones {
                         |(min, max), (a, b)| (min.min(a), max.max(b)),
                     );
                     let within = boxes.near(min, max, margin);
-                    (within.len() < scene.surfaces.len())
-                        .then(|| Visibility::of_listed_surfaces(scene, &within, bounds.into()))
+                    (within.len() < scene.surfaces.len()).then(|| {
+                        Visibility::of_listed_surfaces(
+                            scene,
+                            &within,
+                            crate::scene::Box3::new(bounds.0, bounds.1),
+                        )
+                    })
                 })
                 .collect()
         } else {

@@ -19,10 +19,3 @@ impl Box3 {
         Box3 { min, max }
     }
 }
-
-/// A `(min, max)` pair, as [`crate::Scene::bounds`] gives it.
-impl From<(DVec3, DVec3)> for Box3 {
-    fn from((min, max): (DVec3, DVec3)) -> Box3 {
-        Box3 { min, max }
-    }
-}

@@ -124,7 +124,7 @@ const NO_OWNER: u64 = u64::MAX;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::queries::visibility::tests::plate_over_floor;
+    use crate::scene::queries::tests::plate_over_floor;
 
     /// A blocked ray leaves its blocker in the cache, where the next ray
     /// through the plate finds it; a ray beside the plate traverses and

@@ -181,7 +181,7 @@ fn shaft_hit_mask(node: &CwBvhNode, shaft: &Shaft, oct_inv4: u32) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::queries::visibility::tests::plate_over_floor;
+    use crate::scene::queries::tests::plate_over_floor;
 
     /// A shaft through the plate is blocked, one beside it clear, and the
     /// plate does not block a shaft that ends on it.
