@@ -35,10 +35,8 @@ use crate::scene::Camera;
 /// A pixel is refined when its own samples, or its mean with its
 /// neighbours' means, span more than this fraction of their greatest value
 /// (in some channel): on the shipped office at 1920 × 1080, a tenth of the
-/// pixels. At 0.02 and 0.05 the golden tests' metric is the same to the
-/// third decimal on the offices and the Cornell box, for up to four times
-/// the refined pixels; at 0.2 it is up to 0.002 points worse (measured by
-/// hand, `isorad render` at the references' sizes).
+/// pixels. Lower thresholds refine up to four times the pixels for the
+/// same golden-test metric; a higher one makes it worse.
 pub(super) const EDGE_CONTRAST: f32 = 0.1;
 
 /// Pixel rows per band of the refinement pass: two keep a band's samples

@@ -268,8 +268,7 @@ impl Mesh {
     /// edges whose three vertices stay are kept, renumbered.
     ///
     /// In place: a building's mesh is most of its memory, and a copy of it
-    /// beside it was the peak of its meshing (4,766 MiB for a million quads,
-    /// where the mesh alone held 1,364).
+    /// beside it would be the peak of its meshing.
     pub fn remove_elements(&mut self, remove: impl Fn(usize, &Element) -> bool) {
         let keep: Vec<bool> = self
             .elements

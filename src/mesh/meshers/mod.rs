@@ -12,6 +12,7 @@ mod contour_rays;
 pub(super) mod greedy_insertion;
 pub(super) mod interpolation_error;
 pub(super) mod level_lines;
+mod sampled_field;
 mod scalar_field;
 pub(super) mod square;
 
@@ -20,8 +21,9 @@ pub(crate) use budget::{check_element_budget, estimate_contour_elements};
 pub use constrained::PlaneTriangulation;
 pub use contour::{ContourLayout, ContourSettings, contour_layout};
 pub use contour_lines::contour_polylines;
-pub use greedy_insertion::{GreedySettings, SampledField, greedy_insertion};
+pub use greedy_insertion::{GreedySettings, greedy_insertion};
 pub use interpolation_error::{ErrorGrid, InterpolationError, interpolation_error};
 pub use level_lines::level_line_layout;
+pub use sampled_field::SampledField;
 pub use scalar_field::ScalarField;
 pub use square::SquareMeshSettings;

@@ -43,8 +43,8 @@ mod tests {
     }
 
     /// The queries through the inlined traversal answer as obvhs's own
-    /// `ray_traverse_miss` and `ray_traverse` do, with the same closures
-    /// the queries used before: over 5,000 random segments and rays among
+    /// `ray_traverse_miss` and `ray_traverse` do, with the queries' own
+    /// tests as closures: over 5,000 random segments and rays among
     /// 60 random small squares in the plate-over-floor scene.
     #[test]
     fn the_inlined_traversal_answers_as_obvhs_functions() {

@@ -14,8 +14,7 @@ impl Visibility {
     /// mostly blocks the next: in the cluttered office of
     /// `bench/generate_building.py` half the solver's rays are blocked,
     /// and the two cached triangles answer three in four of those with one
-    /// triangle test each instead of a traversal, which cut the solve's
-    /// processor time by a sixth.
+    /// triangle test each instead of a traversal.
     ///
     /// A cached triangle that the segment crosses blocks it, whatever the
     /// BVH says, so the answer is [`Visibility::is_unblocked`]'s except

@@ -143,11 +143,9 @@ impl Visibility {
     /// at the very start of the segment (t = 0 to 10⁻⁷): a receiving point
     /// lifted off its surface where another meets it, a desk's leg on the
     /// floor. The traversal's f32 boxes leave most of those out, so hits
-    /// within the lift are left out here too. Counted in them, they made
-    /// 43 pixels of the cluttered office of `bench/generate_building.py`
-    /// darker than the BVH's answers by more than 1 %, 2 points further
-    /// from the path tracer's reference; left out, 12 pixels differ from
-    /// the BVH's image, on average nearer the reference than it.
+    /// within the lift are left out here too: counted in, they darken
+    /// pixels of the cluttered office of `bench/generate_building.py`
+    /// against both the BVH's answers and the path tracer's reference.
     #[must_use]
     pub(crate) fn is_unblocked_among(&self, from: DVec3, to: DVec3, occluders: &[u32]) -> bool {
         let mut ray = self.segment_ray(from, to);

@@ -133,11 +133,10 @@ impl Visibility {
     /// along the normal: 2·10⁻⁶ of the scene's diagonal, about 34 times
     /// the f32 rounding of the BVH's coordinates (2⁻²³ of a unit, the power
     /// of two nearest half the diagonal) yet below any feature a mesh
-    /// resolves. At 10⁻⁵ it grew to 2 mm in a building of 624 offices
-    /// (190 m across): the rays from a shelved book's side started beyond
-    /// its neighbour 1 mm away and found that book's back, so no office
-    /// counted as a closed room, and the building shot each office's dim
-    /// light for an hour (BENCHMARKS.md (e)).
+    /// resolves: it stays under a millimetre in a building 190 m across,
+    /// so that the rays from a shelved book's side start short of its
+    /// neighbour 1 mm away (a larger lift would find that book's back, and
+    /// no office would count as a closed room).
     #[must_use]
     pub fn surface_offset(&self) -> f64 {
         self.surface_offset
@@ -245,9 +244,9 @@ impl Visibility {
 /// nearest hit), until `visit` returns false: obvhs's traversal loop (its
 /// exported `traverse!`, which `ray_traverse` and `ray_traverse_miss`
 /// wrap), inlined into each query as the shaft query's is. Whether the
-/// compiler inlined obvhs's functions into the queries changed with code
-/// elsewhere in the crate (on 2026-12-06 they went out of line, with the
-/// ray passed through memory); written here, the loop stays in place.
+/// compiler inlines obvhs's functions into the queries depends on code
+/// elsewhere in the crate (out of line, the ray is passed through
+/// memory); written here, the loop stays in place.
 #[inline(always)]
 pub(super) fn traverse(bvh: &CwBvh, ray: &mut Ray, mut visit: impl FnMut(&mut Ray, usize) -> bool) {
     let mut state = bvh.new_traversal(ray.direction);
@@ -281,10 +280,10 @@ pub(super) fn bvh_direction(direction: DVec3) -> Vec3A {
 /// BVH skips a node whose box the ray leaves before t = 10⁻⁴
 /// (`cwbvh::node::EPSILON`): with t in BVH units, whatever lies within
 /// 10⁻⁴ of a unit of the ray's origin (0.4 mm in one office, 1.6 mm in a
-/// floor of 16, 13 mm in a building of 624) was not there. A closed
-/// room's books, 1 mm apart, then let a floor's zone rays through their
+/// floor of 16, 13 mm in a building of 624) would not be there: a closed
+/// room's books, 1 mm apart, would let a floor's zone rays through their
 /// neighbours' near faces onto their far faces' backs, and each office
-/// counted as losing light (`solver/zones.rs`). With 2¹⁰ steps per unit
+/// would count as losing light (`solver/zones.rs`). With 2¹⁰ steps per unit
 /// (a power of two: the change is exact) the nodes skipped lie within
 /// 10⁻⁷ of half the scene's diagonal.
 pub(super) const CLOSEST_HIT_STEPS: f64 = 1024.0;
@@ -315,7 +314,7 @@ mod tests {
     /// other 1 mm apart every 5 cm, in a scene that a square 40 m away
     /// widens to a diagonal of 40 m (a BVH unit of 16 m, whose 10⁻⁴ is
     /// 1.6 mm), or one 200 m away to 200 m, a building of 624 offices
-    /// (whose 10⁻⁵, the surface offset until 2026-12-06, is 2 mm).
+    /// (whose 10⁻⁵ is 2 mm).
     #[test]
     fn a_surface_a_millimetre_away_is_hit_in_a_large_scene() {
         for far in [40.0, 200.0] {
