@@ -102,7 +102,7 @@ pub fn contact_segments(
     let outline = target.plane_vertices();
     let plane = ReceiverPlane {
         surface: target,
-        frame: &frame,
+        frame,
         outline: &outline,
     };
     let (min, max) = boxes.bounds(receiver);

@@ -74,7 +74,7 @@ pub fn remesh_surface(
         beside: &beside,
         boundaries: &boundaries,
     };
-    let points = remesh_points(grid, &frame, &outline, &lines, spacing, layout);
+    let points = remesh_points(grid, frame, &outline, &lines, spacing, layout);
     // Patch cells as constraints, so that no triangle straddles two patches.
     let cells: Vec<Vec<DVec2>> = grid
         .patches
@@ -97,7 +97,7 @@ pub fn remesh_surface(
         constraints.extend((0..cell.len()).map(|k| [cell[k], cell[(k + 1) % cell.len()]]));
     }
     let triangulation = triangulate_constrained(&outline, &points, &constraints);
-    mesh_in_patches(&triangulation, grid, &cells, &frame)
+    mesh_in_patches(&triangulation, grid, &cells, frame)
 }
 
 /// The lines element edges follow on a surface being remeshed, in its
