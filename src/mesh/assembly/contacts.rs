@@ -68,7 +68,8 @@ pub struct ReceiverContacts {
     pub marks: Vec<DVec2>,
 }
 
-/// The contact segments on `receiver`'s front: for every other surface not
+/// The contact segments on `receiver`'s front, found at `distances` (a
+/// tolerance and an inset): for every other surface not
 /// parallel to it, the part of its polygon lying within `tolerance` of the
 /// receiver's plane (or crossing it), when the rest of that surface stands
 /// in front of the receiver; clipped to the receiver's polygon. Segments
