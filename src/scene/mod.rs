@@ -30,8 +30,8 @@ pub use queries::{ShadowCache, SurfaceBoxes, Visibility};
 pub use surface::{PlaneFrame, Surface};
 pub use surface_id::SurfaceId;
 
-/// The colour type, moved to [`crate::rgb`]; re-exported here while the
-/// crate's imports still name it through the scene.
+// The colour type lives in `crate::rgb`, at the bottom; re-exported here
+// while the crate's imports still name it through the scene.
 pub use crate::rgb::Rgb;
 
 use std::path::{Path, PathBuf};
