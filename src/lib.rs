@@ -126,6 +126,7 @@ mod fixed_hash;
 mod font;
 mod freed_memory;
 mod fs;
+mod rgb;
 
 pub mod calculation;
 pub mod export;
@@ -158,9 +159,9 @@ pub use solver::{
 /// they may change without notice.
 #[doc(hidden)]
 pub mod internals {
-    pub use crate::mesh::budget::estimate_square_elements;
-    pub use crate::scene::plane_polygon::{distance_to_boundary, polygon_contains};
-    pub use crate::scene::polygon::{PolygonPlane, best_fit_plane};
+    pub use crate::mesh::meshers::budget::estimate_square_elements;
+    pub use crate::scene::geometry::plane_polygon::{distance_to_boundary, polygon_contains};
+    pub use crate::scene::geometry::polygon::{PolygonPlane, best_fit_plane};
+    pub use crate::scene::geometry::triangulate::triangulate_polygon;
     pub use crate::scene::surface::newell_normal;
-    pub use crate::scene::triangulate::triangulate_polygon;
 }

@@ -1,35 +1,23 @@
 //! Meshes: vertices, elements and patches, and the meshers that make them.
 //!
-//! The mesh knows nothing of light.
+//! The mesh knows nothing of light. `data/` holds the mesh itself
+//! (vertices, elements, patches, the element hierarchy); `meshers/` the
+//! ways to lay elements on one surface (square grid, contour lines, level
+//! lines, greedy insertion, over a constrained triangulation); `assembly/`
+//! meshing a whole scene (contact lines, hidden parts, boundary inset).
 
 mod assembly;
-mod boundary_inset;
-pub(crate) mod budget;
-mod constrained;
-mod contacts;
-mod contour;
-mod contour_lines;
-mod greedy_insertion;
-mod hierarchy;
-mod interpolation_error;
-mod level_lines;
-mod patch;
-mod square;
-mod topology;
+mod data;
+pub(crate) mod meshers;
 
 pub(crate) use assembly::mesh_surfaces_counted;
 pub(crate) use assembly::receiver_inset;
-pub use assembly::{SurfaceGuides, mesh_square, mesh_surfaces};
-pub(crate) use budget::estimate_square_elements;
-pub(crate) use budget::{check_element_budget, estimate_contour_elements};
-pub use constrained::PlaneTriangulation;
-pub use contacts::is_enclosed;
-pub use contour::{ContourLayout, ContourSettings, ScalarField, contour_layout};
-pub use contour_lines::contour_polylines;
-pub use greedy_insertion::{GreedySettings, SampledField, greedy_insertion};
-pub use hierarchy::{ElementHierarchy, ElementKey, ElementNode};
-pub use interpolation_error::{ErrorGrid, InterpolationError, interpolation_error};
-pub use level_lines::level_line_layout;
-pub use patch::{Cell, Patch};
-pub use square::SquareMeshSettings;
-pub use topology::{Element, Mesh, MeshVertex};
+pub use assembly::{SurfaceGuides, is_enclosed, mesh_square, mesh_surfaces};
+pub use data::{Cell, Element, ElementHierarchy, ElementKey, ElementNode, Mesh, MeshVertex, Patch};
+pub(crate) use meshers::estimate_square_elements;
+pub use meshers::{
+    ContourLayout, ContourSettings, ErrorGrid, GreedySettings, InterpolationError,
+    PlaneTriangulation, SampledField, ScalarField, SquareMeshSettings, contour_layout,
+    contour_polylines, greedy_insertion, interpolation_error, level_line_layout,
+};
+pub(crate) use meshers::{check_element_budget, estimate_contour_elements};

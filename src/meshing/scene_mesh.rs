@@ -113,7 +113,7 @@ pub(crate) fn mesh_scene_in_zones(
         contact_scale: contact_scales[surface.index()],
     };
     let (mesh, receiver_insets) =
-        mesh_surfaces_counted((scene, Some(visibility)), &settings.square, &guides, report);
+        mesh_surfaces_counted(scene, Some(visibility), &settings.square, &guides, report);
     SceneMesh {
         mesh,
         analysis,

@@ -24,9 +24,10 @@
 //! decide coverage (see the `setup` module), so a mesh still covers each
 //! sample exactly once.
 
+use glam::DVec2;
 use rayon::prelude::*;
 
-use super::rasterizer::{binned_setups, row_span, shade_sample};
+use super::sampling::{binned_setups, row_span, shade_sample};
 use super::setup::{Setup, View};
 use super::shaded_triangle::ShadedTriangle;
 use crate::scene::Camera;
@@ -34,10 +35,8 @@ use crate::scene::Camera;
 /// A pixel is refined when its own samples, or its mean with its
 /// neighbours' means, span more than this fraction of their greatest value
 /// (in some channel): on the shipped office at 1920 × 1080, a tenth of the
-/// pixels. At 0.02 and 0.05 the golden tests' metric is the same to the
-/// third decimal on the offices and the Cornell box, for up to four times
-/// the refined pixels; at 0.2 it is up to 0.002 points worse (measured by
-/// hand, `isorad render` at the references' sizes).
+/// pixels. Lower thresholds refine up to four times the pixels for the
+/// same golden-test metric; a higher one makes it worse.
 pub(super) const EDGE_CONTRAST: f32 = 0.1;
 
 /// Pixel rows per band of the refinement pass: two keep a band's samples
@@ -104,7 +103,8 @@ pub(super) fn edge_pixels(width: u32, means: &[[f32; 3]], disagree: &[bool]) -> 
 /// samples each and writes their means into `pixels`; the other pixels are
 /// left as they are.
 pub(super) fn refine_edges(
-    (pixels, edges): (&mut [[f32; 3]], &[bool]),
+    pixels: &mut [[f32; 3]],
+    edges: &[bool],
     triangles: &[ShadedTriangle],
     camera: &Camera,
     samples: u32,
@@ -130,7 +130,8 @@ pub(super) fn refine_edges(
             }
             let mut buffer = EdgeSamples::new(
                 band as u32 * BAND_PIXEL_ROWS,
-                (marked, width),
+                marked,
+                width,
                 samples,
                 background,
             );
@@ -164,7 +165,8 @@ impl EdgeSamples {
     /// marked row-major in `marked` (rows of `width` pixels).
     fn new(
         first_row: u32,
-        (marked, width): (&[bool], usize),
+        marked: &[bool],
+        width: usize,
         samples: u32,
         background: [f32; 3],
     ) -> Self {
@@ -225,9 +227,10 @@ impl EdgeSamples {
                     shade_sample(
                         setup,
                         view,
-                        (x, y),
+                        DVec2::new(x, y),
                         partial,
-                        (&mut self.depth[index], &mut self.radiance[index]),
+                        &mut self.depth[index],
+                        &mut self.radiance[index],
                     );
                 }
             }

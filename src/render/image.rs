@@ -1,6 +1,6 @@
 //! A linear-radiance image: what the rasterizer produces and the writers store.
 
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 
 /// A rectangular image of linear radiance, W/(m²·sr), one RGB triple per pixel.
 ///

@@ -10,6 +10,7 @@ mod edge_refinement;
 mod image;
 mod output;
 mod rasterizer;
+mod sampling;
 mod setup;
 mod shaded_triangle;
 mod tone_map;

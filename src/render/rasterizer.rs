@@ -19,13 +19,16 @@
 //! whose samples disagree (an outline through them) are then drawn again
 //! with e × e samples (see the `edge_refinement` module).
 
+use glam::DVec2;
 use rayon::prelude::*;
 
 use super::edge_refinement::{EDGE_CONTRAST, SampleRange, edge_pixels, refine_edges};
 use super::image::Image;
-use super::setup::{Setup, View, clamp_range};
+use super::sampling::{binned_setups, row_span, shade_sample};
+use super::setup::{Setup, View};
 use super::shaded_triangle::ShadedTriangle;
-use crate::scene::{Camera, Rgb};
+use crate::rgb::Rgb;
+use crate::scene::Camera;
 
 /// How to rasterize: anti-aliasing and background.
 ///
@@ -187,7 +190,8 @@ pub fn rasterize(
         let edges = edge_pixels(width, &pixels, &disagree);
         drop(disagree);
         refine_edges(
-            (&mut pixels, &edges),
+            &mut pixels,
+            &edges,
             triangles,
             camera,
             edge_samples,
@@ -196,38 +200,6 @@ pub fn rasterize(
     }
     Image::from_pixels(width, height, pixels)
         .unwrap_or_else(|| Image::filled(width, height, background))
-}
-
-/// Every triangle set up for `view`, in submission order, and for each band
-/// of `band_rows` pixel rows of an image `height` pixels high, the indices
-/// of the set-ups whose row range overlaps it.
-pub(super) fn binned_setups(
-    triangles: &[ShadedTriangle],
-    view: &View,
-    band_rows: u32,
-    height: u32,
-) -> (Vec<Setup>, Vec<Vec<u32>>) {
-    let setups: Vec<Setup> = triangles
-        .par_iter()
-        .filter_map(|triangle| Setup::new(triangle, view))
-        .collect();
-    let samples = view.rows / height.max(1);
-    let bins = bin_by_band(&setups, band_rows * samples, height.div_ceil(band_rows));
-    (setups, bins)
-}
-
-/// For each band of `band_sample_rows` sample rows, the indices of the
-/// triangles whose row range overlaps it, in submission order.
-fn bin_by_band(setups: &[Setup], band_sample_rows: u32, band_count: u32) -> Vec<Vec<u32>> {
-    let mut bins = vec![Vec::new(); band_count as usize];
-    for (index, setup) in setups.iter().enumerate() {
-        let first = setup.rows.0 / band_sample_rows;
-        let last = (setup.rows.1 / band_sample_rows).min(band_count.saturating_sub(1));
-        for bin in &mut bins[first as usize..=last as usize] {
-            bin.push(index as u32);
-        }
-    }
-    bins
 }
 
 /// The samples of one band: depth and radiance, row-major.
@@ -272,28 +244,35 @@ impl SampleBuffer {
             let base = (row - self.first_row) as usize * self.columns as usize;
             for column in column_lo..=column_hi {
                 let x = view.x_of_column[column as usize];
-                self.shade(setup, view, (x, y), partial, base + column as usize);
+                self.shade(
+                    setup,
+                    view,
+                    DVec2::new(x, y),
+                    partial,
+                    base + column as usize,
+                );
             }
         }
     }
 
-    /// Tests one sample (tangent-plane x, row part `partial`) against
+    /// Tests one sample (tangent-plane point `sample`, row part `partial`) against
     /// `setup` and the z-buffer, and shades it when it is the nearest so far.
     #[inline]
     fn shade(
         &mut self,
         setup: &Setup,
         view: &View,
-        (x, y): (f64, f64),
+        sample: DVec2,
         partial: [f64; 3],
         index: usize,
     ) {
         shade_sample(
             setup,
             view,
-            (x, y),
+            sample,
             partial,
-            (&mut self.depth[index], &mut self.radiance[index]),
+            &mut self.depth[index],
+            &mut self.radiance[index],
         );
     }
 
@@ -321,56 +300,6 @@ impl SampleBuffer {
             *disagrees = range.spans_more_than(EDGE_CONTRAST);
         }
     }
-}
-
-/// Tests one sample (tangent-plane (x, y), row part `partial`) against
-/// `setup` and the depth `nearest` seen there so far, and when the triangle
-/// covers it nearer, stores its depth and radiance in (`nearest`, `radiance`).
-#[inline]
-pub(super) fn shade_sample(
-    setup: &Setup,
-    view: &View,
-    (x, y): (f64, f64),
-    partial: [f64; 3],
-    (nearest, radiance): (&mut f64, &mut [f32; 3]),
-) {
-    // Inside when all edge functions are ≥ 0, a tie (e = 0) going to the
-    // edge's owner by the top-left rule.
-    let Some(e) = setup.covers(x, y, partial, view) else {
-        return;
-    };
-    // Depth t = |D| / Σ e_k; clip near, then the z-test.
-    let sum = e[0] + e[1] + e[2];
-    let depth = setup.volume / sum;
-    let visible = sum > 0.0 && depth >= setup.z_near && depth < *nearest;
-    if !visible {
-        return;
-    }
-    // Perspective-correct Gouraud: L = Σ e_k L_k / Σ e_k.
-    let [l0, l1, l2] = setup.radiance;
-    *nearest = depth;
-    *radiance = ((l0 * e[0] + l1 * e[1] + l2 * e[2]) / sum).to_f32_array();
-}
-
-/// The inclusive range of sample columns in which row-part edge values
-/// `partial` can all be ≥ 0, within the triangle's column bounds, with one
-/// sample of margin for rounding; `None` when the row misses the triangle.
-pub(super) fn row_span(setup: &Setup, partial: [f64; 3], view: &View) -> Option<(u32, u32)> {
-    // Each edge a·x + partial ≥ 0 bounds x on one side (or the whole row).
-    let (mut x_lo, mut x_hi) = (f64::NEG_INFINITY, f64::INFINITY);
-    for (edge, &p) in setup.edges.iter().zip(&partial) {
-        if edge.a > 0.0 {
-            x_lo = x_lo.max(-p / edge.a);
-        } else if edge.a < 0.0 {
-            x_hi = x_hi.min(-p / edge.a);
-        } else if p < 0.0 {
-            return None;
-        }
-    }
-    // In sample columns, intersected with the triangle's bounds.
-    let (lo, hi) = clamp_range(view.column_of(x_lo), view.column_of(x_hi), view.columns)?;
-    let (lo, hi) = (lo.max(setup.columns.0), hi.min(setup.columns.1));
-    (lo <= hi).then_some((lo, hi))
 }
 
 #[cfg(test)]

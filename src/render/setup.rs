@@ -38,7 +38,8 @@
 use glam::DVec3;
 
 use super::shaded_triangle::ShadedTriangle;
-use crate::scene::{Camera, CameraFrame, Rgb};
+use crate::rgb::Rgb;
+use crate::scene::{Camera, CameraFrame};
 
 /// Near-plane distance relative to the eye's distance h from a triangle's plane.
 ///

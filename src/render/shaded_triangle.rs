@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 
 /// A triangle with a radiance value at each vertex, W/(m²·sr).
 ///

@@ -5,8 +5,9 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::{Rgb, ShadowCache, SurfaceId, Visibility};
+use super::{ShadowCache, SurfaceId, Visibility};
 use crate::photometry::{IntensityDistribution, LUMENS_PER_WATT};
+use crate::rgb::Rgb;
 
 /// A luminaire from a photometric file (a scene file's `[[luminaire]]`):
 /// its distribution I(C, γ) in candela, placed at `position` with γ = 0

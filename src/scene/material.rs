@@ -1,6 +1,6 @@
 //! Diffuse materials: reflectance and emitted radiance per RGB channel.
 
-use super::Rgb;
+use crate::rgb::Rgb;
 
 /// A Lambertian material.
 ///

@@ -1,21 +1,23 @@
 //! Scenes: planar surfaces with diffuse materials, a camera, and loaders.
 
-mod build;
 mod camera;
+pub(crate) mod geometry;
 mod load;
 mod luminaire;
 mod material;
-pub(crate) mod plane_polygon;
-pub(crate) mod polygon;
-mod rgb;
-mod shaft;
+pub(crate) mod queries;
 pub(crate) mod surface;
-mod surface_boxes;
 mod surface_id;
-pub(crate) mod triangulate;
-mod visibility;
 
 pub use camera::{Camera, CameraFrame};
+pub use geometry::Box3;
+pub(crate) use geometry::{
+    clip_segment_to_polygon, distance_to_boundary, distance_to_segment, polygon, polygon_contains,
+    segment_parameter, triangulate, triangulate_polygon,
+};
+// The old path of the plane-polygon fixtures, which tests elsewhere import.
+#[cfg(test)]
+pub(crate) use geometry::plane_polygon;
 pub(crate) use load::line_at;
 pub use load::{
     LoadSettings, LoadedScene, MergeReport, ProbePoint, builtin_names, load_obj, load_probe_points,
@@ -23,18 +25,14 @@ pub use load::{
 };
 pub use luminaire::{OPENING_SAMPLES, PhotometricLuminaire};
 pub use material::Material;
-pub(crate) use plane_polygon::{
-    clip_segment_to_polygon, distance_to_boundary, distance_to_segment, polygon_contains,
-    segment_parameter,
-};
-
-pub use rgb::Rgb;
+pub(crate) use queries::surface_offset_for;
+pub use queries::{ShadowCache, SurfaceBoxes, Visibility};
 pub use surface::{PlaneFrame, Surface};
-pub use surface_boxes::SurfaceBoxes;
 pub use surface_id::SurfaceId;
-pub(crate) use triangulate::triangulate_polygon;
-pub(crate) use visibility::surface_offset_for;
-pub use visibility::{ShadowCache, Visibility};
+
+// The colour type lives in `crate::rgb`, at the bottom; re-exported here
+// while the crate's imports still name it through the scene.
+pub use crate::rgb::Rgb;
 
 use std::path::{Path, PathBuf};
 

@@ -2,7 +2,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::triangulate::triangulate_polygon;
+use super::geometry::triangulate_polygon;
 
 /// An orthonormal frame on a surface's plane: `origin` on the plane, `u` and
 /// `v` spanning it, `normal = u × v` the front side's normal.

@@ -208,7 +208,7 @@ fn welded_loops(surfaces: &[Surface], cell: f64) -> WeldedLoops {
 
 /// The faces along one directed edge: the first, and how many. Merging
 /// asks only whether exactly one face uses an edge, and which; a list per
-/// edge was a memory allocation for each of a building's four million.
+/// edge would be a memory allocation for each of a building's millions.
 #[derive(Clone, Copy, Debug)]
 struct EdgeUse {
     first: usize,

@@ -1,7 +1,9 @@
-//! Loaders: scene files (TOML), OBJ + MTL, built-in scenes and probe-point
-//! files, all reading through one [`source::SourceFiles`] so that built-in
-//! scenes and files on disk go through the same checks.
+//! Loaders: scenes built in code (`Scene::new`, `add_polygon`), scene files
+//! (TOML), OBJ + MTL, built-in scenes and probe-point files, all reading
+//! through one [`source::SourceFiles`] so that built-in scenes and files on
+//! disk go through the same checks.
 
+mod build;
 mod builtin;
 mod coplanar_merge;
 mod loaded;

@@ -11,7 +11,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 
 use super::statement::{canonical_line, canonical_text, split_statement};
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 use crate::scene::material::{Material, NOT_FINITE, emitted_radiance_problem, reflectance_problem};
 
 /// Checks an MTL text before tobj parses it, so that errors carry a line

@@ -24,12 +24,12 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 
+use super::build::check_not_empty;
 use super::coplanar_merge::merge_scene_faces;
 use super::mtl::{parse_mtl, to_material};
 use super::obj_scan::{ObjScan, scan_obj};
 use super::source::{Disk, SourceFiles};
 use super::statement::{canonical_line, canonical_text, split_statement};
-use crate::scene::build::check_not_empty;
 use crate::scene::material::Material;
 use crate::scene::polygon::clean_polygon;
 use crate::scene::{Scene, Warning};

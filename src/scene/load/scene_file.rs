@@ -60,12 +60,13 @@ use serde::Deserialize;
 
 use crate::error::{Error, Result};
 
+use super::build::check_not_empty;
 use super::loaded::LoadedScene;
 use super::obj::load_obj_from;
 use super::source::{Disk, SourceFiles};
 use crate::photometry::read_photometric_file;
-use crate::scene::build::check_not_empty;
-use crate::scene::{Camera, PhotometricLuminaire, Rgb, SceneOptions};
+use crate::rgb::Rgb;
+use crate::scene::{Camera, PhotometricLuminaire, SceneOptions};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -52,7 +52,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::mesh::Mesh;
-use crate::scene::{Scene, SurfaceId, Visibility};
+use crate::scene::{Box3, Scene, SurfaceId, Visibility};
 use crate::solver::shot::shooter::Shooter;
 
 /// A patch is tested only when its vertices would cast at least this many
@@ -316,7 +316,7 @@ struct ShaftTest<'a> {
     /// How far the shafts' ends are lifted off their surfaces.
     offset: f64,
     /// The shooter's end of every shaft.
-    source: (DVec3, DVec3),
+    source: Box3,
     /// The shooter's centre.
     centre: DVec3,
 }
@@ -337,7 +337,7 @@ impl<'a> ShaftTest<'a> {
             query,
             boxes,
             offset: query.visibility.surface_offset(),
-            source: (DVec3::ZERO, DVec3::ZERO),
+            source: Box3::new(DVec3::ZERO, DVec3::ZERO),
             centre: shooter.cell.centre(),
         };
         let (min, max) = bounds(shooter.cell.polygon().iter().copied());
@@ -348,8 +348,8 @@ impl<'a> ShaftTest<'a> {
     }
 
     /// The box from `min` to `max` lifted off a surface of `normal`.
-    fn lift(&self, min: DVec3, max: DVec3, normal: DVec3) -> (DVec3, DVec3) {
-        (min + normal * self.offset, max + normal * self.offset)
+    fn lift(&self, min: DVec3, max: DVec3, normal: DVec3) -> Box3 {
+        Box3::new(min + normal * self.offset, max + normal * self.offset)
     }
 
     /// Appends to `list` the triangles in the shaft to the box from `min`
@@ -469,7 +469,8 @@ impl<'a> ShaftTest<'a> {
             let start = found.occluders.len();
             let few = match candidates {
                 Some(candidates) => self.query.visibility.shaft_occluders_among(
-                    (self.source, self.lift(min, max, normal)),
+                    self.source,
+                    self.lift(min, max, normal),
                     candidates,
                     most,
                     &mut found.occluders,

@@ -28,6 +28,31 @@ use glam::Vec3A;
 /// times four edges.
 const MAX_PLANES: usize = 12;
 
+/// An axis-aligned box in the BVH's f32 units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Box3A {
+    /// The least corner.
+    pub(crate) min: Vec3A,
+    /// The greatest corner.
+    pub(crate) max: Vec3A,
+}
+
+impl Box3A {
+    /// The box from `min` to `max`.
+    pub(crate) const fn new(min: Vec3A, max: Vec3A) -> Box3A {
+        Box3A { min, max }
+    }
+
+    /// The corner on `side` (0: the minimum, 1: the maximum) along `axis`.
+    fn extreme(&self, side: usize, axis: usize) -> f32 {
+        if side == 0 {
+            self.min[axis]
+        } else {
+            self.max[axis]
+        }
+    }
+}
+
 /// The convex region between two axis-aligned boxes (see the module docs).
 #[derive(Clone, Debug)]
 pub(crate) struct Shaft {
@@ -40,15 +65,12 @@ pub(crate) struct Shaft {
 }
 
 impl Shaft {
-    /// The shaft between boxes `a` and `b`, each `(min, max)`.
-    pub(crate) fn new(a: (Vec3A, Vec3A), b: (Vec3A, Vec3A)) -> Shaft {
+    /// The shaft between boxes `a` and `b`.
+    pub(crate) fn new(a: Box3A, b: Box3A) -> Shaft {
         // Which box reaches farther on a side of an axis: 1 for a, -1 for
         // b, 0 when level. Side 0 is the minimum, 1 the maximum.
-        let extreme = |(min, max): (Vec3A, Vec3A), side: usize, axis: usize| {
-            if side == 0 { min[axis] } else { max[axis] }
-        };
         let outer = |side: usize, axis: usize| {
-            let (ea, eb) = (extreme(a, side, axis), extreme(b, side, axis));
+            let (ea, eb) = (a.extreme(side, axis), b.extreme(side, axis));
             let (ea, eb) = if side == 0 { (-ea, -eb) } else { (ea, eb) };
             if ea > eb {
                 1
@@ -68,8 +90,8 @@ impl Shaft {
                 }
                 // The two boxes' edges on this side, in the (i, j) plane.
                 let (pa, pb) = (
-                    (extreme(a, si, i), extreme(a, sj, j)),
-                    (extreme(b, si, i), extreme(b, sj, j)),
+                    (a.extreme(si, i), a.extreme(sj, j)),
+                    (b.extreme(si, i), b.extreme(sj, j)),
                 );
                 let mut n = Vec3A::ZERO;
                 n[i] = pb.1 - pa.1;
@@ -88,8 +110,8 @@ impl Shaft {
             }
         }
         Shaft {
-            min: a.0.min(b.0),
-            max: a.1.max(b.1),
+            min: a.min.min(b.min),
+            max: a.max.max(b.max),
             planes,
             count,
         }
@@ -133,9 +155,9 @@ mod tests {
         (*state >> 40) as f32 / (1u64 << 24) as f32
     }
 
-    fn point_in(state: &mut u64, (min, max): (Vec3A, Vec3A)) -> Vec3A {
+    fn point_in(state: &mut u64, bounds: Box3A) -> Vec3A {
         let t = vec3a(next(state), next(state), next(state));
-        min + (max - min) * t
+        bounds.min + (bounds.max - bounds.min) * t
     }
 
     /// Every segment between the two boxes stays inside: no point on it
@@ -146,10 +168,16 @@ mod tests {
         for _ in 0..200 {
             let mut random_box = || {
                 let (p, q) = (
-                    point_in(&mut state, (Vec3A::splat(-2.0), Vec3A::splat(2.0))),
-                    point_in(&mut state, (Vec3A::splat(-2.0), Vec3A::splat(2.0))),
+                    point_in(
+                        &mut state,
+                        Box3A::new(Vec3A::splat(-2.0), Vec3A::splat(2.0)),
+                    ),
+                    point_in(
+                        &mut state,
+                        Box3A::new(Vec3A::splat(-2.0), Vec3A::splat(2.0)),
+                    ),
                 );
-                (p.min(q), p.max(q))
+                Box3A::new(p.min(q), p.max(q))
             };
             let (a, b) = (random_box(), random_box());
             let shaft = Shaft::new(a, b);
@@ -167,8 +195,8 @@ mod tests {
     /// shaft, one on the line between the patches' centres inside.
     #[test]
     fn cuts_the_union_boxs_empty_corners() {
-        let floor = (vec3a(0.0, 0.0, 0.0), vec3a(1.0, 0.0, 1.0));
-        let ceiling = (vec3a(3.0, 2.0, 0.0), vec3a(4.0, 2.0, 1.0));
+        let floor = Box3A::new(vec3a(0.0, 0.0, 0.0), vec3a(1.0, 0.0, 1.0));
+        let ceiling = Box3A::new(vec3a(3.0, 2.0, 0.0), vec3a(4.0, 2.0, 1.0));
         let shaft = Shaft::new(floor, ceiling);
         // Above the floor patch, near the ceiling: in the union box only.
         let corner = (vec3a(0.2, 1.6, 0.2), vec3a(0.4, 1.8, 0.4));
@@ -195,8 +223,8 @@ mod tests {
     /// shaft's side, is outside; one reaching in is inside.
     #[test]
     fn touching_is_outside() {
-        let floor = (vec3a(0.0, 0.0, 0.0), vec3a(1.0, 0.0, 1.0));
-        let ceiling = (vec3a(0.0, 2.0, 0.0), vec3a(1.0, 2.0, 1.0));
+        let floor = Box3A::new(vec3a(0.0, 0.0, 0.0), vec3a(1.0, 0.0, 1.0));
+        let ceiling = Box3A::new(vec3a(0.0, 2.0, 0.0), vec3a(1.0, 2.0, 1.0));
         let shaft = Shaft::new(floor, ceiling);
         let wall = (vec3a(-1.0, 0.0, 0.0), vec3a(0.0, 2.0, 1.0));
         assert!(!shaft.overlaps_box(wall.0, wall.1));

@@ -68,13 +68,10 @@ impl Cell {
     /// A point of the cell for parameters (s, t) ∈ [0, 1]²: bilinear for a
     /// quad; for a triangle the square is folded onto it, which keeps a
     /// uniform (s, t) uniform in area.
-    // Inlined where it is called: out of line, it returned the point
-    // through memory, x and y in one 16-byte store and z in an 8-byte
-    // one, and the shots' strata loop (as compiled after unrelated
-    // changes) loaded y and z back in one 16-byte load across the two,
-    // which the processor cannot forward from the stores: that stall took
-    // 17 % of the loop's samples and 4 % of the 16 offices' solve (perf
-    // annotate, 2026-12-06).
+    // Inlined where it is called: out of line, it returns the point
+    // through memory, and the shots' strata loop may load it back across
+    // two stores, which the processor cannot forward: a stall in the
+    // solve's hottest loop.
     #[must_use]
     #[inline]
     pub fn point(&self, s: f64, t: f64) -> DVec3 {

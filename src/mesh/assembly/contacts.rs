@@ -6,18 +6,20 @@
 //! under the block), which no interpolation across it can represent. The
 //! meshers put element edges along contact lines instead.
 
+use std::ops::RangeInclusive;
+
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
-use super::assembly::CONTACT_TOLERANCE;
-use super::constrained::triangulate_constrained;
-use super::contour::ContourLayout;
-use super::patch::Cell;
-use super::topology::Mesh;
+use crate::mesh::data::topology::Mesh;
 use crate::scene::{
-    PlaneFrame, Scene, Surface, SurfaceBoxes, SurfaceId, Visibility, clip_segment_to_polygon,
+    PlaneFrame, Scene, Surface, SurfaceBoxes, SurfaceId, clip_segment_to_polygon,
     distance_to_boundary, distance_to_segment, polygon_contains, segment_parameter,
 };
+
+/// How close to a plane, as a fraction of the scene's diagonal, another
+/// surface's edge must lie to stand on it.
+pub(crate) const CONTACT_TOLERANCE: f64 = 1e-3;
 
 /// A contact segment in a receiver's plane coordinates, with the side the
 /// touching surface faces (its normal projected into the receiver's plane):
@@ -47,7 +49,7 @@ pub struct Contact {
 /// the graded rows keep the linear interpolation from spreading that drop
 /// over a whole element: on an office's desks, where a screen stands, and
 /// its walls, under window frames, that lost 10–15 % of their light.
-const BESIDE_CONTACT_ROWS: [f64; 2] = [0.125, 0.5];
+pub(crate) const BESIDE_CONTACT_ROWS: [f64; 2] = [0.125, 0.5];
 
 /// The contact lines on a receiver's front, and whether a parallel surface
 /// covers part of it ([`contact_segments`]).
@@ -66,7 +68,8 @@ pub struct ReceiverContacts {
     pub marks: Vec<DVec2>,
 }
 
-/// The contact segments on `receiver`'s front: for every other surface not
+/// The contact segments on `receiver`'s front, found at `distances` (a
+/// tolerance and an inset): for every other surface not
 /// parallel to it, the part of its polygon lying within `tolerance` of the
 /// receiver's plane (or crossing it), when the rest of that surface stands
 /// in front of the receiver; clipped to the receiver's polygon. Segments
@@ -92,100 +95,179 @@ pub fn contact_segments(
     scene: &Scene,
     boxes: &SurfaceBoxes,
     receiver: SurfaceId,
-    (tolerance, inset): (f64, f64),
+    distances: ContactDistances,
     spacing: f64,
 ) -> ReceiverContacts {
     let target = scene.surface(receiver);
     let frame = target.frame();
     let outline = target.plane_vertices();
+    let plane = ReceiverPlane {
+        surface: target,
+        frame,
+        outline: &outline,
+    };
     let (min, max) = boxes.bounds(receiver);
     let mut contacts = ReceiverContacts::default();
     // Outlines of parallel surfaces too far in front to cover the receiver.
     let mut near = Vec::new();
     let largest_gap =
         (COVERING_GAP * target.area().sqrt()).max(near_outline_gap(target, target, spacing));
-    for id in boxes.near(min, max, tolerance.max(largest_gap)) {
+    for id in boxes.near(min, max, distances.tolerance.max(largest_gap)) {
         let other = scene.surface(id);
         if id == receiver {
             continue;
         }
         let alignment = other.normal().dot(target.normal());
         if alignment.abs() > 0.999 {
-            // One lying on the receiver must be clear of its plane (nearer,
-            // it is a decal); one facing it, across a slot however narrow,
-            // but not back to back with it (the two sides of a partition).
-            let (above, gap) = if alignment > 0.0 {
-                (tolerance, covering_gap(target, other))
-            } else {
-                (
-                    FACING_CLEARANCE * tolerance,
-                    slot_gap(target, other, tolerance),
-                )
-            };
-            if let Some(lines) =
-                covering_outline(other, id, frame, &outline, (above, gap), (tolerance, inset))
-            {
-                contacts.lines.extend(lines);
-                contacts.covered = true;
-            } else if let Some(lines) = covering_outline(
-                other,
-                id,
-                frame,
-                &outline,
-                (gap, near_outline_gap(target, other, spacing)),
-                (tolerance, inset),
-            ) {
-                // Its vertices gather one gap, not two, beyond the line: the
-                // dark band behind it is as wide as the gap.
-                near.extend(lines.into_iter().map(|line| Contact {
-                    clearance: 0.5 * line.clearance,
-                    ..line
-                }));
+            match parallel_outline(&plane, other, id, alignment, distances, spacing) {
+                Some(ParallelOutline::Covering(lines)) => {
+                    contacts.lines.extend(lines);
+                    contacts.covered = true;
+                }
+                Some(ParallelOutline::Near(lines)) => near.extend(lines),
+                None => {}
             }
             continue;
         }
-        let heights: Vec<f64> = other.vertices().iter().map(|&p| frame.height(p)).collect();
-        // It must touch the plane, and stand in front of the receiver.
-        let touches = heights.iter().any(|h| h.abs() <= tolerance);
-        let crosses =
-            heights.iter().any(|&h| h < -tolerance) && heights.iter().any(|&h| h > tolerance);
-        if !(touches || crosses) || heights.iter().all(|&h| h <= tolerance) {
-            continue;
-        }
-        let Some(ends) = plane_section(other, &heights, tolerance, frame) else {
-            continue;
-        };
-        let clipped = clip_segment_to_polygon(ends, &outline);
-        if clipped.is_none() {
-            contacts
-                .marks
-                .extend(outline_mark(ends, &outline, tolerance));
-        }
-        if let Some(clipped) = clipped {
-            // A wall standing on the floor's edge makes no line inside it.
-            let along_outline = [clipped[0], clipped[1], clipped[0].lerp(clipped[1], 0.5)]
-                .iter()
-                .all(|&p| distance_to_boundary(&outline, p) <= inset);
-            if clipped[0].distance(clipped[1]) > tolerance && !along_outline {
-                let origin = frame.to_plane(DVec3::ZERO);
-                let facing = (frame.to_plane(other.normal()) - origin).normalize_or_zero();
-                contacts.lines.push(Contact {
-                    ends: clipped,
-                    surface: id,
-                    facing,
-                    clearance: 0.0,
-                });
-            }
+        match standing_contact(&plane, other, id, distances) {
+            Some(Standing::Line(line)) => contacts.lines.push(line),
+            Some(Standing::Mark(mark)) => contacts.marks.push(mark),
+            None => {}
         }
     }
-    // A near outline's edge adds nothing along another line within
-    // `tolerance`: along the whole of a contact (the board a book stands
-    // on), or beside another near outline's edge that faces the other way
-    // (the next book's side, a millimetre off: dark on both sides; its
-    // middle is enough, so that only the taller of two neighbours' sides
-    // is looked at again). Of two facing the same way along each other's
-    // whole length (the back and front of a panel hung in front of a
-    // wall), the one nearer the receiver is kept.
+    let kept = near_outlines_kept(&contacts.lines, &near, distances.tolerance);
+    contacts.lines.extend(kept);
+    contacts
+}
+
+/// The distances at which contacts are found on one receiver.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactDistances {
+    /// How close to the receiver's plane another surface's edge must lie to
+    /// stand on it ([`CONTACT_TOLERANCE`] of the room's diagonal); lines
+    /// shorter than this are dropped.
+    pub tolerance: f64,
+    /// How far the receiver's boundary vertices gather inside it: lines
+    /// along its outline within this distance are dropped.
+    pub inset: f64,
+}
+
+/// A receiver in its own plane: its surface, plane frame and outline in
+/// the frame's coordinates.
+struct ReceiverPlane<'a> {
+    surface: &'a Surface,
+    frame: &'a PlaneFrame,
+    outline: &'a [DVec2],
+}
+
+/// What a surface parallel to a receiver draws on it.
+enum ParallelOutline {
+    /// The contact lines of a surface covering it ([`covering_outline`]).
+    Covering(Vec<Contact>),
+    /// The outline of one a little farther in front, which hides nothing.
+    Near(Vec<Contact>),
+}
+
+/// The outline that `other` (surface `id`), parallel to the receiver with
+/// normals' dot product `alignment`, draws on it, if any: covering it, or
+/// a little farther off ([`near_outline_gap`] for elements of `spacing`).
+fn parallel_outline(
+    receiver: &ReceiverPlane,
+    other: &Surface,
+    id: SurfaceId,
+    alignment: f64,
+    distances: ContactDistances,
+    spacing: f64,
+) -> Option<ParallelOutline> {
+    let target = receiver.surface;
+    let tolerance = distances.tolerance;
+    // One lying on the receiver must be clear of its plane (nearer, it is a
+    // decal); one facing it, across a slot however narrow, but not back to
+    // back with it (the two sides of a partition).
+    let (above, gap) = if alignment > 0.0 {
+        (tolerance, covering_gap(target, other))
+    } else {
+        (
+            FACING_CLEARANCE * tolerance,
+            slot_gap(target, other, tolerance),
+        )
+    };
+    let outline_within =
+        |heights: RangeInclusive<f64>| covering_outline(receiver, other, id, heights, distances);
+    if let Some(lines) = outline_within(above..=gap) {
+        return Some(ParallelOutline::Covering(lines));
+    }
+    let lines = outline_within(gap..=near_outline_gap(target, other, spacing))?;
+    // Its vertices gather one gap, not two, beyond the line: the dark band
+    // behind it is as wide as the gap.
+    Some(ParallelOutline::Near(
+        lines
+            .into_iter()
+            .map(|line| Contact {
+                clearance: 0.5 * line.clearance,
+                ..line
+            })
+            .collect(),
+    ))
+}
+
+/// What a surface standing on a receiver's plane gives it.
+enum Standing {
+    /// A contact line inside its outline.
+    Line(Contact),
+    /// A point of its outline where the surface ends beside it
+    /// ([`outline_mark`]).
+    Mark(DVec2),
+}
+
+/// The contact line that `other` (surface `id`), not parallel to the
+/// receiver, makes on it where it touches or crosses its plane and stands
+/// in front of it, or the mark it makes beside its outline.
+fn standing_contact(
+    receiver: &ReceiverPlane,
+    other: &Surface,
+    id: SurfaceId,
+    distances: ContactDistances,
+) -> Option<Standing> {
+    let ContactDistances { tolerance, inset } = distances;
+    let (frame, outline) = (receiver.frame, receiver.outline);
+    let heights: Vec<f64> = other.vertices().iter().map(|&p| frame.height(p)).collect();
+    // It must touch the plane, and stand in front of the receiver.
+    let touches = heights.iter().any(|h| h.abs() <= tolerance);
+    let crosses = heights.iter().any(|&h| h < -tolerance) && heights.iter().any(|&h| h > tolerance);
+    if !(touches || crosses) || heights.iter().all(|&h| h <= tolerance) {
+        return None;
+    }
+    let ends = plane_section(other, &heights, tolerance, frame)?;
+    let Some(clipped) = clip_segment_to_polygon(ends, outline) else {
+        return outline_mark(ends, outline, tolerance).map(Standing::Mark);
+    };
+    // A wall standing on the floor's edge makes no line inside it.
+    let along_outline = [clipped[0], clipped[1], clipped[0].lerp(clipped[1], 0.5)]
+        .iter()
+        .all(|&p| distance_to_boundary(outline, p) <= inset);
+    if clipped[0].distance(clipped[1]) > tolerance && !along_outline {
+        let origin = frame.to_plane(DVec3::ZERO);
+        let facing = (frame.to_plane(other.normal()) - origin).normalize_or_zero();
+        return Some(Standing::Line(Contact {
+            ends: clipped,
+            surface: id,
+            facing,
+            clearance: 0.0,
+        }));
+    }
+    None
+}
+
+/// The near outlines worth adding to the contact `lines`. A near outline's
+/// edge adds nothing along another line within `tolerance`: along the
+/// whole of a contact (the board a book stands on), or beside another near
+/// outline's edge that faces the other way (the next book's side, a
+/// millimetre off: dark on both sides; its middle is enough, so that only
+/// the taller of two neighbours' sides is looked at again). Of two facing
+/// the same way along each other's whole length (the back and front of a
+/// panel hung in front of a wall), the one nearer the receiver is kept.
+fn near_outlines_kept(lines: &[Contact], near: &[Contact], tolerance: f64) -> Vec<Contact> {
     let near_line = |p: DVec2, other: &Contact| {
         distance_to_segment(p, other.ends[0], other.ends[1]) <= tolerance
     };
@@ -196,11 +278,10 @@ pub fn contact_segments(
                 .iter()
                 .all(|&p| near_line(p, other))
     };
-    let kept: Vec<Contact> = near
-        .iter()
+    near.iter()
         .filter(|line| {
             let middle = line.ends[0].lerp(line.ends[1], 0.5);
-            let along_contact = contacts.lines.iter().any(|other| whole_along(line, other));
+            let along_contact = lines.iter().any(|other| whole_along(line, other));
             let along_near = near.iter().any(|other| {
                 if other.facing.dot(line.facing) < 0.0 {
                     other.surface != line.surface && near_line(middle, other)
@@ -213,9 +294,7 @@ pub fn contact_segments(
             !(along_contact || along_near)
         })
         .copied()
-        .collect();
-    contacts.lines.extend(kept);
-    contacts
+        .collect()
 }
 
 /// Where a surface standing in front of a receiver, whose section with the
@@ -320,13 +399,13 @@ pub fn slot_gap(receiver: &Surface, other: &Surface, tolerance: f64) -> f64 {
 }
 
 /// The contact lines of a parallel surface covering the receiver, or `None`
-/// when it does not: its whole polygon in front of the receiver's plane by at
-/// least `above` and at most `gap`, its footprint on the receiver's polygon.
-/// Lines shorter than `tolerance`, or along the receiver's outline within
-/// `inset`, are left out. It lies on the receiver, facing the same way, or
+/// when it does not: its whole polygon in front of the receiver's plane by a
+/// height `within`, its footprint on the receiver's polygon. Lines shorter
+/// than the `distances`' tolerance, or along the receiver's outline within
+/// their inset, are left out. It lies on the receiver, facing the same way, or
 /// faces it across a slot. The receiver under it is hidden and unlit, like
 /// the floor under a block, so its outline, projected onto the receiver's
-/// plane and clipped to `outline`, bounds the elements (none when the
+/// plane and clipped to the receiver's outline, bounds the elements (none when the
 /// footprint covers the receiver's whole polygon): without it, the vertices
 /// in the gap behind a ceiling panel spread their darkness a whole element
 /// round the panel, and those in the slots between books gathered the room's
@@ -339,16 +418,17 @@ pub fn slot_gap(receiver: &Surface, other: &Surface, tolerance: f64) -> f64 {
 /// the line then gather two gaps out, so that the elements beside it are not
 /// dimmed across their width ([`gather_beside_covering_outlines`]).
 fn covering_outline(
+    receiver: &ReceiverPlane,
     other: &Surface,
     id: SurfaceId,
-    frame: &PlaneFrame,
-    outline: &[DVec2],
-    (above, gap): (f64, f64),
-    (tolerance, inset): (f64, f64),
+    within: RangeInclusive<f64>,
+    distances: ContactDistances,
 ) -> Option<Vec<Contact>> {
+    let ContactDistances { tolerance, inset } = distances;
+    let (frame, outline) = (receiver.frame, receiver.outline);
     let vertices = other.vertices();
     let heights: Vec<f64> = vertices.iter().map(|&p| frame.height(p)).collect();
-    if !heights.iter().all(|h| (above..=gap).contains(h)) {
+    if !heights.iter().all(|h| within.contains(h)) {
         return None;
     }
     let height = heights.iter().copied().fold(0.0, f64::max);
@@ -459,276 +539,6 @@ fn plane_section(
         .iter()
         .max_by(|a, b| key(a).total_cmp(&key(b)))?;
     Some([*first, *last])
-}
-
-/// The rows of [`BESIDE_CONTACT_ROWS`] beside every contact at least one
-/// element long (shorter ones, a table leg's or a book's, cast shadows as
-/// small as themselves): each contact moved that far along its `facing`
-/// side, clipped to the receiver's outline.
-fn rows_beside_contacts(contacts: &[Contact], spacing: f64, outline: &[DVec2]) -> Vec<[DVec2; 2]> {
-    let mut rows = Vec::new();
-    for contact in contacts {
-        let [a, b] = contact.ends;
-        let along = b - a;
-        if along.length() < spacing || contact.facing == DVec2::ZERO {
-            continue;
-        }
-        let normal = along.perp().normalize();
-        let side = if normal.dot(contact.facing) >= 0.0 {
-            normal
-        } else {
-            -normal
-        };
-        for fraction in BESIDE_CONTACT_ROWS {
-            let offset = side * (fraction * spacing);
-            if let Some(row) = clip_segment_to_polygon([a + offset, b + offset], outline) {
-                rows.push(row);
-            }
-        }
-    }
-    rows
-}
-
-/// Grid points closer than this fraction of the element spacing to a shadow
-/// boundary give way to the points along it (no slivers beside the line).
-const BOUNDARY_CLEARANCE: f64 = 0.25;
-
-/// Re-triangulates a surface's regular grid so that element edges follow
-/// the contact lines, the shadow `boundaries` and, when given, a contour
-/// layout: the layout's points and contour pieces (or, without one, the
-/// grid's vertices less those within 0.6 `spacing` of a contact line or
-/// 0.25 of a boundary), points along the contact lines and boundaries about
-/// `spacing` apart, and the grid's patch cells as constraints so that every
-/// triangle lies in one patch. A boundary lying along a contact line (the
-/// shadow of an object's foot) is the contact. Uses
-/// [`triangulate_constrained`].
-#[must_use]
-pub fn remesh_surface(
-    surface: &Surface,
-    grid: &Mesh,
-    contacts: &[Contact],
-    boundaries: &[[DVec2; 2]],
-    spacing: f64,
-    layout: Option<&ContourLayout>,
-) -> Mesh {
-    let frame = surface.frame();
-    let outline = surface.plane_vertices();
-    let scale = outline
-        .iter()
-        .map(|p| p.length())
-        .fold(0.0, f64::max)
-        .max(f64::MIN_POSITIVE);
-    let segments: Vec<[DVec2; 2]> = contacts.iter().map(|c| c.ends).collect();
-    let beside = rows_beside_contacts(contacts, spacing, &outline);
-    let near_contact = |p: DVec2, distance: f64| {
-        segments
-            .iter()
-            .any(|&[a, b]| distance_to_segment(p, a, b) < distance)
-    };
-    let boundaries: Vec<[DVec2; 2]> = boundaries
-        .iter()
-        .filter(|s| {
-            let middle = s[0].lerp(s[1], 0.5);
-            ![s[0], s[1], middle]
-                .iter()
-                .all(|&p| near_contact(p, BOUNDARY_CLEARANCE * spacing))
-        })
-        .copied()
-        .collect();
-    // Grid points, except those crowding a contact line, a row beside one or
-    // a boundary (outline points stay).
-    let crowds = |p: DVec2| {
-        near_contact(p, 0.6 * spacing)
-            || beside
-                .iter()
-                .any(|&[a, b]| distance_to_segment(p, a, b) < 0.3 * spacing)
-            || boundaries
-                .iter()
-                .any(|&[a, b]| distance_to_segment(p, a, b) < BOUNDARY_CLEARANCE * spacing)
-    };
-    let mut points: Vec<DVec2> = match layout {
-        Some(layout) => layout.points.clone(),
-        None => grid
-            .vertices
-            .iter()
-            .map(|v| frame.to_plane(v.position))
-            .filter(|&p| distance_to_boundary(&outline, p) <= 1e-12 * scale || !crowds(p))
-            .collect(),
-    };
-    // Points along each contact line, the rows beside it and the boundaries.
-    for [a, b] in segments.iter().chain(&beside).chain(&boundaries) {
-        let n = (a.distance(*b) / spacing).ceil().clamp(1.0, 4096.0) as usize;
-        points.extend((1..n).map(|k| a.lerp(*b, k as f64 / n as f64)));
-    }
-    // Patch cells as constraints, so that no triangle straddles two patches.
-    let cells: Vec<Vec<DVec2>> = grid
-        .patches
-        .iter()
-        .map(|p| {
-            p.cell
-                .polygon()
-                .iter()
-                .map(|&q| frame.to_plane(q))
-                .collect()
-        })
-        .collect();
-    let mut constraints = segments.clone();
-    constraints.extend_from_slice(&beside);
-    constraints.extend_from_slice(&boundaries);
-    if let Some(layout) = layout {
-        constraints.extend_from_slice(&layout.constraints);
-    }
-    for cell in &cells {
-        constraints.extend((0..cell.len()).map(|k| [cell[k], cell[(k + 1) % cell.len()]]));
-    }
-    let triangulation = triangulate_constrained(&outline, &points, &constraints);
-    // Rebuild the mesh: the grid's patches, each holding the triangles inside it.
-    let mut mesh = Mesh::default();
-    let surface_id = grid
-        .patches
-        .first()
-        .map_or(SurfaceId::new(0), |p| p.surface);
-    for patch in &grid.patches {
-        mesh.add_patch(surface_id, patch.cell);
-    }
-    let mut ids = vec![u32::MAX; triangulation.points.len()];
-    for triangle in &triangulation.triangles {
-        let centroid = triangle
-            .iter()
-            .map(|&k| triangulation.points[k])
-            .sum::<DVec2>()
-            / 3.0;
-        let patch = (0..cells.len())
-            .min_by(|&a, &b| {
-                cell_distance(&cells[a], centroid).total_cmp(&cell_distance(&cells[b], centroid))
-            })
-            .unwrap_or(0);
-        // A sliver whose area rounds to zero in world coordinates (a polygon
-        // far from the origin against its size) adds nothing: left out.
-        let [a, b, c] = triangle.map(|k| frame.to_world(triangulation.points[k]));
-        let area = Cell::triangle(a, b, c).area;
-        if area.is_nan() || area <= 0.0 {
-            continue;
-        }
-        let corners = triangle.map(|k| {
-            if ids[k] == u32::MAX {
-                ids[k] = mesh.add_vertex(frame.to_world(triangulation.points[k]), surface_id);
-            }
-            ids[k]
-        });
-        mesh.add_element(&corners, patch as u32);
-    }
-    mesh
-}
-
-/// 0 inside a cell, else the distance to it.
-fn cell_distance(cell: &[DVec2], p: DVec2) -> f64 {
-    if polygon_contains(cell, p) {
-        0.0
-    } else {
-        distance_to_boundary(cell, p)
-    }
-}
-
-/// Drops the elements of the given surfaces that lie inside a closed object
-/// standing on them (under a block on a floor) or under a parallel surface
-/// covering them (behind a ceiling panel, in the slot between two books):
-/// no light reaches them and no viewer sees them. An element is hidden
-/// when its centroid is ([`is_enclosed`]), each surface's slots judged
-/// against its own contact tolerance (given with it).
-/// `visibility` is the scene's BVH ([`Visibility::new`]).
-pub(crate) fn remove_hidden_elements(
-    mesh: &mut Mesh,
-    (scene, visibility): (&Scene, &Visibility),
-    surfaces: &[(SurfaceId, f64)],
-) {
-    let mut tolerance = vec![None; scene.surfaces.len()];
-    for &(id, within) in surfaces {
-        tolerance[id.index()] = Some(within);
-    }
-    let hidden: Vec<bool> = mesh
-        .elements
-        .par_iter()
-        .map(|element| {
-            tolerance[element.surface.index()].is_some_and(|within| {
-                let centroid = element.corner_mean(|v| mesh.vertices[v as usize].position);
-                is_enclosed_within(scene, visibility, (element.surface, centroid), within)
-            })
-        })
-        .collect();
-    mesh.remove_elements(|index, _| hidden[index]);
-}
-
-/// Whether the point `x` of `surface` is hidden: at least 6 of 7 rays from
-/// just above it, spread over its hemisphere, end on the back of a surface
-/// (inside a closed object standing on it, whose one-sided surfaces face
-/// outwards) or on a parallel surface facing it across a slot no wider
-/// than `slot_gap` (between two books, where light dies within a gap's
-/// width of the mouth).
-#[must_use]
-pub fn is_enclosed(scene: &Scene, visibility: &Visibility, surface: SurfaceId, x: DVec3) -> bool {
-    let tolerance = CONTACT_TOLERANCE * visibility.diagonal();
-    is_enclosed_within(scene, visibility, (surface, x), tolerance)
-}
-
-/// [`is_enclosed`] with the contact `tolerance` the slots are judged
-/// against ([`slot_gap`]): a thousandth of the surface's room's diagonal.
-#[must_use]
-pub fn is_enclosed_within(
-    scene: &Scene,
-    visibility: &Visibility,
-    (surface, x): (SurfaceId, DVec3),
-    tolerance: f64,
-) -> bool {
-    // Ten times the shadow rays' lift for a scene of the room's size: a
-    // point lifted by the lift of a building's size would start inside
-    // the slot behind an object 2 cm from a wall.
-    let lift = tolerance / 10.0;
-    let reach = visibility.diagonal();
-    let receiver = scene.surface(surface);
-    let normal = receiver.normal();
-    let origin = x + normal * lift;
-    // A facing surface covers the point when the hit lies no higher above
-    // the receiver's plane than the slot is wide (a face tilted within the
-    // parallel test's 2.5° may be near at one end and far at the other).
-    let covers = |other: &Surface, height: f64| {
-        other.normal().dot(normal) < -0.999 && height <= slot_gap(receiver, other, tolerance)
-    };
-    let is_closed = |direction: DVec3| {
-        visibility
-            .closest_hit(origin, direction, reach, surface)
-            .is_some_and(|(hit, distance)| {
-                let other = scene.surface(hit);
-                let height = lift + distance * direction.dot(normal);
-                other.normal().dot(direction) > 0.0 || covers(other, height)
-            })
-    };
-    // Six of seven must be closed: the second open ray settles it, which
-    // in the open (most elements) is the second ray cast.
-    let mut open = 0;
-    for direction in hemisphere_directions(normal) {
-        if !is_closed(direction) {
-            open += 1;
-            if open > 1 {
-                return false;
-            }
-        }
-    }
-    true
-}
-
-/// Seven directions over the hemisphere around `normal`: the normal and six
-/// at 60° from it.
-fn hemisphere_directions(normal: DVec3) -> [DVec3; 7] {
-    let u = normal.any_orthonormal_vector();
-    let v = normal.cross(u);
-    let mut directions = [normal; 7];
-    for (k, direction) in directions.iter_mut().skip(1).enumerate() {
-        let azimuth = std::f64::consts::TAU * k as f64 / 6.0;
-        let (sin, cos) = azimuth.sin_cos();
-        *direction = normal * 0.5 + (u * cos + v * sin) * 0.75f64.sqrt();
-    }
-    directions
 }
 
 #[cfg(test)]

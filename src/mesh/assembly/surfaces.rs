@@ -10,18 +10,15 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::contacts::{
-    Contact, contact_segments, gather_beside_covering_outlines, remesh_surface,
-    remove_hidden_elements,
+    CONTACT_TOLERANCE, Contact, ContactDistances, contact_segments, gather_beside_covering_outlines,
 };
-use super::contour::ContourLayout;
-use super::square::{SquareMeshSettings, square_grid};
-use super::topology::Mesh;
+use super::hidden::remove_hidden_elements;
+use super::remesh::remesh_surface;
+use crate::mesh::data::topology::Mesh;
+use crate::mesh::meshers::contour::ContourLayout;
+use crate::mesh::meshers::square::{SquareMeshSettings, square_grid};
 use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Scene, Surface, SurfaceBoxes, SurfaceId, Visibility, surface_offset_for};
-
-/// How close to a plane, as a fraction of the scene's diagonal, another
-/// surface's edge must lie to stand on it.
-pub(crate) const CONTACT_TOLERANCE: f64 = 1e-3;
 
 /// How far boundary vertices gather inside their surface, as a fraction of
 /// the diagonal of the surface's room (its closed zone) or of the scene.
@@ -62,7 +59,7 @@ pub fn receiver_inset(scene: &Scene) -> f64 {
 /// at its room's 0.83 mm (and reflected shots' shafts with a rim as wide,
 /// `solver/shaft_culling.rs`), 1.40 %, the lines gone: what is left is the
 /// ambient term's noise. The projection offset stays the whole scene's
-/// largest, as it was: one bent face anywhere moves every room's boundary
+/// largest: one bent face anywhere moves every room's boundary
 /// vertices as far, up to a thousandth of the room's diagonal.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ReceiverInset {
@@ -136,7 +133,7 @@ pub fn mesh_surfaces(
     settings: &SquareMeshSettings,
     guides: &(dyn Fn(SurfaceId) -> SurfaceGuides + Sync),
 ) -> Mesh {
-    mesh_surfaces_counted((scene, None), settings, guides, &silent).0
+    mesh_surfaces_counted(scene, None, settings, guides, &silent).0
 }
 
 /// [`mesh_surfaces`], reporting its progress surface by surface, and one
@@ -146,7 +143,8 @@ pub fn mesh_surfaces(
 /// parts are found through the scene's BVH ([`Visibility::new`]) when it
 /// is given, else through one built for them.
 pub(crate) fn mesh_surfaces_counted(
-    (scene, visibility): (&Scene, Option<&Visibility>),
+    scene: &Scene,
+    visibility: Option<&Visibility>,
     settings: &SquareMeshSettings,
     guides: &(dyn Fn(SurfaceId) -> SurfaceGuides + Sync),
     report: PhaseReporter,
@@ -167,10 +165,11 @@ pub(crate) fn mesh_surfaces_counted(
             .par_iter()
             .map(|&id| {
                 let guides = guides(id);
-                let tolerance = CONTACT_TOLERANCE * guides.contact_scale.unwrap_or(diagonal);
-                let inset = rule.within(guides.contact_scale);
-                let meshed =
-                    mesh_surface(scene, &boxes, (id, &guides), (tolerance, inset), settings);
+                let distances = ContactDistances {
+                    tolerance: CONTACT_TOLERANCE * guides.contact_scale.unwrap_or(diagonal),
+                    inset: rule.within(guides.contact_scale),
+                };
+                let meshed = mesh_surface(scene, &boxes, id, &guides, distances, settings);
                 counter.add(1);
                 meshed
             })
@@ -195,7 +194,7 @@ pub(crate) fn mesh_surfaces_counted(
                 &built
             }
         };
-        remove_hidden_elements(&mut mesh, (scene, visibility), &touched);
+        remove_hidden_elements(&mut mesh, scene, visibility, &touched);
     }
     let scene_inset = rule.within(None);
     mesh.inset_boundary_receivers_by(&|surface| {
@@ -209,8 +208,7 @@ pub(crate) fn mesh_surfaces_counted(
 
 /// Surfaces meshed in parallel before their meshes join the whole: a
 /// batch waits for its slowest surface (a floor under many contacts), so
-/// that batches of 1,024 kept a building's two cores 63 % busy, and 64
-/// offices' surfaces took 4.6 s where they now take 3.1 s.
+/// batches are large enough that a building's cores stay busy.
 const MESHING_BATCH: usize = 16_384;
 
 /// One surface's mesh, before the hidden parts are dropped, and what the
@@ -230,16 +228,17 @@ struct MeshedSurface {
 
 /// Meshes surface `id` alone: its square grid, re-triangulated along its
 /// contact lines and `guides`' boundaries or layout; contacts are found at
-/// `tolerance` and boundary points inset by `inset`.
+/// the `distances`' tolerance and boundary points inset by their inset.
 fn mesh_surface(
     scene: &Scene,
     boxes: &SurfaceBoxes,
-    (id, guides): (SurfaceId, &SurfaceGuides),
-    (tolerance, inset): (f64, f64),
+    id: SurfaceId,
+    guides: &SurfaceGuides,
+    distances: ContactDistances,
     settings: &SquareMeshSettings,
 ) -> MeshedSurface {
     let surface = scene.surface(id);
-    let contacts = contact_segments(scene, boxes, id, (tolerance, inset), settings.max_edge);
+    let contacts = contact_segments(scene, boxes, id, distances, settings.max_edge);
     let frame = surface.frame();
     let marks: Vec<DVec3> = contacts.marks.iter().map(|&m| frame.to_world(m)).collect();
     let grid = square_grid(surface, id, settings, &marks);
@@ -266,8 +265,8 @@ fn mesh_surface(
     MeshedSurface {
         mesh,
         touched,
-        tolerance,
-        inset,
+        tolerance: distances.tolerance,
+        inset: distances.inset,
         covering,
     }
 }

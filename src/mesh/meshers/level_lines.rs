@@ -34,10 +34,10 @@
 
 use glam::DVec2;
 
-use super::contour::{
-    ContourLayout, ContourSettings, RELATIVE_FLOOR, ScalarField, boundary_crossings, scale_of,
-};
+use super::contour::{ContourLayout, ContourSettings, boundary_crossings, scale_of};
+use super::contour_levels::RELATIVE_FLOOR;
 use super::contour_lines::contour_polylines;
+use super::scalar_field::ScalarField;
 use crate::scene::{distance_to_boundary, polygon_contains};
 
 /// Lattice cells along the polygon's longer side.

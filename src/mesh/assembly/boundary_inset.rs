@@ -5,16 +5,15 @@
 //! no other element uses it, and elements only use their own surface's
 //! vertices ([`Mesh::validate`]). So each surface's elements are read on
 //! their own, surfaces in parallel, their edges counted by sorting rather
-//! than in one table of every edge of the mesh (on 16 cluttered offices,
-//! 595,000 elements, that table and the serial passes over it took 1.4 s,
-//! a quarter of the meshing).
+//! than in one table of every edge of the mesh, whose serial passes would
+//! take a large share of a building's meshing.
 
 use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::ops::Range;
 
-use super::topology::{Element, Mesh};
+use crate::mesh::data::topology::{Element, Mesh};
 use crate::scene::SurfaceId;
 
 /// (1 − 1/√3)/2: the lower two-point Gauss–Legendre abscissa on [0, 1].

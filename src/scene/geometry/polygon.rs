@@ -20,8 +20,8 @@
 use glam::{DVec2, DVec3};
 
 use super::plane_polygon::distance_to_segment;
-use super::surface::{PlaneFrame, Surface, newell_normal};
 use super::triangulate::{signed_area_2d, triangulate_polygon};
+use crate::scene::surface::{PlaneFrame, Surface, newell_normal};
 
 /// Largest distance of a vertex from the best-fit plane, as a fraction of the
 /// polygon's diameter, for the polygon to count as planar (1 %).

@@ -15,8 +15,8 @@
 use glam::DVec3;
 use std::collections::HashMap;
 
-use super::patch::Cell;
-use super::topology::Mesh;
+use crate::mesh::data::patch::Cell;
+use crate::mesh::data::topology::Mesh;
 use crate::scene::{Scene, Surface, SurfaceId};
 
 /// Settings of the square mesher.
@@ -49,7 +49,7 @@ impl SquareMeshSettings {
 /// One surface's square grid of elements in patch blocks. A quad one
 /// element across gets a row of element edges across it through each of
 /// `marks` on its long sides (see [`rows_through_marks`]).
-pub(super) fn square_grid(
+pub(crate) fn square_grid(
     surface: &Surface,
     id: SurfaceId,
     settings: &SquareMeshSettings,
@@ -100,7 +100,7 @@ fn rows_through_marks(
 const MARK_MERGE: f64 = 0.1;
 
 /// The corners of a surface that is a strictly convex quadrilateral.
-pub(super) fn convex_quad(surface: &Surface) -> Option<[DVec3; 4]> {
+pub(crate) fn convex_quad(surface: &Surface) -> Option<[DVec3; 4]> {
     let points = surface.plane_vertices();
     if points.len() != 4 {
         return None;
@@ -115,7 +115,7 @@ pub(super) fn convex_quad(surface: &Surface) -> Option<[DVec3; 4]> {
 
 /// Number of divisions of a length under a maximum step (at least 1, at most
 /// 4096 so that absurd settings cannot exhaust memory).
-pub(super) fn divisions(length: f64, max_step: f64) -> usize {
+pub(crate) fn divisions(length: f64, max_step: f64) -> usize {
     let n = (length / max_step).ceil();
     if n.is_finite() {
         n.clamp(1.0, 4096.0) as usize
@@ -134,7 +134,7 @@ fn quad_lengths([a, b, c, d]: [DVec3; 4]) -> (f64, f64) {
 }
 
 /// Columns and rows of a convex quad's grid.
-pub(super) fn quad_grid_size(corners: [DVec3; 4], settings: &SquareMeshSettings) -> (usize, usize) {
+pub(crate) fn quad_grid_size(corners: [DVec3; 4], settings: &SquareMeshSettings) -> (usize, usize) {
     let (length_u, length_v) = quad_lengths(corners);
     match settings.elements_per_side {
         Some(n) => (n.clamp(1, 4096), n.clamp(1, 4096)),
@@ -147,7 +147,7 @@ pub(super) fn quad_grid_size(corners: [DVec3; 4], settings: &SquareMeshSettings)
 
 /// A surface's triangles with the divisions n of its lattice and of a
 /// patch block (see [`lattice_divisions`]).
-pub(super) fn lattice_size(
+pub(crate) fn lattice_size(
     surface: &Surface,
     settings: &SquareMeshSettings,
 ) -> (Vec<[usize; 3]>, usize, usize) {

@@ -6,7 +6,7 @@ use super::square::{SquareMeshSettings, convex_quad, lattice_size, quad_grid_siz
 use crate::error::{Error, Result};
 use crate::scene::Scene;
 
-/// The number of elements [`super::mesh_square`] makes of `scene` with
+/// The number of elements [`crate::mesh::mesh_square`] makes of `scene` with
 /// `settings`, before contact lines are meshed in (which adds a few along
 /// each line) and hidden elements dropped: the same grid and lattice sizes,
 /// without building them. Costs one triangulation per non-quad surface.

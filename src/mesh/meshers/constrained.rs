@@ -3,6 +3,7 @@
 use std::collections::HashMap;
 
 use glam::DVec2;
+use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use crate::scene::{distance_to_boundary, polygon_contains};
@@ -33,8 +34,7 @@ pub fn triangulate_constrained(
     points: &[DVec2],
     constraints: &[[DVec2; 2]],
 ) -> PlaneTriangulation {
-    let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
-        ConstrainedDelaunayTriangulation::new();
+    let mut cdt = Cdt::new();
     // Points a rounding error apart (a layout point and a patch corner
     // computed two ways) become one: two vertices there would leave a crack.
     let mut snap = Snapper::new(
@@ -62,23 +62,75 @@ pub fn triangulate_constrained(
     // on it: a point a rounding error off a constraint's line must not be
     // left on one side of it in a sliver.
     let unit = UnitFrame::new(outline.iter().chain(&points));
-    let mut vertices: Vec<(DVec2, _)> = Vec::new();
-    for &p in outline
-        .iter()
-        .chain(&points)
-        .chain(constraints.iter().flatten())
-        .chain(&crossings)
-    {
+    let vertices = insert_vertices(
+        &mut cdt,
+        &unit,
+        outline
+            .iter()
+            .chain(&points)
+            .chain(constraints.iter().flatten())
+            .chain(&crossings),
+    );
+    add_constraint_chains(
+        &mut cdt,
+        &vertices,
+        &unit,
+        outline_edges.iter().chain(&constraints),
+    );
+    // A vertex spade made where constraints cross, a rounding error from a
+    // vertex already there, is that vertex (else the mesh has a crack).
+    let (points, faces) = welded_faces(&cdt, &mut snap, &unit);
+    // A needle (two corners a rounding error apart, beyond the snapping
+    // distance: crossings of nearly parallel segments) is one point there.
+    // Left out instead, it would leave a crack between its long sides.
+    let merged = collapse_needles(&points, &faces, &outline);
+    // Keep the faces whose centroid lies inside the outline.
+    let triangles = faces
+        .into_iter()
+        .map(|face| face.map(|k| merged[k]))
+        .filter(|&[a, b, c]| a != b && b != c && c != a)
+        .filter(|&[a, b, c]| {
+            let (pa, pb, pc) = (points[a], points[b], points[c]);
+            !is_sliver(pa, pb, pc) && polygon_contains(&outline, (pa + pb + pc) / 3.0)
+        })
+        .collect();
+    PlaneTriangulation { points, triangles }
+}
+
+/// The constrained triangulation being built, in unit coordinates.
+type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
+/// Inserts `points` (plane coordinates) into `cdt` in `unit` coordinates:
+/// returns each one spade accepted, in unit coordinates, with its handle.
+fn insert_vertices<'a>(
+    cdt: &mut Cdt,
+    unit: &UnitFrame,
+    points: impl Iterator<Item = &'a DVec2>,
+) -> Vec<(DVec2, FixedVertexHandle)> {
+    let mut vertices = Vec::new();
+    for &p in points {
         let q = unit.to_unit(p);
         if let Ok(handle) = cdt.insert(Point2::new(q.x, q.y)) {
             vertices.push((q, handle));
         }
     }
+    vertices
+}
+
+/// Adds each of `segments` (plane coordinates) to `cdt` as a chain of
+/// constraint edges through the `vertices` lying on it, within
+/// [`CHAIN_DISTANCE`], in order along it.
+fn add_constraint_chains<'a>(
+    cdt: &mut Cdt,
+    vertices: &[(DVec2, FixedVertexHandle)],
+    unit: &UnitFrame,
+    segments: impl Iterator<Item = &'a [DVec2; 2]>,
+) {
     let scale = vertices
         .iter()
         .map(|(p, _)| p.abs().max_element())
         .fold(0.0, f64::max);
-    for &[a, b] in outline_edges.iter().chain(&constraints) {
+    for &[a, b] in segments {
         let (a, b) = (unit.to_unit(a), unit.to_unit(b));
         let length_squared = (b - a).length_squared();
         if length_squared.is_nan() || length_squared <= 0.0 {
@@ -104,8 +156,11 @@ pub fn triangulate_constrained(
             }
         }
     }
-    // A vertex spade made where constraints cross, a rounding error from a
-    // vertex already there, is that vertex (else the mesh has a crack).
+}
+
+/// The vertices and inner faces of `cdt`, back in plane coordinates, with
+/// each vertex snapped and those at one position welded into one.
+fn welded_faces(cdt: &Cdt, snap: &mut Snapper, unit: &UnitFrame) -> (Vec<DVec2>, Vec<[usize; 3]>) {
     let mut points: Vec<DVec2> = Vec::new();
     let mut by_position: HashMap<[u64; 2], usize> = HashMap::new();
     let remap: Vec<usize> = cdt
@@ -124,21 +179,7 @@ pub fn triangulate_constrained(
         .inner_faces()
         .map(|face| face.vertices().map(|v| remap[v.fix().index()]))
         .collect();
-    // A needle (two corners a rounding error apart, beyond the snapping
-    // distance: crossings of nearly parallel segments) is one point there.
-    // Left out instead, it would leave a crack between its long sides.
-    let merged = collapse_needles(&points, &faces, &outline);
-    // Keep the faces whose centroid lies inside the outline.
-    let triangles = faces
-        .into_iter()
-        .map(|face| face.map(|k| merged[k]))
-        .filter(|&[a, b, c]| a != b && b != c && c != a)
-        .filter(|&[a, b, c]| {
-            let (pa, pb, pc) = (points[a], points[b], points[c]);
-            !is_sliver(pa, pb, pc) && polygon_contains(&outline, (pa + pb + pc) / 3.0)
-        })
-        .collect();
-    PlaneTriangulation { points, triangles }
+    (points, faces)
 }
 
 /// Whether a triangle is too thin to keep: twice its area at most 10⁻¹²
@@ -233,7 +274,7 @@ fn collapse_needles(points: &[DVec2], faces: &[[usize; 3]], outline: &[DVec2]) -
 /// runs through it: a rounding error must not leave a point on the wrong
 /// side of a constraint in a sliver. A constraint may so bend by up to this
 /// fraction of the polygon's size, and the area on either side change by
-/// that times its length ([`Mesh::validate`](super::Mesh::validate) allows
+/// that times its length ([`Mesh::validate`](crate::mesh::Mesh::validate) allows
 /// for it).
 pub(crate) const CHAIN_DISTANCE: f64 = 1e-9;
 
@@ -360,7 +401,7 @@ impl Snapper {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::plane_polygon::L_SHAPE;
+    use crate::scene::geometry::plane_polygon::L_SHAPE;
 
     fn area(t: &PlaneTriangulation) -> f64 {
         t.triangles

@@ -12,7 +12,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use super::{Scene, Surface, SurfaceId};
+use crate::scene::{Scene, Surface, SurfaceId};
 
 /// Cells a surface may be listed in; a larger one (a floor under a grid of
 /// small books) goes on a list every query scans.

@@ -19,7 +19,8 @@ use glam::DVec3;
 use slotmap::{SlotMap, new_key_type};
 
 use super::patch::Cell;
-use super::topology::{Element, Mesh, area_tolerance};
+use super::topology::{Element, Mesh};
+use super::validate::area_tolerance;
 
 new_key_type! {
     /// A node of the element hierarchy.

@@ -21,10 +21,10 @@ use glam::DVec2;
 use std::f64::consts::TAU;
 
 use super::constrained::{PlaneTriangulation, triangulate_constrained};
+use super::contour_levels::{LevelRule, choose_levels};
+use super::contour_rays::{Ray, segment_ray_crossing};
+use super::scalar_field::ScalarField;
 use crate::scene::{distance_to_boundary, polygon_contains};
-
-/// A scalar field on a plane: its value and gradient at a point.
-pub type ScalarField<'a> = dyn Fn(DVec2) -> (f64, DVec2) + Sync + 'a;
 
 /// Size and orientation of a contour mesh. In a scene file:
 /// `[mesh.contour]` with `directions` and `levels`.
@@ -96,9 +96,6 @@ pub struct ContourLayout {
     /// find shadow boundaries along rings and rays.
     rings: Vec<Vec<(f64, Option<DVec2>)>>,
 }
-
-/// Samples per ray for the level rule and for bracketing.
-const RAY_SAMPLES: usize = 96;
 
 /// Lays out a contour mesh of `field` on the polygon `outline` (plane
 /// coordinates, counter-clockwise), around `centre`, the field's maximum
@@ -205,7 +202,7 @@ pub fn contour_layout(
 }
 
 impl ContourLayout {
-    pub(super) fn push(&mut self, p: DVec2, level: Option<usize>) {
+    pub(crate) fn push(&mut self, p: DVec2, level: Option<usize>) {
         self.points.push(p);
         self.point_levels.push(level);
     }
@@ -339,6 +336,13 @@ fn angle_gap(a: f64, b: f64) -> f64 {
 /// pieces at most where there was one).
 const MAX_PIECE_SPLITS: usize = 4;
 
+/// A point of a ring where the ray at `angle` from the centre crosses it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct RayPoint {
+    angle: f64,
+    point: DVec2,
+}
+
 /// One level's contour pieces, split where they stray from the contour.
 struct RingPieces<'a> {
     outline: &'a [DVec2],
@@ -371,7 +375,16 @@ impl RingPieces<'_> {
                 next_angle += TAU;
             }
             if let (Some(a), Some(b)) = (vertex, next) {
-                self.split_piece((angle, a), (next_angle, b), 0, &mut refined, layout);
+                self.split_piece(
+                    RayPoint { angle, point: a },
+                    RayPoint {
+                        angle: next_angle,
+                        point: b,
+                    },
+                    0,
+                    &mut refined,
+                    layout,
+                );
             }
         }
         refined
@@ -379,12 +392,14 @@ impl RingPieces<'_> {
 
     fn split_piece(
         &self,
-        (angle_a, a): (f64, DVec2),
-        (angle_b, b): (f64, DVec2),
+        from: RayPoint,
+        to: RayPoint,
         depth: usize,
         refined: &mut Vec<(f64, Option<DVec2>)>,
         layout: &mut ContourLayout,
     ) {
+        let (angle_a, a) = (from.angle, from.point);
+        let (angle_b, b) = (to.angle, to.point);
         let middle = a.lerp(b, 0.5);
         if depth >= MAX_PIECE_SPLITS || !(self.inside)(middle) {
             return;
@@ -397,7 +412,7 @@ impl RingPieces<'_> {
         // The level crosses the middle ray near its neighbours' distances:
         // a few samples there bracket it, the whole ray if they do not.
         let (ta, tb) = (a.distance(self.centre), b.distance(self.centre));
-        let span = (0.5 * ta.min(tb), 1.5 * ta.max(tb));
+        let span = 0.5 * ta.min(tb)..1.5 * ta.max(tb);
         let near = Ray::sampled(self.outline, self.centre, angle, self.field, span, 8);
         let Some((t, iterations)) = near.solve(self.field, self.level).or_else(|| {
             Ray::new(self.outline, self.centre, angle, self.field).solve(self.field, self.level)
@@ -411,306 +426,16 @@ impl RingPieces<'_> {
         if !(self.inside)(p) {
             return;
         }
-        self.split_piece((angle_a, a), (angle, p), depth + 1, refined, layout);
+        let middle = RayPoint { angle, point: p };
+        self.split_piece(from, middle, depth + 1, refined, layout);
         refined.push((angle, Some(p)));
-        self.split_piece((angle, p), (angle_b, b), depth + 1, refined, layout);
+        self.split_piece(middle, to, depth + 1, refined, layout);
     }
-}
-
-/// A ray from the centre, sampled, with its extent over the polygon.
-struct Ray {
-    origin: DVec2,
-    angle: f64,
-    direction: DVec2,
-    /// Where the ray last leaves the polygon (None: it never meets it).
-    exit: Option<f64>,
-    /// Where it first enters, when the centre is outside.
-    entry: f64,
-    /// (t, B) samples from 0 to the exit.
-    samples: Vec<(f64, f64)>,
-}
-
-impl Ray {
-    fn new(outline: &[DVec2], origin: DVec2, angle: f64, field: &ScalarField) -> Ray {
-        Ray::sampled(
-            outline,
-            origin,
-            angle,
-            field,
-            (0.0, f64::INFINITY),
-            RAY_SAMPLES,
-        )
-    }
-
-    /// A ray sampled at `count` + 1 points over `span` (clipped to where it
-    /// leaves the polygon): a whole ray, or the stretch where a level is
-    /// expected to cross.
-    fn sampled(
-        outline: &[DVec2],
-        origin: DVec2,
-        angle: f64,
-        field: &ScalarField,
-        span: (f64, f64),
-        count: usize,
-    ) -> Ray {
-        let direction = DVec2::new(angle.cos(), angle.sin());
-        let crossings = ray_polygon_crossings(outline, origin, direction);
-        let exit = crossings
-            .iter()
-            .copied()
-            .fold(None, |m: Option<f64>, t| Some(m.map_or(t, |m| m.max(t))));
-        let entry = if polygon_contains(outline, origin) {
-            0.0
-        } else {
-            crossings.iter().copied().fold(f64::INFINITY, f64::min)
-        };
-        let samples = exit
-            .map(|end| {
-                let (start, stop) = (span.0.clamp(0.0, end), span.1.min(end));
-                (0..=count)
-                    .map(|i| start + (stop - start) * i as f64 / count as f64)
-                    .map(|t| (t, field(origin + direction * t).0))
-                    .collect()
-            })
-            .unwrap_or_default();
-        Ray {
-            origin,
-            angle,
-            direction,
-            exit,
-            entry,
-            samples,
-        }
-    }
-
-    fn at(&self, t: f64) -> DVec2 {
-        self.origin + self.direction * t
-    }
-
-    /// Solves B(c + t u) = level for t in (0, exit] by Newton's method on
-    /// f(t) = B − level with f'(t) = ∇B·u, safeguarded by the bracket the
-    /// samples give (a bisection step whenever Newton leaves it). Returns t
-    /// and the iterations taken, or None when the level is not crossed.
-    fn solve(&self, field: &ScalarField, level: f64) -> Option<(f64, usize)> {
-        // Bracket: the first sample interval where B drops through the level.
-        let k = self
-            .samples
-            .windows(2)
-            .position(|w| w[0].1 >= level && w[1].1 < level)?;
-        let (mut lo, mut hi) = (self.samples[k].0, self.samples[k + 1].0);
-        let (b_lo, b_hi) = (self.samples[k].1, self.samples[k + 1].1);
-        let mut t = lo + (hi - lo) * (b_lo - level) / (b_lo - b_hi);
-        let tolerance = 1e-9 * level.abs().max(f64::MIN_POSITIVE);
-        for iteration in 1..=60 {
-            let (value, gradient) = field(self.at(t));
-            let f = value - level;
-            if f.abs() <= tolerance {
-                return Some((t, iteration));
-            }
-            if f > 0.0 {
-                lo = t
-            } else {
-                hi = t
-            }
-            let slope = gradient.dot(self.direction);
-            let newton = t - f / slope;
-            t = if slope.is_finite() && slope != 0.0 && newton > lo && newton < hi {
-                newton
-            } else {
-                0.5 * (lo + hi)
-            };
-            if hi - lo <= 1e-15 * hi.abs().max(1.0) {
-                return Some((t, iteration));
-            }
-        }
-        Some((t, 60))
-    }
-}
-
-/// How the levels are spaced along the rays.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum LevelRule {
-    /// K levels for the least RMS error over the polygon.
-    LeastSquares,
-    /// As many levels as keep linear interpolation along every ray within
-    /// this fraction of the local value (at least K).
-    RelativeError(f64),
-}
-
-/// Below this fraction of the top, the relative-error rule treats the field
-/// as this fraction of the top: a receiver's light that ends at a
-/// luminaire's horizon need not be meshed to a relative error of nothing.
-pub(super) const RELATIVE_FLOOR: f64 = 1e-3;
-
-/// The most levels the relative-error rule adds.
-const MAX_LEVELS: usize = 64;
-
-/// Chooses levels between the field's top and bottom over the polygon,
-/// spaced equally in a measure S(t) = ∫ ρ(t) dt along each ray: each ray
-/// gives S as a function of B, their average (normalised to [0, 1] per
-/// ray) is inverted at k/(K + 1), k = 1…K.
-///
-/// Linear interpolation over a radial step h of a function with curvature
-/// B'' errs by about h² |B''| / 8.
-///
-/// - [`LevelRule::LeastSquares`]: the ring at distance t from the centre
-///   covers an area ∝ t h, so its share of the squared error is
-///   ∝ t h⁵ B''²; minimising the sum for K rings equalises t h⁵ B''², that
-///   is, ρ = (t B''²)^(1/5). On the seed's case (a small disc over a
-///   10 × 10 plane, flat or tilted 30°) this halves the RMS error of 20 × 5
-///   meshes against equal steps of ∫ √|B''| dt; but it leaves the dim
-///   periphery, which weighs nothing in the RMS, with rings metres apart.
-/// - [`LevelRule::RelativeError`] ε: a step h errs by ε of the local value
-///   where h = √(8 ε B / |B''|), so ρ = √(|B''| / (8 ε B)) and S(end) is
-///   the number of steps the ray needs. K is the largest S(end) over the
-///   rays (at least the K asked for, at most 64): the periphery, where B is
-///   small but so is its curvature, gets its share of rings, which is what
-///   a tone-mapped picture needs. B is floored at 10⁻³ of the top. So that
-///   the RMS error stays low too, ρ is the larger of this density and the
-///   least-squares one scaled to the same total along the ray: the bright
-///   core gets the rings the RMS error wants, and nowhere gets fewer than
-///   the relative error needs.
-fn choose_levels(
-    outline: &[DVec2],
-    field: &ScalarField,
-    centre: DVec2,
-    rays: &[Ray],
-    count: usize,
-    rule: LevelRule,
-) -> Vec<f64> {
-    let top = if polygon_contains(outline, centre) {
-        field(centre).0
-    } else {
-        boundary_extreme(outline, field, true)
-    };
-    let bottom = boundary_extreme(outline, field, false).max(0.0);
-    if top.is_nan() || top <= bottom {
-        return Vec::new();
-    }
-    // Per ray: S(end), and the normalised S at each sample, with B.
-    let measured: Vec<(f64, Vec<(f64, f64)>)> = rays
-        .iter()
-        .filter_map(|ray| match rule {
-            LevelRule::LeastSquares => level_measure(ray, &least_squares_density),
-            LevelRule::RelativeError(target) => {
-                let relative = |_: f64, value: f64, curvature: f64| {
-                    (curvature / (8.0 * target * value.max(RELATIVE_FLOOR * top))).sqrt()
-                };
-                // ρ = max(ρ_rel, ρ_L² scaled to the same total).
-                let steps = level_measure(ray, &relative)?.0;
-                let scale = steps / level_measure(ray, &least_squares_density)?.0;
-                let both = |t: f64, value: f64, curvature: f64| {
-                    relative(t, value, curvature)
-                        .max(scale * least_squares_density(t, value, curvature))
-                };
-                level_measure(ray, &both)
-            }
-        })
-        .collect();
-    let count = match rule {
-        LevelRule::LeastSquares => count,
-        LevelRule::RelativeError(_) => {
-            let steps = measured.iter().map(|m| m.0).fold(0.0, f64::max);
-            let needed = (steps.ceil() as usize).saturating_sub(1);
-            needed.clamp(count, MAX_LEVELS.max(count))
-        }
-    };
-    let profiles: Vec<&Vec<(f64, f64)>> = measured.iter().map(|m| &m.1).collect();
-    // s̄(B): the mean over rays of the share of S above level B.
-    let mean_share = |level: f64| {
-        let shares = profiles.iter().map(|profile| {
-            match profile
-                .windows(2)
-                .find(|w| w[0].1 >= level && w[1].1 < level)
-            {
-                Some(w) => w[0].0 + (w[1].0 - w[0].0) * (w[0].1 - level) / (w[0].1 - w[1].1),
-                None => 1.0,
-            }
-        });
-        shares.sum::<f64>() / profiles.len().max(1) as f64
-    };
-    (1..=count)
-        .map(|k| {
-            let target = k as f64 / (count + 1) as f64;
-            if profiles.is_empty() {
-                return top + (bottom - top) * target;
-            }
-            // Bisection on the level: s̄ decreases as the level rises.
-            let (mut high, mut low) = (top, bottom);
-            for _ in 0..60 {
-                let mid = 0.5 * (high + low);
-                if mean_share(mid) < target {
-                    high = mid
-                } else {
-                    low = mid
-                }
-            }
-            0.5 * (high + low)
-        })
-        .collect()
-}
-
-/// The least-squares rule's density ρ = (t B''²)^(1/5) at distance t.
-fn least_squares_density(t: f64, _value: f64, curvature: f64) -> f64 {
-    (t * curvature * curvature).powf(0.2)
-}
-
-/// A ray's level measure S = ∫ ρ dt, with ρ = `density(t, B, |B''|)` from
-/// finite differences of the sampled values: S(end), and (S(t)/S(end), B(t))
-/// at its samples. None if flat.
-fn level_measure(
-    ray: &Ray,
-    density: &dyn Fn(f64, f64, f64) -> f64,
-) -> Option<(f64, Vec<(f64, f64)>)> {
-    let s = &ray.samples;
-    if s.len() < 3 {
-        return None;
-    }
-    let mut measure = vec![0.0; s.len()];
-    for i in 1..s.len() {
-        let j = i.clamp(1, s.len() - 2);
-        let h = s[j + 1].0 - s[j].0;
-        let curvature = ((s[j + 1].1 - 2.0 * s[j].1 + s[j - 1].1) / (h * h)).abs();
-        let rho = density(s[i].0, s[i].1, curvature);
-        measure[i] =
-            measure[i - 1] + if rho.is_finite() { rho } else { 0.0 } * (s[i].0 - s[i - 1].0);
-    }
-    let total = *measure.last()?;
-    (total > 0.0).then(|| {
-        let profile = measure
-            .iter()
-            .zip(s)
-            .map(|(m, &(_, b))| (m / total, b))
-            .collect();
-        (total, profile)
-    })
-}
-
-/// The largest (or smallest) value of the field on the polygon's boundary,
-/// from samples along each edge.
-fn boundary_extreme(outline: &[DVec2], field: &ScalarField, largest: bool) -> f64 {
-    let mut best = if largest {
-        f64::NEG_INFINITY
-    } else {
-        f64::INFINITY
-    };
-    for k in 0..outline.len() {
-        let (a, b) = (outline[k], outline[(k + 1) % outline.len()]);
-        for i in 0..32 {
-            let value = field(a.lerp(b, i as f64 / 32.0)).0;
-            best = if largest {
-                best.max(value)
-            } else {
-                best.min(value)
-            };
-        }
-    }
-    best
 }
 
 /// Points where the field crosses `level` on the polygon's edges: sign
 /// changes between samples, refined by bisection.
-pub(super) fn boundary_crossings(outline: &[DVec2], field: &ScalarField, level: f64) -> Vec<DVec2> {
+pub(crate) fn boundary_crossings(outline: &[DVec2], field: &ScalarField, level: f64) -> Vec<DVec2> {
     const SAMPLES: usize = 64;
     let mut crossings = Vec::new();
     for k in 0..outline.len() {
@@ -736,36 +461,7 @@ pub(super) fn boundary_crossings(outline: &[DVec2], field: &ScalarField, level: 
     crossings
 }
 
-/// Parameters t ≥ 0 where the ray origin + t·direction crosses the polygon's edges.
-fn ray_polygon_crossings(outline: &[DVec2], origin: DVec2, direction: DVec2) -> Vec<f64> {
-    let mut crossings = Vec::new();
-    for k in 0..outline.len() {
-        let (p, q) = (outline[k], outline[(k + 1) % outline.len()]);
-        let denominator = direction.perp_dot(q - p);
-        if denominator.abs() <= f64::MIN_POSITIVE {
-            continue;
-        }
-        let t = (p - origin).perp_dot(q - p) / denominator;
-        let s = (p - origin).perp_dot(direction) / denominator;
-        if t >= 0.0 && (0.0..=1.0).contains(&s) {
-            crossings.push(t);
-        }
-    }
-    crossings
-}
-
-/// Parameter along a→b where the segment crosses a ray, if it does strictly inside.
-fn segment_ray_crossing(a: DVec2, b: DVec2, ray: &Ray) -> Option<f64> {
-    let denominator = ray.direction.perp_dot(b - a);
-    if denominator.abs() <= f64::MIN_POSITIVE {
-        return None;
-    }
-    let t = (a - ray.origin).perp_dot(b - a) / denominator;
-    let s = (a - ray.origin).perp_dot(ray.direction) / denominator;
-    (t > ray.entry && s > 0.0 && s < 1.0).then_some(s)
-}
-
-pub(super) fn scale_of(outline: &[DVec2]) -> f64 {
+pub(crate) fn scale_of(outline: &[DVec2]) -> f64 {
     outline
         .iter()
         .map(|p| p.abs().max_element())

@@ -8,11 +8,11 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 
-use super::camera::Camera;
-use super::material::Material;
-use super::polygon::clean_polygon;
-use super::surface::Surface;
-use super::{Scene, Warning};
+use crate::scene::camera::Camera;
+use crate::scene::geometry::polygon::clean_polygon;
+use crate::scene::material::Material;
+use crate::scene::surface::Surface;
+use crate::scene::{Scene, Warning};
 
 /// What errors and warnings about a scene built in code name as its file.
 pub(crate) const BUILT_IN_CODE: &str = "<scene built in code>";

@@ -60,23 +60,33 @@ impl Field<'_> {
     /// The crossing of the level on the side from `from` to `to` (grid
     /// points, `to` the right or upper neighbour), with its position: on a
     /// grid point when the interpolation lands on one.
-    fn crossing(&self, from: (usize, usize), to: (usize, usize)) -> (Crossing, DVec2) {
-        let (a, b) = (self.value(from.0, from.1), self.value(to.0, to.1));
+    fn crossing(&self, from: GridPoint, to: GridPoint) -> (Crossing, DVec2) {
+        let (a, b) = (
+            self.value(from.column, from.row),
+            self.value(to.column, to.row),
+        );
         let t = (self.level - a) / (b - a);
-        let at = |(column, row): (usize, usize)| DVec2::new(column as f64, row as f64);
+        let at = |p: GridPoint| DVec2::new(p.column as f64, p.row as f64);
         if t <= 0.0 {
-            return (Crossing::Point(from.0, from.1), at(from));
+            return (Crossing::Point(from.column, from.row), at(from));
         }
         if t >= 1.0 {
-            return (Crossing::Point(to.0, to.1), at(to));
+            return (Crossing::Point(to.column, to.row), at(to));
         }
-        let side = if to.1 == from.1 {
-            Crossing::Horizontal(from.0, from.1)
+        let side = if to.row == from.row {
+            Crossing::Horizontal(from.column, from.row)
         } else {
-            Crossing::Vertical(from.0, from.1)
+            Crossing::Vertical(from.column, from.row)
         };
         (side, at(from).lerp(at(to), t))
     }
+}
+
+/// A point of the grid, by column and row.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct GridPoint {
+    column: usize,
+    row: usize,
 }
 
 /// The contour of `level` over a `columns` × `rows` grid of `values`
@@ -129,8 +139,9 @@ fn cell_segments(
                 (column + 1, row),
                 (column + 1, row + 1),
                 (column, row + 1),
-            ];
-            let values = corners.map(|(c, r)| field.value(c, r));
+            ]
+            .map(|(column, row)| GridPoint { column, row });
+            let values = corners.map(|p| field.value(p.column, p.row));
             if values.iter().any(|v| !v.is_finite()) {
                 continue;
             }
