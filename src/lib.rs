@@ -148,7 +148,8 @@ pub use export::export_solution;
 pub use meshing::{Length, MeshKind, MeshSettings};
 pub use phase::{Phase, PhaseProgress};
 pub use render::{Image, RenderSettings, ToneMap, write_exr, write_png};
-pub use scene::{Camera, LoadedScene, Material, Rgb, Scene, SurfaceId, load_scene};
+pub use rgb::Rgb;
+pub use scene::{Camera, LoadedScene, Material, Scene, SurfaceId, load_scene};
 pub use solver::{
     Ambient, Probe, ProbeMode, Progress, Settings, Solution, Solver, SolverSettings, StopReason,
     Until,

@@ -4,7 +4,8 @@
 
 use crate::mesh::{Element, Mesh};
 use crate::render::{Image, RenderSettings, ShadedTriangle, rasterize};
-use crate::scene::{Camera, Rgb};
+use crate::rgb::Rgb;
+use crate::scene::Camera;
 use crate::solver::Solution;
 
 impl Solution<'_> {

@@ -20,7 +20,8 @@ use crate::error::Result;
 use crate::fs::{io_error, write_atomically};
 use crate::lighting::area_lights;
 use crate::photometry::LUMENS_PER_WATT;
-use crate::scene::{PlaneFrame, ProbePoint, Rgb, Scene, SurfaceId, Visibility};
+use crate::rgb::Rgb;
+use crate::scene::{PlaneFrame, ProbePoint, Scene, SurfaceId, Visibility};
 use crate::solver::{ProbeMode, ReadingPlace, Solution};
 
 /// A calculation grid: points on a plane over a surface's outline.

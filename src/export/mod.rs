@@ -36,7 +36,7 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::render::ToneMap;
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 use crate::solver::Solution;
 
 pub use gltf::export_glb;

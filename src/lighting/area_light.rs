@@ -7,7 +7,8 @@
 
 use glam::DVec3;
 
-use crate::scene::{Rgb, Scene, Surface, SurfaceId};
+use crate::rgb::Rgb;
+use crate::scene::{Scene, Surface, SurfaceId};
 
 /// Normals of one area light's surfaces differ by at most this (unit vectors).
 const NORMAL_TOLERANCE: f64 = 1e-6;

@@ -30,13 +30,11 @@ pub use queries::{ShadowCache, SurfaceBoxes, Visibility};
 pub use surface::{PlaneFrame, Surface};
 pub use surface_id::SurfaceId;
 
-// The colour type lives in `crate::rgb`, at the bottom; re-exported here
-// while the crate's imports still name it through the scene.
-pub use crate::rgb::Rgb;
-
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
+
+use crate::rgb::Rgb;
 
 /// Something a loader noticed and repaired or skipped, for the user to read.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -6,7 +6,8 @@
 use crate::mesh::{Mesh, receiver_inset};
 use crate::meshing::MeshAnalysis;
 use crate::meshing::{ZoneLabels, ZoneMembers, Zones};
-use crate::scene::{Rgb, Scene, Visibility};
+use crate::rgb::Rgb;
+use crate::scene::{Scene, Visibility};
 use crate::solver::settings::SolverSettings;
 
 /// The closed zones a shot need not reach beyond, with the mesh's members

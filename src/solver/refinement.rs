@@ -18,7 +18,7 @@ use glam::DVec3;
 
 use crate::mesh::{ElementHierarchy, Mesh};
 use crate::meshing::RefinementSettings;
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 
 /// The elements to split now.
 ///

@@ -2,8 +2,9 @@
 
 use glam::DVec3;
 
+use crate::rgb::Rgb;
 use crate::scene::surface::newell_normal;
-use crate::scene::{Material, Rgb, Scene, Surface};
+use crate::scene::{Material, Scene, Surface};
 
 /// Two closed 4 × 3 × 4 m rooms 5 m apart, each with a lamp under its
 /// ceiling and a block on its floor, every face towards the room; the

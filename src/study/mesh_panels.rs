@@ -43,7 +43,8 @@ use crate::error::Result;
 use crate::font::{FONT_FAMILY, ensure_font_registered};
 use crate::fs::{output_error, write_atomically};
 use crate::render::{RenderSettings, ShadedTriangle, ToneMap, rasterize};
-use crate::scene::{Camera, Rgb};
+use crate::rgb::Rgb;
+use crate::scene::Camera;
 
 /// One mesh to draw: its vertices, a scalar per vertex, its triangles and
 /// the polygon it covers, in any 2D units (the same for all panels).

@@ -6,7 +6,8 @@ use glam::{DVec2, DVec3};
 use super::merge::merge_boundaries;
 use super::*;
 use crate::lighting::area_lights;
-use crate::scene::{Material, Rgb, SurfaceBoxes, distance_to_segment};
+use crate::rgb::Rgb;
+use crate::scene::{Material, SurfaceBoxes, distance_to_segment};
 
 /// A 10 × 10 floor at y = 0, a 0.2 m square lamp facing down at
 /// `lamp_height` over the origin, and an occluder given by its polygons.

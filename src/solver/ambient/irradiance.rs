@@ -7,7 +7,7 @@
 //! for the building's (24 bytes a vertex, 430 MB for 17.9 million). The
 //! light shot stays the solver's own: a [`crate::Solution`] borrows it.
 
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 
 /// G_v per mesh vertex, W/m², zero where none was gathered.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -5,7 +5,7 @@
 use glam::DVec2;
 
 use crate::mesh::Mesh;
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 use crate::solver::light::unshot::interpolated;
 
 /// The element a vertex ray landed on and the landing point's coordinates

@@ -38,7 +38,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 
 /// The largest patch a cluster takes, as a share of a full patch's area
 /// (the patch edge squared): a square a quarter of the edge on a side.

@@ -6,7 +6,8 @@
 use rayon::prelude::*;
 
 use crate::mesh::Mesh;
-use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
+use crate::rgb::Rgb;
+use crate::scene::{Scene, SurfaceId, Visibility};
 use crate::solver::ambient::patch_clusters::Clusters;
 use crate::solver::ambient::patch_locator::PatchLocator;
 use crate::solver::ambient::patch_rays::patch_ray;

@@ -179,7 +179,7 @@ impl PatchLocator {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::Rgb;
+    use crate::rgb::Rgb;
 
     /// On a floor of many patches, the grid finds the patch a scan of
     /// them all finds, first in the mesh's order, at points inside cells,

@@ -9,7 +9,8 @@ use rayon::prelude::*;
 use crate::lighting::SampleStream;
 use crate::lighting::cosine_direction;
 use crate::mesh::Mesh;
-use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
+use crate::rgb::Rgb;
+use crate::scene::{Scene, SurfaceId, Visibility};
 use crate::solver::ambient::patch_locator::{PatchLocator, RayStart};
 use crate::solver::ambient::rays::{MISS, PATCH_RAYS, rays_counted};
 

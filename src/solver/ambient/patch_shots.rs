@@ -60,7 +60,8 @@
 
 use rayon::prelude::*;
 
-use crate::scene::{Rgb, SurfaceId};
+use crate::rgb::Rgb;
+use crate::scene::SurfaceId;
 use crate::solver::ambient::patch_clusters::{Clusters, PatchPlace};
 use crate::solver::ambient::patch_links::{Links, PatchShotInput};
 use crate::solver::ambient::patch_locator::PatchLocator;

@@ -60,7 +60,7 @@
 //! (the ambient term); M. F. Cohen, J. R. Wallace, "Radiosity and Realistic
 //! Image Synthesis" (1993), §5.3 (Jacobi iteration).
 
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 
 /// Rays each patch casts into its hemisphere (8 × 8 strata).
 const PATCH_SIDE: usize = 8;

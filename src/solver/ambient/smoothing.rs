@@ -45,7 +45,7 @@
 use rayon::prelude::*;
 
 use crate::mesh::Mesh;
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 use crate::solver::ambient::rays::AmbientEstimate;
 use crate::solver::ambient::rooms::{LocalIndex, Room};
 

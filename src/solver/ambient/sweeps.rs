@@ -46,7 +46,8 @@
 use rayon::prelude::*;
 
 use crate::mesh::Mesh;
-use crate::scene::{Rgb, SurfaceId};
+use crate::rgb::Rgb;
+use crate::scene::SurfaceId;
 use crate::solver::ambient::landing::LandingElement;
 use crate::solver::ambient::rays::AmbientEstimate;
 use crate::solver::ambient::rooms::RoomView;

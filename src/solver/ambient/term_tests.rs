@@ -4,7 +4,7 @@
 
 use crate::meshing::MeshKind;
 use crate::phase::silent;
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 use crate::solver::ambient::irradiance::AmbientIrradiance;
 use crate::solver::test_scenes::two_closed_rooms;
 use crate::solver::{Settings, Solver};

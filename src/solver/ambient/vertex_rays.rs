@@ -10,7 +10,8 @@ use rayon::prelude::*;
 use crate::lighting::SampleStream;
 use crate::lighting::cosine_direction_at;
 use crate::mesh::Mesh;
-use crate::scene::{Rgb, Scene, SurfaceId, Visibility};
+use crate::rgb::Rgb;
+use crate::scene::{Scene, SurfaceId, Visibility};
 use crate::solver::ambient::landing::{Landing, LandingElement};
 use crate::solver::ambient::patch_locator::{PatchLocator, RayStart};
 use crate::solver::ambient::rays::{

@@ -5,7 +5,8 @@
 use std::collections::HashMap;
 
 use crate::mesh::{Element, ElementHierarchy, Mesh};
-use crate::scene::{Rgb, Scene};
+use crate::rgb::Rgb;
+use crate::scene::Scene;
 use crate::solver::light::state::LightState;
 
 impl LightState {

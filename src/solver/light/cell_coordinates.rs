@@ -5,7 +5,7 @@
 use glam::{DVec2, DVec3};
 
 use crate::mesh::Cell;
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 
 /// Values at an element's corners at coordinates (s, t) of its cell
 /// ([`Cell::point`]): linear over a triangle (the fourth value unused),

@@ -1,6 +1,6 @@
 //! The energy ledger of a solve: where the emitted power has gone.
 
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 
 /// Where the emitted power has gone so far, per RGB channel, in watts (or
 /// the scene's length unit squared times W/m²).

@@ -5,7 +5,7 @@
 use glam::{DVec2, DVec3};
 
 use crate::mesh::Cell;
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 use crate::solver::light::cell_coordinates::{cell_coordinates, interpolated};
 use crate::solver::light::element_index::{ElementIndex, padded_box};
 

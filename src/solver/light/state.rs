@@ -3,7 +3,8 @@
 //! what each patch has shot in all, and the ledger's powers.
 
 use crate::mesh::Mesh;
-use crate::scene::{Rgb, Scene};
+use crate::rgb::Rgb;
+use crate::scene::Scene;
 use crate::solver::layout::Layout;
 use crate::solver::light::unshot::UnshotCorners;
 use crate::solver::light::unshot_by_zone::UnshotByZone;

@@ -12,7 +12,7 @@
 use rayon::prelude::*;
 
 use crate::mesh::{Element, Mesh, Patch};
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 pub(crate) use crate::solver::light::cell_coordinates::{cell_coordinates, interpolated};
 use crate::solver::light::indexed_update::par_update_at;
 use crate::solver::light::patch_field::FieldElement;

@@ -32,7 +32,7 @@
 //! M. F. Cohen, S. E. Chen, J. R. Wallace, D. P. Greenberg, "A progressive
 //! refinement approach to fast radiosity image generation", SIGGRAPH 1988.
 
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 
 /// The strongest unshot patch and the unshot power of every zone.
 #[derive(Clone, Debug, Default)]

@@ -11,7 +11,7 @@
 
 use rayon::prelude::*;
 
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 use crate::solver::light::indexed_update::par_update_at;
 
 /// Irradiance H per vertex (W/m²), by vertex index.

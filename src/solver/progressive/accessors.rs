@@ -3,7 +3,8 @@
 
 use crate::mesh::{ElementHierarchy, Mesh};
 use crate::meshing::MeshAnalysis;
-use crate::scene::{Rgb, Scene, Visibility};
+use crate::rgb::Rgb;
+use crate::scene::{Scene, Visibility};
 use crate::solver::layout::CulledZones;
 use crate::solver::progressive::Solver;
 use crate::solver::settings::SolverSettings;

@@ -12,7 +12,8 @@ use glam::{DVec2, DVec3};
 use crate::lighting::SampleStream;
 use crate::mesh::Cell;
 use crate::radiometry::{polygon_form_factor, polygon_form_factor_gradient};
-use crate::scene::{Rgb, SurfaceId, distance_to_boundary, polygon_contains};
+use crate::rgb::Rgb;
+use crate::scene::{SurfaceId, distance_to_boundary, polygon_contains};
 use crate::solver::reading::penumbra::{AdaptiveVisibility, GatherPoint, SourceElement};
 use crate::solver::reading::solution::{Probe, Solution};
 

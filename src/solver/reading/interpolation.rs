@@ -4,7 +4,8 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::scene::{Rgb, SurfaceId, distance_to_segment};
+use crate::rgb::Rgb;
+use crate::scene::{SurfaceId, distance_to_segment};
 use crate::solver::reading::solution::{Probe, Solution};
 
 impl Solution<'_> {

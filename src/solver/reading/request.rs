@@ -2,7 +2,8 @@
 //! [`Solution`] a solver gives with it ([`crate::Solver::solution`]).
 
 use crate::phase::PhaseReporter;
-use crate::scene::{Camera, Rgb};
+use crate::rgb::Rgb;
+use crate::scene::Camera;
 use crate::solver::ambient::irradiance::AmbientIrradiance;
 use crate::solver::ambient::term::AmbientTerm;
 use crate::solver::layout::CulledZones;

@@ -7,7 +7,8 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, receiver_inset};
-use crate::scene::{ProbePoint, Rgb, Scene, SurfaceId, Visibility};
+use crate::rgb::Rgb;
+use crate::scene::{ProbePoint, Scene, SurfaceId, Visibility};
 use crate::solver::ambient::irradiance::AmbientIrradiance;
 use crate::solver::light::vertex_irradiance::VertexIrradiance;
 use crate::solver::reading::places::{ReadingPlace, locate_probe};

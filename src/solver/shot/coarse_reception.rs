@@ -6,7 +6,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 use crate::solver::layout::CulledZones;
 use crate::solver::light::indexed_update;
 use crate::solver::light::vertex_irradiance::VertexIrradiance;

@@ -40,7 +40,8 @@ use rayon::prelude::*;
 
 use crate::mesh::{Cell, Mesh};
 use crate::radiometry::polygon_form_factor;
-use crate::scene::{Rgb, Scene};
+use crate::rgb::Rgb;
+use crate::scene::Scene;
 use crate::solver::shot::receivers::ShotReceivers;
 
 /// How far the correction may move an element's power: a factor between

@@ -4,7 +4,8 @@
 //! (`coarse_reception.rs`).
 
 use crate::meshing::ShotPlaces;
-use crate::scene::{Rgb, ShadowCache, Visibility};
+use crate::rgb::Rgb;
+use crate::scene::{ShadowCache, Visibility};
 use crate::solver::layout::CulledZones;
 use crate::solver::light::state::LightState;
 use crate::solver::shot::cache_runs::{in_shadow_cache_runs, indices_in_shadow_cache_runs};

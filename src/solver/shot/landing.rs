@@ -1,7 +1,7 @@
 //! The landing scale: how a reflected shot into a closed zone that keeps
 //! its light is made to land whole on the zone's elements.
 
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 
 /// The least and the most a reflected shot's element powers in a closed
 /// zone are scaled by to land whole (see [`landing_scale`]): wide enough

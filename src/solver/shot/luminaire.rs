@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 use crate::solver::layout::CulledZones;
 use crate::solver::shot::context::ShotContext;
 

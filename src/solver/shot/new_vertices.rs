@@ -1,7 +1,7 @@
 //! The light new vertices of an adaptive mesh gather: every shot so far,
 //! the patches' and the photometric luminaires', shot again at them alone.
 
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 use crate::solver::layout::CulledZones;
 use crate::solver::light::state::LightState;
 use crate::solver::shot::cache_runs::in_shadow_cache_runs;

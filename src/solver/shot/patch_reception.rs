@@ -57,7 +57,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::mesh::{Cell, Mesh};
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 use crate::solver::light::vertex_irradiance::VertexIrradiance;
 use crate::solver::shot::sample_fan::{SampleFan, SampleWeights};
 

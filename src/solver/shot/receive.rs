@@ -5,7 +5,8 @@
 use rayon::prelude::*;
 
 use crate::meshing::ShotPlaces;
-use crate::scene::{Rgb, SurfaceId};
+use crate::rgb::Rgb;
+use crate::scene::SurfaceId;
 use crate::solver::layout::CulledZones;
 use crate::solver::light::indexed_update;
 use crate::solver::light::state::LightState;

@@ -1,6 +1,6 @@
 //! The buffers a shot works in and the caches it keeps between shots.
 
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 use crate::solver::shot::patch_reception::{PatchReception, ReceptionPlan};
 use crate::solver::shot::shaft_culling::{ReceiverShafts, ReceivingBoxes};
 use crate::solver::shot::visibility_memory::VisibilityMemory;

@@ -134,7 +134,7 @@ impl VisibilityMemory {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::Rgb;
+    use crate::rgb::Rgb;
 
     fn gathered(rays: u32, blocked: u32) -> Gathered {
         Gathered {

@@ -8,7 +8,8 @@ use super::{Gathered, NEAR_FIELD, Receiver, Shooter, ShotRadiosity};
 use crate::lighting::SampleStream;
 use crate::mesh::Cell;
 use crate::radiometry::{disc_form_factor, polygon_form_factor};
-use crate::scene::{Rgb, ShadowCache, Visibility};
+use crate::rgb::Rgb;
+use crate::scene::{ShadowCache, Visibility};
 use crate::solver::light::cell_coordinates::nearest_point_of;
 
 impl Shooter {

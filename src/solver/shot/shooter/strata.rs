@@ -5,7 +5,7 @@ use glam::{DVec2, DVec3};
 
 use super::{Shooter, ShotRadiosity};
 use crate::mesh::Cell;
-use crate::scene::Rgb;
+use crate::rgb::Rgb;
 use crate::solver::light::patch_field::SampledField;
 
 /// One subdivision of a shooter: its cells and the radiosity each shoots,
