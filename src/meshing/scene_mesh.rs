@@ -65,7 +65,8 @@ pub struct SceneMesh {
 pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSettings) -> SceneMesh {
     let lit = !area_lights(scene).is_empty() || !scene.luminaires.is_empty();
     let zones = lit.then(|| Zones::new(scene, visibility));
-    mesh_scene_in_zones(scene, visibility, settings, zones.as_ref(), &silent)
+    let settings = settings.resolve(scene);
+    mesh_scene_in_zones(scene, visibility, &settings, zones.as_ref(), &silent)
 }
 
 /// [`mesh_scene`] with the scene's closed zones already found (`None`
@@ -75,12 +76,10 @@ pub fn mesh_scene(scene: &Scene, visibility: &Visibility, settings: &MeshSetting
 pub(crate) fn mesh_scene_in_zones(
     scene: &Scene,
     visibility: &Visibility,
-    settings: &MeshSettings,
+    settings: &ResolvedMeshSettings,
     zones: Option<&Zones>,
     report: PhaseReporter,
 ) -> SceneMesh {
-    // The settings resolved once, for every step below.
-    let settings = settings.resolve(scene);
     let mut analysis = MeshAnalysis {
         area_lights: area_lights(scene),
         ..MeshAnalysis::default()
@@ -89,7 +88,7 @@ pub(crate) fn mesh_scene_in_zones(
     let boundaries = match zones {
         Some(zones) => {
             let area_lights = &analysis.area_lights;
-            boundaries_in_zones(scene, visibility, area_lights, &settings, zones, report)
+            boundaries_in_zones(scene, visibility, area_lights, settings, zones, report)
         }
         None => vec![Vec::new(); scene.surfaces.len()],
     };
@@ -101,7 +100,7 @@ pub(crate) fn mesh_scene_in_zones(
         MeshKind::Square | MeshKind::Adaptive => vec![None; scene.surfaces.len()],
         MeshKind::Contour => {
             let layouts =
-                contour_layouts(scene, visibility, &settings, zones, &mut analysis, report);
+                contour_layouts(scene, visibility, settings, zones, &mut analysis, report);
             analysis.count_layouts(scene, &layouts);
             layouts
         }

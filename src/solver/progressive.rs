@@ -120,7 +120,10 @@ impl Solver {
     ) -> crate::Result<Self> {
         settings.validate()?;
         scene.validate()?;
-        settings.mesh.check_budget(&scene)?;
+        // The mesh settings resolved against the scene once, for the
+        // budget, the meshers and the patch clusters' extent.
+        let mesh_settings = settings.mesh.resolve(&scene);
+        mesh_settings.check_budget(&scene)?;
         // What loading the scene freed (its file's text, its faces) is
         // given back before the solve's lists are made; so is what
         // finding the rooms and meshing free.
@@ -136,7 +139,7 @@ impl Solver {
             mesh,
             analysis,
             receiver_insets,
-        } = mesh_scene_in_zones(&scene, &visibility, &settings.mesh, Some(&zones), report);
+        } = mesh_scene_in_zones(&scene, &visibility, &mesh_settings, Some(&zones), report);
         give_back_freed_memory();
         let refiner = (settings.mesh.kind == MeshKind::Adaptive)
             .then(|| Refiner::new(&mesh, settings.mesh.refinement.clone()));
@@ -149,7 +152,7 @@ impl Solver {
         let mut solver = Self::with_parts(scene, parts, settings.solver);
         solver.refiner = refiner;
         solver.layout.receiver_insets = receiver_insets;
-        solver.layout.patch_edge = settings.mesh.square_for(&solver.scene).patch_max_edge;
+        solver.layout.patch_edge = mesh_settings.square.patch_max_edge;
         Ok(solver)
     }
 
