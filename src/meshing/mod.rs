@@ -23,6 +23,7 @@ mod layouts;
 mod length;
 mod refinement_settings;
 mod resolved;
+mod scene_file;
 mod scene_mesh;
 mod settings;
 mod zones;

@@ -18,7 +18,6 @@ pub(crate) use geometry::{
 // The old path of the plane-polygon fixtures, which tests elsewhere import.
 #[cfg(test)]
 pub(crate) use geometry::plane_polygon;
-pub(crate) use load::line_at;
 pub use load::{
     LoadSettings, LoadedScene, MergeReport, ProbePoint, builtin_names, load_obj, load_probe_points,
     load_scene, load_scene_file, load_scene_with, merge_coplanar_faces, parse_probe_points,

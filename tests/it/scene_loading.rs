@@ -623,3 +623,51 @@ fn cornell_red_wall_is_on_the_left_of_the_image() {
         "green wall at column {green}"
     );
 }
+
+/// The `[mesh]` table alone, as `isorad info` and `isorad compare` read it:
+/// the same values and the same errors as the whole settings' `mesh`, and
+/// the `[solver]` table, which they do not use, left unread.
+#[test]
+fn the_mesh_table_reads_alone_with_the_same_values_and_errors() {
+    let read = |toml: &str| {
+        let (_dir, path) = toml_scene(toml);
+        let loaded = load_scene(path.to_str().unwrap()).unwrap();
+        isorad::MeshSettings::from_scene_options(&loaded.options)
+    };
+    let obj = "obj = \"scene.obj\"\n";
+    let file =
+        format!("{obj}[mesh]\nkind = \"contour\"\nmax_edge = 0.25\n[mesh.contour]\nlevels = 7\n");
+    let mesh = read(&file).unwrap();
+    assert_eq!(mesh, file_settings(&file).unwrap().mesh);
+    assert_eq!(mesh.contour.levels, 7);
+    assert_ne!(mesh, isorad::MeshSettings::default());
+    // A bad [solver] value is not the mesh's concern.
+    let solver_only = format!("{obj}[solver]\ntolerance = 2.0\n");
+    assert_eq!(read(&solver_only).unwrap(), isorad::MeshSettings::default());
+    // Type and range errors name the file, the line and the field path.
+    for (toml, line, name) in [
+        (
+            format!("{obj}[mesh]\nkind = \"hexagonal\"\n"),
+            3,
+            "mesh.kind",
+        ),
+        (
+            format!("{obj}\n[mesh.contour]\nlevels = 0\n"),
+            4,
+            "mesh.contour.levels",
+        ),
+    ] {
+        match read(&toml).unwrap_err() {
+            Error::SceneSetting {
+                path,
+                line: l,
+                name: n,
+                ..
+            } => {
+                assert!(path.ends_with("scene.toml"));
+                assert_eq!((l, n.as_str()), (Some(line), name));
+            }
+            other => panic!("expected a scene setting error, got {other:?}"),
+        }
+    }
+}

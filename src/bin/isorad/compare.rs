@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use isorad::{
-    Scene, Settings, SurfaceId,
+    MeshSettings, Scene, SurfaceId,
     lighting::{ContourMesher, ReceiverAnalysis, analyse_receivers, area_lights, dominant_field},
     load_scene,
     scene::Visibility,
@@ -48,7 +48,7 @@ pub fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     let loaded = load_scene(&args.scene)?;
     // The scene file's [mesh.dominance] decides which receivers qualify, as
     // for `isorad info` and `render --mesh contour`.
-    let mesh = Settings::from_scene_options(&loaded.options)?.mesh;
+    let mesh = MeshSettings::from_scene_options(&loaded.options)?;
     let dominance = mesh.dominance.clone();
     let scene = &loaded.scene;
     let visibility = Visibility::new(scene);

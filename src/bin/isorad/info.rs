@@ -6,7 +6,7 @@ use std::io::Write;
 use clap::Args;
 use glam::DVec2;
 use isorad::{
-    Scene, Settings, SurfaceId,
+    MeshSettings, Scene, SurfaceId,
     lighting::{AreaLight, ContourMesher, ReceiverAnalysis, area_lights},
     load_scene,
     meshing::{scene_receiver_analyses, scene_shadow_boundaries},
@@ -37,7 +37,7 @@ pub struct InfoArgs {
 /// file's `[mesh.dominance]`, then the flags.
 pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
     let loaded = load_scene(&args.scene)?;
-    let mesh_settings = Settings::from_scene_options(&loaded.options)?.mesh;
+    let mesh_settings = MeshSettings::from_scene_options(&loaded.options)?;
     let mut settings = mesh_settings.dominance.clone();
     let mut flags = Vec::new();
     if let Some(min_share) = args.min_share {
