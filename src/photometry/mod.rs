@@ -3,7 +3,7 @@
 //! candela.
 //!
 //! isorad's photometric unit is Radiance's white efficacy: 179 lm/W, so
-//! 1 cd is 1/179 W/sr of isorad's radiometric grey (see the README).
+//! 1 cd is 1/179 W/sr of isorad's radiometric grey (docs/guide.md, units).
 //!
 //! We read both formats ourselves. `lidrs` (MIT) reads them too, but, as
 //! checked for its 0.2 releases: it predates LM-63-2019, converts only type C

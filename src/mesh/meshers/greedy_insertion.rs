@@ -20,7 +20,7 @@
 //! batch per round instead of one point is Garland and Heckbert's
 //! "parallel" variant: a little less greedy, and the rounds stay few
 //! (about log₁.₀₃ of the vertex count). On the furnished office's floor
-//! (README, "Under several lights") an eighth per round needed 11 % more
+//! (docs/algorithm.md, the contour mesher) an eighth per round needed 11 % more
 //! vertices for the same error than 3 %, and Delaunay's diagonals without
 //! the flips 30 % more.
 //!
