@@ -47,8 +47,8 @@
 //!
 //! The crate root holds what these steps need; the rest lives in public
 //! modules named after the pipeline ([`scene`], [`radiometry`],
-//! [`lighting`], [`mesh`], [`solver`], [`render`], [`view`], [`export`],
-//! [`study`], [`calculation`]).
+//! [`photometry`], [`lighting`], [`mesh`], [`meshing`], [`solver`],
+//! [`render`], [`view`], [`export`], [`study`], [`calculation`]).
 //!
 //! 1. **A scene.** Build it in code with [`Scene::new`],
 //!    [`Scene::add_material`] ([`Material::diffuse`], [`Material::emitter`]),
@@ -63,14 +63,17 @@
 //! 2. **Settings.** [`Settings`] holds [`MeshSettings`] and
 //!    [`SolverSettings`]: plain data with defaults and the presets
 //!    [`Settings::preview`] and [`Settings::final_quality`]; lengths may be
-//!    fractions of the scene's size ([`Length::OfDiagonal`]).
+//!    fractions of the scene's size ([`Length::OfDiagonal`]), resolved once
+//!    against the scene ([`meshing::ResolvedMeshSettings`]).
+//!    [`Settings::from_scene_options`] reads a scene file's tables.
 //! 3. **Solve.** [`Solver::new`] takes the scene and settings, meshes the
 //!    scene and builds its BVH ([`Solver::with_mesh`] takes a mesh of your
 //!    own). [`Solver::step`] makes one shot; [`Solver::run_until`] shoots
 //!    until an [`Until`] criterion is met — tolerance, shot count, time budget
 //!    or an `AtomicBool` set from another thread — calling back with
 //!    [`Progress`] after each shot, and says why it stopped ([`StopReason`]).
-//!    It stops only between shots, so the solution is always consistent.
+//!    It stops only between shots, so the solution is always consistent;
+//!    [`Solver::stats`] counts its shots and shadow rays.
 //! 4. **Query.** [`Solver::solution`] gives a [`Solution`] with the
 //!    [`Ambient`] term you ask for, the light not yet shot gathered where
 //!    it will land: [`Ambient::Everywhere`], or [`Ambient::Omitted`] for
@@ -90,8 +93,7 @@
 //!    a temporary file, then renamed). Beside them, [`export_solution`]
 //!    (or [`export::export_glb`] and [`export::export_ply`]) writes the
 //!    solved mesh with its light baked into the vertices, for a viewer or
-//!    another
-//!    tool, with the PNG's exposure ([`ToneMap`]).
+//!    another tool, with the PNG's exposure ([`ToneMap`]).
 //!
 //! `examples/embed.rs` and `examples/progress.rs` show all of it. To compare
 //! meshers: [`study::compare_receiver`], [`study::write_loglog_plot`] (error
