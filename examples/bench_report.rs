@@ -228,7 +228,7 @@ fn ray_throughput_section(md: &mut String) -> Report {
     writeln!(md, "## (a) Shadow-ray throughput\n")?;
     writeln!(
         md,
-        "The solver's rays per second are `Solver::rays()` over the solve's wall time \
+        "The solver's rays per second are `Solver::stats().rays` over the solve's wall time \
          (default settings, the 5 % tolerance, square mesh from `SquareMeshSettings::for_scene`; \
          median of 3 solves), so they include the form-factor work around each ray. \
          The random-segment rates cast {SEGMENTS} segments between area-uniform random \
@@ -302,45 +302,24 @@ fn ray_throughput_section(md: &mut String) -> Report {
     shot_ray_table(md)?;
     writeln!(
         md,
-        "\nOn the generated offices the solver casts rays at a third to a half of obvhs's \
-         rate on its own kind of rays, and takes visibility samples, rays and answers \
-         without rays together, at 0.6–0.75 of it (the table's last two columns, 2026-12-05, \
-         short of the 0.8 issue 17 asks; with shaft \
-         culling alone that day, 0.39 and 0.61 in rays, 0.65 and 0.71 with its answers; \
-         on 2026-12-04, before both, 0.53 and 0.75 in rays, for 7.66 M and 32.1 M of them; on \
-         2026-12-03, before dim reflected shots were received at their patches' samples, \
-         0.61 and 0.77 on a quiet machine, for 9.75 M and 41.9 M rays). Shaft culling takes \
-         off the rays that would have gone unblocked, the dearest to trace, but not the work \
-         of each sample around them (its point, its factor), so it lowers the rate of rays \
-         while it shortens the solve (the furnished office 0.74 s → 0.68 s); the \
-         visibility memory likewise (0.75 s → 0.70 s). Coarse reception takes rays off, not the \
-         work of each shot around them (its plan, its accumulation at every vertex and \
-         element), so it lowers this rate while it shortens the solve. On the Cornell box and `scenes/room`, whose few large triangles make \
-         a ray nearly free (the room's rays are hardly ever blocked), the work around each \
-         ray is most of the time. Half the cluttered office's solver rays are blocked \
-         (emitters' shots included; 68 % of the dim shots' rays in the table), and \
-         the shadow cache (the last two triangles that blocked a ray of the same run of \
-         receivers, tried before the traversal: Haines & Greenberg 1986) answers three in \
-         four of those with one triangle test, which is why `Visibility` with the cache \
-         beats obvhs alone there. Where a furnished room's solve goes (measured by hand \
-         on 2026-12-03, `perf record` on `isorad render` of the cluttered office at \
-         default settings, meshing and rendering included): shadow rays 47 % (41 % \
-         through the cache, 7 % of meshing's uncached), `Shooter::gather` 12 %, \
-         Lambert's polygon factor 8 %, `Solver::receive` (then the one serial step of \
-         a shot) 6 %, the ambient rays' closest hits 5 %. Before the cache the shadow \
-         rays were 54 % and the solve took a fifth more processor time (11.3 s \
-         against 9.5 s, three interleaved runs each). Timed by hand on 2026-12-04, a \
-         shot's serial accumulation (`Solver::receive` and the landing scale) took \
-         0.86 s of the cluttered office's 5.9 s solve, 15 % of its wall time with the \
-         second core idle. Done in parallel over runs of the zone's elements it had \
-         given no gain (2026-12-02: furnished office 0.93–0.95 s against 0.89 s \
-         serial); done in parallel parts split along the zone's ascending member \
-         lists (`solver/indexed_update.rs`), lists under 8,192 kept on one thread \
-         and every sum taken in order, it solves the cluttered office 10 % faster \
-         (4.86 s against 5.38 s, means of five interleaved pairs) and the furnished \
-         office 4 % faster (0.92 s against 0.96 s), the same solve bit for bit; the \
-         reception plan's patch bounds in parallel took 3 % more off the cluttered \
-         office (4.87 s against 5.02 s).\n"
+        "\nThe last two columns compare the solver's rate with obvhs's on its own kind of \
+         rays: rays alone, then rays and answers without rays together (every visibility \
+         sample the solver took per second). At the default, closed rooms count their \
+         unshot power at 0.1, so the offices' solves are their lamps' shots, 64 rays a \
+         vertex each, many answered by the shadow cache; the ambient term's rays, cast and \
+         swept after the solve for the image, are in neither column. Shaft culling and the \
+         visibility memory take off the rays that would have gone unblocked, the dearest to \
+         trace, but not the work of each sample around them (its point, its factor), so \
+         they lower the rate of rays while they shorten the solve; coarse reception likewise \
+         takes rays off but not the work of each shot around them. On the Cornell box and \
+         `scenes/room`, whose few large triangles make a ray nearly free, the work around \
+         each ray is most of the time. The shadow cache (the last two triangles that \
+         blocked a ray of the same run of receivers, tried before the traversal: Haines & \
+         Greenberg 1986) answers most blocked rays with one triangle test, which is why \
+         `Visibility` with the cache can beat obvhs alone where many rays are blocked. A \
+         shot's reception runs in parallel parts split along the zone's ascending member \
+         lists, lists under 8,192 on one thread and every sum taken in order, so the solve \
+         is the same bit for bit on any number of threads.\n"
     )?;
     Ok(())
 }
@@ -365,7 +344,7 @@ const SHOT_RAY_SCENES: [&str; 4] = [
 fn shot_ray_table(md: &mut String) -> Report {
     writeln!(
         md,
-        "On the solver's kind of rays. The solver's rate is `Solver::rays()` over the \
+        "On the solver's kind of rays. The solver's rate is `Solver::stats().rays` over the \
          wall time of a solve at the scene's own settings (the default 5 % tolerance; \
          median of 3; meshing before the clock starts). The segments are {SHOTS} shots' worth of the rays a dim reflected \
          shot casts (`shot_segments` in `benches/common`: from every vertex that faces a \

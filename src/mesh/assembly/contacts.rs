@@ -347,7 +347,7 @@ fn outline_mark(ends: [DVec2; 2], outline: &[DVec2], tolerance: f64) -> Option<D
 /// The outline's vertices gather on the lit side, so an element behind
 /// the book whose corners all lie on the outline reads that light too: no
 /// viewer sees it, and in a closed zone each reflected shot's elements are
-/// scaled to take exactly its power (`Solver::landing_scale`), so the
+/// scaled to take exactly its power (the solver's landing scale), so the
 /// light it takes is not made up.
 const NEAR_OUTLINE_GAP: f64 = 0.2;
 
