@@ -68,8 +68,8 @@ pub struct Overrides {
     /// light changes).
     #[arg(long, value_enum)]
     mesh: Option<MeshArg>,
-    /// Adaptive mesher: split an element when its vertices' radiosities
-    /// span more than this fraction of its mean.
+    /// Adaptive mesher: split an element when the jump of the radiosity
+    /// gradient across it times its size exceeds this fraction of its mean.
     #[arg(long, value_name = "FRACTION")]
     refine_threshold: Option<f64>,
     /// Adaptive mesher: how many times an element may be halved.
