@@ -27,7 +27,7 @@ impl Solution<'_> {
     /// The triangles an image from `camera` can show, as
     /// [`Solution::triangle_indices`]: all of them, or, where the camera
     /// stands inside a closed zone (a room whose light does not leave it,
-    /// see `solver/zones.rs`), that zone's elements' alone: its walls hide
+    /// see `meshing/zones/`), that zone's elements' alone: its walls hide
     /// the rest. A floor of 16 closed offices then triangulates and draws
     /// one office for a view from inside it, not all sixteen rooms in the
     /// view's frustum.

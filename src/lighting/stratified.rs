@@ -79,7 +79,7 @@ pub fn stratified_points(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::plane_polygon::L_SHAPE;
+    use crate::scene::geometry::plane_polygon::L_SHAPE;
     use crate::scene::polygon_contains;
 
     #[test]

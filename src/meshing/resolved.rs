@@ -65,7 +65,7 @@ impl ResolvedMeshSettings {
     }
 
     /// The elements [`super::mesh_scene`] would make at most (see
-    /// `mesh/budget.rs`): the square grid's count, plus for the contour
+    /// `mesh/meshers/budget.rs`): the square grid's count, plus for the contour
     /// meshers the triangles of the largest layouts they keep on every
     /// receiver.
     #[must_use]

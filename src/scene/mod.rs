@@ -12,12 +12,9 @@ mod surface_id;
 pub use camera::{Camera, CameraFrame};
 pub use geometry::Box3;
 pub(crate) use geometry::{
-    clip_segment_to_polygon, distance_to_boundary, distance_to_segment, polygon, polygon_contains,
-    segment_parameter, triangulate, triangulate_polygon,
+    clip_segment_to_polygon, distance_to_boundary, distance_to_segment, polygon_contains,
+    segment_parameter, triangulate_polygon,
 };
-// The old path of the plane-polygon fixtures, which tests elsewhere import.
-#[cfg(test)]
-pub(crate) use geometry::plane_polygon;
 pub use load::{
     LoadSettings, LoadedScene, MergeReport, ProbePoint, builtin_names, load_obj, load_probe_points,
     load_scene, load_scene_file, load_scene_with, merge_coplanar_faces, parse_probe_points,

@@ -20,7 +20,7 @@ pub(crate) struct CulledZones {
 }
 
 /// Where things are, for the solver's parts to look up by index.
-pub(crate) struct Layout {
+pub(crate) struct SolveLayout {
     /// The closed zones (None: not culled).
     pub(crate) zones: Option<CulledZones>,
     /// Per surface, whether its zone keeps all its light: its patches'
@@ -52,7 +52,7 @@ pub(crate) struct Layout {
     pub(crate) analysis: MeshAnalysis,
 }
 
-impl Layout {
+impl SolveLayout {
     /// The layout of `scene` meshed as `mesh`. The closed zones are found
     /// here unless given (and kept only if culled and more than one).
     pub(crate) fn new(
@@ -61,7 +61,7 @@ impl Layout {
         visibility: &Visibility,
         zones: Option<Zones>,
         settings: &SolverSettings,
-    ) -> Layout {
+    ) -> SolveLayout {
         let surface_reflectance = scene
             .surfaces
             .iter()
@@ -114,7 +114,7 @@ impl Layout {
                 zones.labels().enclosing(scene, visibility, inside)
             })
             .collect();
-        Layout {
+        SolveLayout {
             zones,
             surface_lossless,
             surface_zone,

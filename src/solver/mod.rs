@@ -1,7 +1,20 @@
-//! The progressive shooting solver: shooters and their source sampling,
-//! run/stop criteria, adaptive refinement, the solution and its probes, and
-//! the settings of a whole solve (the meshes it solves on are planned in
-//! `crate::meshing`).
+//! The progressive shooting solver. [`Solver`] (`progressive.rs`) is the
+//! driver: it chooses each shot, refines an adaptive mesh, runs until an
+//! [`Until`] criterion (`stop.rs`) is met, and holds its state in named
+//! parts, whose code lives in four folders:
+//! - `light/`: the light shot and not yet shot (irradiance per vertex,
+//!   unshot light per element corner, per-zone totals) and the ledger;
+//! - `shot/`: one shot (the shooter and its strata, shaft culling, the
+//!   visibility memory, coarse reception, what each element receives);
+//! - `ambient/`: the ambient term for the light not yet shot, and the
+//!   patch shots with their clusters;
+//! - `reading/`: the [`Solution`] ([`Solver::solution`] with an
+//!   [`Ambient`] request), probes, final gathers, reading places.
+//!
+//! Beside them: `layout.rs` (where things are: zones, reflectances,
+//! insets), `stats.rs` ([`SolveStats`]), the settings of a whole solve and
+//! their scene-file tables. The meshes it solves on are planned in
+//! [`crate::meshing`].
 
 mod ambient;
 mod layout;
@@ -9,11 +22,11 @@ mod light;
 mod progressive;
 mod reading;
 mod refinement;
-mod run;
 mod settings;
-mod settings_file;
+mod settings_tables;
 mod shot;
 mod stats;
+mod stop;
 #[cfg(test)]
 mod test_scenes;
 
@@ -26,6 +39,6 @@ pub use reading::gather::PENUMBRA_RAY_BUDGET;
 pub use reading::places::ReadingPlace;
 pub use reading::request::Ambient;
 pub use reading::solution::{Probe, ProbeMode, Solution, SurfaceTotals};
-pub use run::{Progress, StopReason, Until};
 pub use settings::{FormFactorKernel, Settings, ShootFrom, SolverSettings};
 pub use stats::SolveStats;
+pub use stop::{Progress, StopReason, Until};

@@ -2,7 +2,7 @@
 //! `Solver` as a driver of its parts. It chooses each shot and hands it to
 //! `shot/` (gathering, reception) and `light/` (the unshot light and the
 //! ledger), refines an adaptive mesh after direct light, and runs until a
-//! stop criterion (`run.rs`) is met.
+//! stop criterion (`stop.rs`) is met.
 
 mod accessors;
 mod run_loop;
@@ -18,7 +18,7 @@ use crate::scene::{Scene, Visibility};
 use crate::solver::ambient::patch_shots::{PatchShotSummary, PatchShots};
 use crate::solver::ambient::state::AmbientState;
 use crate::solver::ambient::term::AmbientTerm;
-use crate::solver::layout::{CulledZones, Layout};
+use crate::solver::layout::{CulledZones, SolveLayout};
 use crate::solver::light::energy_balance::EnergyBalance;
 use crate::solver::light::state::LightState;
 use crate::solver::reading::request::{self, Ambient};
@@ -81,7 +81,7 @@ pub struct Solver {
     visibility: Visibility,
     settings: SolverSettings,
     /// Where things are: zones, reflectances, insets, patch areas.
-    layout: Layout,
+    layout: SolveLayout,
     /// The light shot and not yet shot, and the ledger's powers.
     light: LightState,
     /// The buffers a shot works in.
@@ -186,7 +186,7 @@ impl Solver {
             analysis,
             zones,
         } = parts;
-        let mut layout = Layout::new(&scene, &mesh, &visibility, zones, &settings);
+        let mut layout = SolveLayout::new(&scene, &mesh, &visibility, zones, &settings);
         layout.analysis = analysis;
         let light = LightState::new(&scene, &mesh, &layout, &settings);
         Solver {

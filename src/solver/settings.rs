@@ -101,7 +101,7 @@ pub struct SolverSettings {
     /// uniformly).
     pub shoot_from: ShootFrom,
     /// Skip the receivers a shot cannot reach because they lie in another
-    /// closed zone (a room whose doors are shut; see `solver/zones.rs`):
+    /// closed zone (a room whose doors are shut; see `meshing/zones/`):
     /// the same radiosity, without the shadow rays that would all be
     /// blocked (true).
     pub cull_closed_zones: bool,

@@ -180,7 +180,7 @@ impl PhaseBars {
     }
 
     /// The solver's solution with its ambient term, behind a bar.
-    pub fn solution_with_ambient<'a>(&self, solver: &'a Solver) -> Solution<'a> {
+    pub fn solution_everywhere<'a>(&self, solver: &'a Solver) -> Solution<'a> {
         let solution = solver.solution(Ambient::Everywhere, &|p| self.report(p));
         self.finish();
         solution

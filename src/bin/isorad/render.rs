@@ -126,7 +126,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let solution = if args.export.is_empty() {
         phases.solution_for(&solver, &seen_from)
     } else {
-        phases.solution_with_ambient(&solver)
+        phases.solution_everywhere(&solver)
     };
     let exposure = write_images(&solution)?;
     // Exports (final only, not at previews) take the PNG's exposure.

@@ -51,14 +51,11 @@ pub fn receiver_inset(scene: &Scene) -> f64 {
 /// at least two shadow-ray offsets of the scene.
 ///
 /// The room's diagonal, not the building's, as for the contact tolerance
-/// ([`SurfaceGuides::contact_scale`]): at a ten-thousandth of 190 m, a
-/// building of 624 offices moved its boundary vertices 19 mm inside, past
-/// the middle of a shelf's 2 cm front edge and a book's spine, and one
-/// office beside a quad 150 m away rendered 2.04 % per pixel from the
-/// office alone, with lines along the wall–ceiling edge and the shelves';
-/// at its room's 0.83 mm (and reflected shots' shafts with a rim as wide,
-/// `solver/shaft_culling.rs`), 1.40 %, the lines gone: what is left is the
-/// ambient term's noise. The projection offset stays the whole scene's
+/// ([`SurfaceGuides::contact_scale`]): a ten-thousandth of a large
+/// building's diagonal moves boundary vertices centimetres inside, past a
+/// shelf's front edge and a book's spine, and draws lines along a room's
+/// edges; its room's (with reflected shots' shafts keeping a rim as wide,
+/// `solver/shot/shaft_culling.rs`) keeps them within a millimetre. The projection offset stays the whole scene's
 /// largest: one bent face anywhere moves every room's boundary
 /// vertices as far, up to a thousandth of the room's diagonal.
 #[derive(Clone, Copy, Debug)]
@@ -96,7 +93,7 @@ impl ReceiverInset {
 /// Meshes every surface of the scene uniformly. Where another surface
 /// stands on one (a block on a floor), the grid is re-triangulated with
 /// element edges along the contact lines, and the elements hidden under the
-/// object are dropped (see `mesh/contacts.rs`).
+/// object are dropped (see `mesh/assembly/contacts.rs`).
 #[must_use]
 pub fn mesh_square(scene: &Scene, settings: &SquareMeshSettings) -> Mesh {
     mesh_surfaces(scene, settings, &|_| SurfaceGuides::default())

@@ -38,9 +38,9 @@ use std::path::Path;
 
 use glam::{DVec2, DVec3};
 
-use crate::scene::polygon::{best_fit_plane, project_onto_plane};
+use crate::scene::geometry::polygon::{best_fit_plane, project_onto_plane};
+use crate::scene::geometry::triangulate::signed_area_2d;
 use crate::scene::surface::{PlaneFrame, Surface};
-use crate::scene::triangulate::signed_area_2d;
 use crate::scene::{Scene, Warning};
 
 /// Vertices closer than this fraction of the scene's diagonal are welded

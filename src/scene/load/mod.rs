@@ -1,7 +1,8 @@
 //! Loaders: scenes built in code (`Scene::new`, `add_polygon`), scene files
 //! (TOML), OBJ + MTL, built-in scenes and probe-point files, all reading
 //! through one [`source::SourceFiles`] so that built-in scenes and files on
-//! disk go through the same checks.
+//! disk go through the same checks; and a scene file's settings tables,
+//! read for the layers that own them (`SceneOptions::read_settings`).
 
 mod build;
 mod builtin;

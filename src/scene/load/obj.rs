@@ -30,8 +30,8 @@ use super::mtl::{parse_mtl, to_material};
 use super::obj_scan::{ObjScan, scan_obj};
 use super::source::{Disk, SourceFiles};
 use super::statement::{canonical_line, canonical_text, split_statement};
+use crate::scene::geometry::polygon::clean_polygon;
 use crate::scene::material::Material;
-use crate::scene::polygon::clean_polygon;
 use crate::scene::{Scene, Warning};
 
 /// Warnings kept per object before the rest are only counted.

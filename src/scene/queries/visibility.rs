@@ -283,7 +283,7 @@ pub(super) fn bvh_direction(direction: DVec3) -> Vec3A {
 /// floor of 16, 13 mm in a building of 624) would not be there: a closed
 /// room's books, 1 mm apart, would let a floor's zone rays through their
 /// neighbours' near faces onto their far faces' backs, and each office
-/// would count as losing light (`solver/zones.rs`). With 2¹⁰ steps per unit
+/// would count as losing light (`meshing/zones/labels.rs`). With 2¹⁰ steps per unit
 /// (a power of two: the change is exact) the nodes skipped lie within
 /// 10⁻⁷ of half the scene's diagonal.
 pub(super) const CLOSEST_HIT_STEPS: f64 = 1024.0;

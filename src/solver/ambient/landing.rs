@@ -6,7 +6,7 @@ use glam::DVec2;
 
 use crate::mesh::Mesh;
 use crate::rgb::Rgb;
-use crate::solver::light::unshot::interpolated;
+use crate::solver::light::cell_coordinates::interpolated;
 
 /// The element a vertex ray landed on and the landing point's coordinates
 /// (s, t) in it ([`crate::mesh::Cell::point`] of the element's cell), or

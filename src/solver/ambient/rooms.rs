@@ -15,7 +15,7 @@
 //!
 //! The rare ray that leaks out of a closed room through a seam (a zone
 //! stays closed while under 1/256 of the rays that find it leave,
-//! `zones.rs`) reads the patch it lands on at patch resolution, its
+//! `meshing/zones/labels.rs`) reads the patch it lands on at patch resolution, its
 //! unshot radiosity and the light it will still reflect (`solver/ambient/rays.rs`);
 //! in the term of some rooms alone, made for readings inside them (a
 //! view, probes, a calculation grid: [`crate::solver::ReadingPlace`],

@@ -23,9 +23,9 @@ use crate::solver::ambient::smoothing;
 use crate::solver::ambient::state::AmbientState;
 use crate::solver::ambient::sweeps::{self, UnshotLight};
 use crate::solver::ambient::vertex_rays::VertexRays;
-use crate::solver::layout::{CulledZones, Layout};
+use crate::solver::layout::{CulledZones, SolveLayout};
+use crate::solver::light::patch_field::{FieldScale, PatchField};
 use crate::solver::light::state::LightState;
-use crate::solver::light::unshot::{FieldScale, PatchField};
 use crate::solver::settings::SolverSettings;
 
 /// The parts of a solver the ambient term reads (and the solution made
@@ -35,7 +35,7 @@ pub(crate) struct AmbientTerm<'a> {
     pub(crate) scene: &'a Scene,
     pub(crate) mesh: &'a Mesh,
     pub(crate) visibility: &'a Visibility,
-    pub(crate) layout: &'a Layout,
+    pub(crate) layout: &'a SolveLayout,
     pub(crate) light: &'a LightState,
     pub(crate) settings: &'a SolverSettings,
     pub(crate) state: &'a AmbientState,

@@ -17,7 +17,7 @@ use crate::solver::ambient::patch_locator::{PatchLocator, RayStart};
 use crate::solver::ambient::rays::{
     AmbientEstimate, MISS, PatchResidual, VERTEX_RAYS, VERTEX_RINGS, rays_counted,
 };
-use crate::solver::light::unshot::cell_coordinates;
+use crate::solver::light::cell_coordinates::cell_coordinates;
 
 /// Rays [`VertexRays::landing_elements`] sorts at a time: 4 MiB of keys.
 const LOCATE_BLOCK: usize = 1 << 18;

@@ -16,7 +16,7 @@ pub struct EnergyBalance {
     /// Power absorbed by surfaces: Σ (1 − ρ_e) P_e over the power P_e each
     /// shot gave element e (A_e times its corners' mean irradiance, scaled
     /// for a reflected shot in a zone that keeps all its light so that the
-    /// zone receives the whole shot, see `solver/shot/landing.rs`; or, from
+    /// zone receives the whole shot, see `solver/shot/landing_scale.rs`; or, from
     /// an emitter, that with the curvature of its field: see
     /// `solver/shot/element_power.rs`).
     pub absorbed: Rgb,

@@ -5,7 +5,7 @@
 use crate::mesh::Mesh;
 use crate::rgb::Rgb;
 use crate::scene::Scene;
-use crate::solver::layout::Layout;
+use crate::solver::layout::SolveLayout;
 use crate::solver::light::unshot::UnshotCorners;
 use crate::solver::light::unshot_by_zone::UnshotByZone;
 use crate::solver::light::vertex_irradiance::VertexIrradiance;
@@ -53,7 +53,7 @@ impl LightState {
     pub(crate) fn new(
         scene: &Scene,
         mesh: &Mesh,
-        layout: &Layout,
+        layout: &SolveLayout,
         settings: &SolverSettings,
     ) -> LightState {
         let emitted = |p: &crate::mesh::Patch| {

@@ -13,10 +13,8 @@ use rayon::prelude::*;
 
 use crate::mesh::{Element, Mesh, Patch};
 use crate::rgb::Rgb;
-pub(crate) use crate::solver::light::cell_coordinates::{cell_coordinates, interpolated};
 use crate::solver::light::indexed_update::par_update_at;
-use crate::solver::light::patch_field::FieldElement;
-pub(crate) use crate::solver::light::patch_field::{FieldScale, PatchField};
+use crate::solver::light::patch_field::{FieldElement, PatchField};
 use crate::solver::light::vertex_irradiance::VertexIrradiance;
 
 /// Unshot radiosity ΔB_v (W/m²) at the corners of every element of a mesh,

@@ -7,7 +7,7 @@
 //! power falls under a share of the emitted. Found by scanning every
 //! patch, both cost a pass over the building per shot, which grows with
 //! the square of the rooms. A shot changes the
-//! unshot power of its own closed zone's patches only (see `zones.rs`), so
+//! unshot power of its own closed zone's patches only (see `meshing/zones/`), so
 //! each zone keeps its strongest patch and its total, and a shot recounts
 //! its zone alone; the choice is then among the zones' strongest.
 //!

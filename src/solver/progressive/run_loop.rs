@@ -5,7 +5,7 @@ use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use crate::solver::progressive::Solver;
-use crate::solver::run::{Progress, StopReason, Until};
+use crate::solver::stop::{Progress, StopReason, Until};
 
 impl Solver {
     /// Shoots until a criterion of `until` is met, calling `progress` after

@@ -13,7 +13,7 @@ impl Solution<'_> {
     /// triangles as the renderer splits it. A point that no element covers
     /// lies where meshing dropped the surface as hidden (under a block
     /// standing on it, behind a book a millimetre away,
-    /// `mesh/contacts.rs`): no light reaches it, and the renderer shows
+    /// `mesh/assembly/contacts.rs`): no light reaches it, and the renderer shows
     /// none of it, so it gets no irradiance and only its own emission.
     pub(super) fn interpolate(&self, position: DVec3, surface: SurfaceId) -> Probe {
         let normal = self.scene.surface(surface).normal();

@@ -4,7 +4,7 @@
 use crate::mesh::Mesh;
 use crate::meshing::ZoneMembers;
 use crate::scene::{Scene, Visibility};
-use crate::solver::layout::{CulledZones, Layout};
+use crate::solver::layout::{CulledZones, SolveLayout};
 use crate::solver::settings::SolverSettings;
 
 /// The solver's parts a shot reads, borrowed apart from those it changes
@@ -16,7 +16,7 @@ pub(crate) struct ShotContext<'a> {
     /// The whole scene's shadow-ray BVH.
     pub(crate) visibility: &'a Visibility,
     pub(crate) settings: &'a SolverSettings,
-    pub(crate) layout: &'a Layout,
+    pub(crate) layout: &'a SolveLayout,
 }
 
 impl<'a> ShotContext<'a> {

@@ -8,7 +8,7 @@ pub(super) mod coarse_reception;
 pub(super) mod context;
 pub(super) mod element_power;
 pub(super) mod incident;
-pub(super) mod landing;
+pub(super) mod landing_scale;
 pub(super) mod luminaire;
 pub(super) mod new_vertices;
 pub(super) mod patch_reception;

@@ -12,7 +12,7 @@ use crate::solver::light::indexed_update;
 use crate::solver::light::state::LightState;
 use crate::solver::shot::context::ShotContext;
 use crate::solver::shot::element_power::{self, Emitter};
-use crate::solver::shot::landing::landing_scale;
+use crate::solver::shot::landing_scale::landing_scale;
 use crate::solver::shot::receivers::ShotReceivers;
 
 impl ShotContext<'_> {

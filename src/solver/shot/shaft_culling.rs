@@ -37,7 +37,7 @@
 //! The irradiance is the rays' own but for one thing: a reflected shot's
 //! shafts leave out a rim of the shooter as wide as its surface's
 //! receivers' inset (a ten-thousandth of its room's diagonal,
-//! `mesh/assembly.rs`), so that a wall meeting a ceiling patch at its edge
+//! `mesh/assembly/surfaces.rs`), so that a wall meeting a ceiling patch at its edge
 //! does not touch every shaft of it. A ray aimed into that rim and grazing
 //! something there is then taken as unblocked.
 //! Emitters' shafts keep the whole cell: their shadow boundaries are
