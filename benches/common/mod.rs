@@ -5,6 +5,7 @@
 //! against obvhs called directly on the same rays.
 
 use glam::{DVec3, Vec3A};
+use isorad::scene::Box3;
 use isorad::{Scene, SurfaceId, mesh::Mesh};
 use obvhs::{
     BvhBuildParams, cwbvh::CwBvh, cwbvh::builder::build_cwbvh_from_tris, ray::Ray,
@@ -141,7 +142,7 @@ pub struct RawBvh {
 
 impl RawBvh {
     pub fn new(scene: &Scene) -> RawBvh {
-        let (min, max) = scene.bounds();
+        let Box3 { min, max } = scene.bounds();
         let centre = 0.5 * (min + max);
         let to_local = |p: DVec3| {
             let q = p - centre;

@@ -8,6 +8,7 @@
 //! cells' centres, so none lies on the boundary. Points outside the
 //! surface's outline are left out.
 
+use crate::scene::Box3;
 use glam::{DVec2, DVec3};
 
 use super::grid::CalculationGrid;
@@ -165,7 +166,10 @@ fn check_within_scene(
     height: f64,
     tolerance: f64,
 ) -> Result<()> {
-    let (low, high) = scene.bounds();
+    let Box3 {
+        min: low,
+        max: high,
+    } = scene.bounds();
     let reach = (0..8)
         .map(|k| {
             let corner = DVec3::new(

@@ -5,6 +5,7 @@
 //! contour mesher a lamp is one emitter, so coplanar, touching emitting
 //! surfaces of one material are joined into one [`AreaLight`].
 
+use crate::scene::Box3;
 use glam::DVec3;
 
 use crate::rgb::Rgb;
@@ -63,7 +64,10 @@ pub fn area_lights(scene: &Scene) -> Vec<AreaLight> {
     let boxes: Vec<(DVec3, DVec3)> = emitters
         .iter()
         .map(|&id| {
-            let (low, high) = scene.surface(id).bounds();
+            let Box3 {
+                min: low,
+                max: high,
+            } = scene.surface(id).bounds();
             (
                 low - DVec3::splat(tolerance),
                 high + DVec3::splat(tolerance),

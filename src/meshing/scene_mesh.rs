@@ -1,6 +1,7 @@
 //! A scene meshed as its settings ask: which receiver gets which mesher,
 //! each along its contour layout and shadow boundaries.
 
+use crate::scene::Box3;
 use glam::DVec3;
 
 use super::analyses::analyses_in_zones;
@@ -226,7 +227,7 @@ fn contact_scales(scene: &Scene, zones: Option<&Zones>) -> Vec<Option<f64>> {
     };
     let mut bounds = vec![(DVec3::INFINITY, DVec3::NEG_INFINITY); zones.count().max(1)];
     for (id, surface) in scene.surfaces_with_ids() {
-        let (lo, hi) = surface.bounds();
+        let Box3 { min: lo, max: hi } = surface.bounds();
         if let Some(zone) = bounds.get_mut(zones.of(id)) {
             *zone = (zone.0.min(lo), zone.1.max(hi));
         }

@@ -56,9 +56,9 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Axis-aligned bounds (min, max) of all surfaces; zero for an empty scene.
+    /// Axis-aligned bounds of all surfaces; zero for an empty scene.
     #[must_use]
-    pub fn bounds(&self) -> (DVec3, DVec3) {
+    pub fn bounds(&self) -> Box3 {
         let mut min = DVec3::splat(f64::INFINITY);
         let mut max = DVec3::splat(f64::NEG_INFINITY);
         for p in self.surfaces.iter().flat_map(|s| s.vertices()) {
@@ -66,16 +66,16 @@ impl Scene {
             max = max.max(*p);
         }
         if min.x > max.x {
-            (DVec3::ZERO, DVec3::ZERO)
+            Box3::new(DVec3::ZERO, DVec3::ZERO)
         } else {
-            (min, max)
+            Box3::new(min, max)
         }
     }
 
     /// Length of the bounding box's diagonal: the scene's length scale.
     #[must_use]
     pub fn diagonal(&self) -> f64 {
-        let (min, max) = self.bounds();
+        let Box3 { min, max } = self.bounds();
         (max - min).length()
     }
 
@@ -83,7 +83,7 @@ impl Scene {
     #[must_use]
     pub fn camera_or_default(&self) -> Camera {
         self.camera.clone().unwrap_or_else(|| {
-            let (min, max) = self.bounds();
+            let Box3 { min, max } = self.bounds();
             Camera::framing(min, max)
         })
     }

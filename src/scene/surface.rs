@@ -1,5 +1,6 @@
 //! A planar, one-sided polygon with its material: the unit of geometry.
 
+use crate::scene::geometry::Box3;
 use glam::{DVec2, DVec3};
 
 use super::geometry::triangulate_polygon;
@@ -136,9 +137,9 @@ impl Surface {
         &self.vertices
     }
 
-    /// The polygon's axis-aligned bounding box (min, max).
+    /// The polygon's axis-aligned bounding box.
     #[must_use]
-    pub fn bounds(&self) -> (DVec3, DVec3) {
+    pub fn bounds(&self) -> Box3 {
         let low = self
             .vertices
             .iter()
@@ -149,7 +150,7 @@ impl Surface {
             .iter()
             .copied()
             .fold(DVec3::NEG_INFINITY, DVec3::max);
-        (low, high)
+        Box3::new(low, high)
     }
 
     /// Unit normal of the front side.

@@ -2,6 +2,7 @@
 
 use crate::support::*;
 use glam::DVec3;
+use isorad::scene::Box3;
 use isorad::{
     Ambient, Scene, SolverSettings, StopReason, SurfaceId,
     mesh::{SquareMeshSettings, mesh_square},
@@ -299,7 +300,7 @@ fn rays_along_negated_axes_hit_the_walls() {
 /// Segments from a 40 × 40 grid over the Cornell box's floor to a point
 /// under its ceiling's centre, in rows, as a shot's receivers cast them.
 fn floor_to_ceiling_segments(scene: &Scene) -> Vec<(DVec3, DVec3)> {
-    let (min, max) = scene.bounds();
+    let Box3 { min, max } = scene.bounds();
     let size = max - min;
     let target = DVec3::new(
         min.x + 0.5 * size.x,

@@ -79,10 +79,8 @@ impl Zones {
                         |(min, max), (a, b)| (min.min(a), max.max(b)),
                     );
                     let within = boxes.near(min, max, margin);
-                    (within.len() < scene.surfaces.len()).then(|| {
-                        let bounds = crate::scene::Box3::new(bounds.0, bounds.1);
-                        Visibility::of_listed_surfaces(scene, &within, bounds)
-                    })
+                    (within.len() < scene.surfaces.len())
+                        .then(|| Visibility::of_listed_surfaces(scene, &within, bounds))
                 })
                 .collect()
         } else {

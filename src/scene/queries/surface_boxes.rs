@@ -8,11 +8,12 @@
 //! whose box overlaps it, answers the same question from the few cells
 //! around a surface.
 
+use crate::scene::Box3;
 use std::collections::HashMap;
 
 use glam::DVec3;
 
-use crate::scene::{Scene, Surface, SurfaceId};
+use crate::scene::{Scene, SurfaceId};
 
 /// Cells a surface may be listed in; a larger one (a floor under a grid of
 /// small books) goes on a list every query scans.
@@ -32,8 +33,16 @@ impl SurfaceBoxes {
     /// Lists the surfaces of `scene` by the cells their boxes overlap.
     #[must_use]
     pub fn new(scene: &Scene) -> SurfaceBoxes {
-        let boxes: Vec<(DVec3, DVec3)> = scene.surfaces.iter().map(Surface::bounds).collect();
-        let (origin, top) = scene.bounds();
+        let boxes: Vec<(DVec3, DVec3)> = (scene.surfaces.iter())
+            .map(|surface| {
+                let Box3 { min, max } = surface.bounds();
+                (min, max)
+            })
+            .collect();
+        let Box3 {
+            min: origin,
+            max: top,
+        } = scene.bounds();
         let extent = boxes
             .iter()
             .map(|(min, max)| (*max - *min).max_element())

@@ -76,7 +76,7 @@ impl Visibility {
             .map(|(id, _)| id)
             .filter(|&id| keep(id))
             .collect();
-        let (min, max) = scene.bounds();
+        let Box3 { min, max } = scene.bounds();
         Visibility::of_listed_surfaces(scene, &kept, Box3::new(min, max))
     }
 
