@@ -363,13 +363,7 @@ fn save_png(path: &Path, picture: &RgbImage) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::calculation::falsecolor_scale::VIRIDIS;
-
-    const SCALE: FalseColorScale = FalseColorScale {
-        maximum: 1000.0,
-        logarithmic: false,
-        steps: 8,
-    };
+    use crate::calculation::falsecolor_scale::{TEST_SCALE as SCALE, VIRIDIS};
 
     #[test]
     fn images_have_a_legend_and_grey_holes() {

@@ -182,15 +182,19 @@ impl FalseColorScale {
     }
 }
 
+/// A linear scale of eight bands up to 1000, for the false-colour tests.
+#[cfg(test)]
+pub(crate) const TEST_SCALE: FalseColorScale = FalseColorScale {
+    maximum: 1000.0,
+    logarithmic: false,
+    steps: 8,
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    const SCALE: FalseColorScale = FalseColorScale {
-        maximum: 1000.0,
-        logarithmic: false,
-        steps: 8,
-    };
+    const SCALE: FalseColorScale = TEST_SCALE;
 
     #[test]
     fn colours_follow_the_bands() {
