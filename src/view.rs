@@ -18,9 +18,13 @@ impl Solution<'_> {
         shaded(self.mesh, &radiosity, self.triangle_indices())
     }
 
-    /// The same triangles as vertex-index triples into the mesh's vertices,
-    /// for writers that keep the vertices shared (the exporters).
-    pub(crate) fn triangle_indices(&self) -> Vec<[u32; 3]> {
+    /// The same triangles as vertex-index triples into the mesh's vertices
+    /// (counter-clockwise seen from the front), for writers and viewers
+    /// that keep the vertices shared: the exporters, `isorad view`. A
+    /// quad's diagonal follows the radiosity, so the triples may change as
+    /// the solve goes on.
+    #[must_use]
+    pub fn triangle_indices(&self) -> Vec<[u32; 3]> {
         triangle_indices_of(self.mesh, &|v| self.radiosity_at(v as usize), |_| true)
     }
 

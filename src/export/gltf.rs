@@ -47,11 +47,23 @@ const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 /// mesh is empty; [`crate::Error::Io`] when the file cannot be written. The
 /// target is then left untouched.
 pub fn export_glb(solution: &Solution<'_>, tone_map: &ToneMap, path: &Path) -> Result<()> {
-    let baked = BakedMesh::new(solution, tone_map, path)?;
-    let bytes = glb_bytes(&baked, tone_map.exposure, path)?;
+    let bytes = encode_glb(solution, tone_map, path)?;
     write_atomically(path, |writer| {
         writer.write_all(&bytes).map_err(|e| export_error(path, e))
     })
+}
+
+/// The .glb file [`export_glb`] writes, in memory: for a program that sends
+/// it rather than writing it (the viewer's export button). `name` only
+/// names the file in errors.
+///
+/// # Errors
+///
+/// [`crate::Error::Output`] when a position or radiosity is not finite or the
+/// mesh is empty.
+pub fn encode_glb(solution: &Solution<'_>, tone_map: &ToneMap, name: &Path) -> Result<Vec<u8>> {
+    let baked = BakedMesh::new(solution, tone_map, name)?;
+    glb_bytes(&baked, tone_map.exposure, name)
 }
 
 /// The binary chunk and the JSON describing it.

@@ -39,7 +39,7 @@ use crate::render::ToneMap;
 use crate::rgb::Rgb;
 use crate::solver::Solution;
 
-pub use gltf::export_glb;
+pub use gltf::{encode_glb, export_glb};
 pub use ply::export_ply;
 
 /// The file formats a solution can be exported to.

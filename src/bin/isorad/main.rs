@@ -11,6 +11,8 @@ mod probe;
 mod progress;
 mod render;
 mod table;
+#[cfg(feature = "view")]
+mod view;
 
 use std::process::ExitCode;
 
@@ -23,6 +25,8 @@ use photometry::{PhotometryArgs, photometry};
 use probe::{ProbeArgs, probe};
 use progress::Interrupted;
 use render::{RenderArgs, render};
+#[cfg(feature = "view")]
+use view::{ViewArgs, view};
 
 /// Global illumination by progressive radiosity.
 #[derive(Parser)]
@@ -50,6 +54,11 @@ enum Command {
     /// Solve a scene and compute illuminance (lx) on a calculation grid over
     /// a surface or a work plane: CSV with Emin, Eavg, Emax and U0.
     Grid(GridArgs),
+    /// Solve a scene and show it converge in a web browser: serves a page
+    /// on 127.0.0.1 to orbit and walk through the light, read lux where you
+    /// click, and export it.
+    #[cfg(feature = "view")]
+    View(ViewArgs),
 }
 
 fn main() -> ExitCode {
@@ -61,6 +70,8 @@ fn main() -> ExitCode {
         Command::Compare(args) => compare(&args),
         Command::Photometry(args) => photometry(&args),
         Command::Grid(args) => grid(&args),
+        #[cfg(feature = "view")]
+        Command::View(args) => view(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
