@@ -34,3 +34,7 @@ mod source_refinement;
 mod square_mesh;
 mod strata;
 mod thin_faces;
+#[cfg(feature = "view")]
+mod view_browser;
+#[cfg(feature = "view")]
+mod view_server;

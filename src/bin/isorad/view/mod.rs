@@ -51,6 +51,8 @@ pub fn view(args: ViewArgs) -> anyhow::Result<()> {
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed))
         .context("cannot install the Ctrl-C handler")?;
     let broadcast = Arc::new(Broadcast::default());
+    // A page that asks before the solve thread has begun sees it loading.
+    broadcast.set_status(publisher::Status::loading().to_json());
     let solve = solve::start(args.solve, Arc::clone(&broadcast));
     let context = Arc::new(Context {
         broadcast,

@@ -85,7 +85,6 @@ fn run(
     interrupt: &AtomicBool,
 ) {
     let started = Instant::now();
-    broadcast.set_status(Status::loading().to_json());
     let Prepared {
         mut solver,
         phases,

@@ -2,7 +2,6 @@
 //! files, the status, probes (against `isorad probe`), the glTF, the
 //! controls, the WebSocket's messages, refusals of bad requests, and
 //! Ctrl-C.
-#![cfg(feature = "view")]
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;

@@ -7,7 +7,6 @@
 //! the viewer itself uses. `.ci/run` installs Debian's `chromium` and sets
 //! `ISORAD_BROWSER_TESTS=1`, under which a missing browser fails the test;
 //! elsewhere the test says it skipped.
-#![cfg(feature = "view")]
 
 use std::io::{BufRead, BufReader};
 use std::net::TcpStream;
