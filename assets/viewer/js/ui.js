@@ -175,7 +175,7 @@ export function createUi(handlers) {
       return { exposure: auto + offset(), display: display(), max: currentMax(), log: el.fcLog.checked };
     },
     showHello(hello) {
-      el.scene.textContent = hello.scene ? `— ${hello.scene}` : '';
+      el.scene.textContent = hello.scene || '';
       if (hello.scene) document.title = `isorad view — ${hello.scene}`;
     },
     showStatus(s) {

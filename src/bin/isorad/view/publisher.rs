@@ -2,17 +2,24 @@
 //! run of shots, the mesh and its light when a page is there to see them,
 //! and the exposure and false-colour tops the scene camera's view gets.
 //!
-//! **Pacing.** Publishing a 100,000-vertex state takes tens of
-//! milliseconds on the solve thread. The interval between publications is
-//! therefore at least [`MIN_INTERVAL`] and at least [`COST_RATIO`] times
-//! what the last one cost, so that publishing takes at most
-//! 1 / (1 + [`COST_RATIO`]) = 10 % of the solve's time.
+//! **Pacing.** Publishing takes the solve thread's time: about 10 ms for
+//! the light of 100,000 vertices, and about 0.2 s to fit the exposure,
+//! which renders the scene camera's view (the rasterizer's cost follows
+//! the triangles, not the pixels). Each gets at most [`SHARE`] of the solve:
+//!
+//! - publications are at least [`MIN_INTERVAL`] apart, and at least
+//!   (1 − s) / s times what the last one cost, s = [`SHARE`];
+//! - the exposure is refitted only after as long, measured against the
+//!   last fit's cost, and only once the unshot power has halved since
+//!   (the light has changed enough to show).
+//!
+//! So publishing costs the solve at most 2 · [`SHARE`] = 10 %.
 
 use std::time::{Duration, Instant};
 
 use isorad::{
     Camera, RenderSettings, Rgb, Scene, Solution, Solver,
-    calculation::FalseColorScale,
+    calculation::{FalseColorScale, illuminance_lux},
     photometry::LUMENS_PER_WATT,
     render::{Image, auto_exposure},
 };
@@ -22,10 +29,11 @@ use serde_json::json;
 use super::broadcast::{Broadcast, light_message, mesh_message};
 
 /// The shortest interval between two publications.
-pub const MIN_INTERVAL: Duration = Duration::from_millis(250);
+pub const MIN_INTERVAL: Duration = Duration::from_millis(330);
 
-/// Publications wait this many times their own cost.
-const COST_RATIO: u32 = 9;
+/// The share of the solve's time publications may take, and so may the
+/// exposure's fits.
+const SHARE: f64 = 0.05;
 
 /// The preview render's width for the exposure while solving, pixels.
 const PREVIEW_WIDTH: u32 = 160;
@@ -103,8 +111,23 @@ pub struct Publisher<'a> {
     /// When the last publication ended, and what it cost.
     last: Instant,
     cost: Duration,
-    /// When the exposure was last fitted.
-    last_fit: Option<Instant>,
+    /// The last fit of the exposure, if any.
+    last_fit: Option<Fit>,
+}
+
+/// When the exposure was fitted, what it cost, and the unshot fraction
+/// then.
+#[derive(Clone, Copy, Debug)]
+struct Fit {
+    ended: Instant,
+    cost: Duration,
+    unshot: f64,
+}
+
+/// How long work that cost `cost` waits before it is done again, to take
+/// at most [`SHARE`] of the time: cost · (1 − s) / s.
+fn wait_after(cost: Duration) -> Duration {
+    cost.mul_f64((1.0 - SHARE) / SHARE)
 }
 
 impl<'a> Publisher<'a> {
@@ -147,7 +170,7 @@ impl<'a> Publisher<'a> {
 
     /// How long the solve runs before the next publication.
     pub fn interval(&self) -> Duration {
-        MIN_INTERVAL.max(self.cost * COST_RATIO)
+        MIN_INTERVAL.max(wait_after(self.cost))
     }
 
     /// Whether the pages want the mesh and light now: one is connected
@@ -178,16 +201,23 @@ impl<'a> Publisher<'a> {
         use std::sync::atomic::Ordering;
         let begin = Instant::now();
         self.broadcast.wanted.store(false, Ordering::SeqCst);
-        let triangles = solution.triangle_indices();
         let vertices = &solver.mesh().vertices;
-        if triangles != self.triangles || vertices.len() != self.vertex_count {
-            self.mesh_version += 1;
-            let positions: Vec<glam::DVec3> = vertices.iter().map(|v| v.position).collect();
-            let message = mesh_message(self.mesh_version, &positions, &triangles);
-            self.broadcast.set_mesh(self.mesh_version, message);
-            self.status.triangles = triangles.len();
-            self.triangles = triangles;
-            self.vertex_count = vertices.len();
+        // While solving, a quad keeps the diagonal it was first drawn with
+        // (resending the mesh for every flip would cost the solve more
+        // than the picture gains); the final mesh splits as the renderer
+        // does.
+        let keep = vertices.len() == self.vertex_count && self.mesh_version > 0 && !final_view;
+        if !keep {
+            let triangles = solution.triangle_indices();
+            if triangles != self.triangles || vertices.len() != self.vertex_count {
+                self.mesh_version += 1;
+                let positions: Vec<glam::DVec3> = vertices.iter().map(|v| v.position).collect();
+                let message = mesh_message(self.mesh_version, &positions, &triangles);
+                self.broadcast.set_mesh(self.mesh_version, message);
+                self.status.triangles = triangles.len();
+                self.triangles = triangles;
+                self.vertex_count = vertices.len();
+            }
         }
         let light = light_message(
             self.mesh_version,
@@ -195,20 +225,29 @@ impl<'a> Publisher<'a> {
             &solution.irradiance(),
         );
         self.broadcast.set_light(light);
-        let fit_due = self
-            .last_fit
-            .is_none_or(|at| at.elapsed() >= 8 * self.interval());
-        if final_view || fit_due {
-            self.fit_view(solution, final_view);
-        }
+        let unshot = solver.unshot_fraction();
+        let fit_due = self.last_fit.is_none_or(|fit| {
+            fit.ended.elapsed() >= wait_after(fit.cost) && unshot <= 0.5 * fit.unshot
+        });
         self.last = Instant::now();
         self.cost = self.last - begin;
+        if final_view || fit_due {
+            self.fit_view(solution, final_view);
+            self.last_fit = Some(Fit {
+                ended: Instant::now(),
+                cost: self.last.elapsed(),
+                unshot,
+            });
+            self.last = Instant::now();
+        }
     }
 
     /// Fits the exposure and the false-colour tops to the scene camera's
     /// view, as `isorad render` chooses them for its PNG and its
-    /// `--falsecolor` picture: from a small preview while solving, from
-    /// the full image at the end.
+    /// `--falsecolor` picture. At the end (`full`), from the full images of
+    /// radiance and irradiance. While solving, from a small preview of the
+    /// radiance alone, the illuminance's top from the vertices' values
+    /// (the same quantile), which costs no second render.
     fn fit_view(&mut self, solution: &Solution<'_>, full: bool) {
         let (camera, settings) = if full {
             (self.camera.clone(), RenderSettings::default())
@@ -218,9 +257,16 @@ impl<'a> Publisher<'a> {
         let image = solution.render(&camera, &settings);
         self.status.exposure = auto_exposure(&image);
         self.status.luminance_max = false_colour_top(&image);
-        self.status.illuminance_max =
-            false_colour_top(&solution.render_irradiance(&camera, &settings));
-        self.last_fit = Some(Instant::now());
+        self.status.illuminance_max = if full {
+            false_colour_top(&solution.render_irradiance(&camera, &settings))
+        } else {
+            let lux: Vec<f64> = solution
+                .irradiance()
+                .into_iter()
+                .map(illuminance_lux)
+                .collect();
+            FalseColorScale::fitted_to_quantile(&lux, FALSE_COLOUR_QUANTILE).maximum
+        };
     }
 }
 

@@ -83,7 +83,10 @@ fn send_changes(
         socket.write(Message::text(hello.clone()))?;
         seen.hello = true;
     }
-    for (part, sent) in [(&state.mesh, &mut seen.mesh), (&state.light, &mut seen.light)] {
+    for (part, sent) in [
+        (&state.mesh, &mut seen.mesh),
+        (&state.light, &mut seen.light),
+    ] {
         if let Some(part) = part.as_ref().filter(|part| *sent != Some(part.serial)) {
             socket.write(Message::Binary(part.message.clone()))?;
             *sent = Some(part.serial);
