@@ -139,6 +139,13 @@ export function createUi(handlers) {
   });
   el.display.addEventListener('change', changed);
   el.fcLog.addEventListener('change', changed);
+  // ?display=luminance|illuminance opens in false colour (&log=1 on a log
+  // scale): a link to show a client.
+  const parameters = new URLSearchParams(location.search);
+  if (['luminance', 'illuminance'].includes(parameters.get('display'))) {
+    el.display.value = parameters.get('display');
+    el.fcLog.checked = parameters.get('log') === '1';
+  }
   el.fcMax.addEventListener('input', () => {
     const v = Number(el.fcMax.value);
     const d = display();
@@ -161,8 +168,11 @@ export function createUi(handlers) {
   el.panelToggle.addEventListener('click', () => fold(!el.panel.classList.contains('folded')));
   // A small window starts with the panel folded: the view stays clickable.
   if (window.innerWidth < 640 || window.innerHeight < 480) fold(true);
-  // ?panel=0 hides the panel (clean screenshots of the page).
-  if (new URLSearchParams(location.search).get('panel') === '0') el.panel.hidden = true;
+  // ?panel=0 hides the panel; ?panel=1 keeps it shown; by default it
+  // fades out while the user is idle.
+  const panelParameter = new URLSearchParams(location.search).get('panel');
+  if (panelParameter === '0') el.panel.hidden = true;
+  else if (panelParameter !== '1') hideWhenIdle(el.panel);
   refresh();
 
   return {
@@ -269,4 +279,34 @@ export function createUi(handlers) {
       else hide();
     },
   };
+}
+
+/** Milliseconds without input after which the panel fades out. */
+const IDLE_MS = 5000;
+
+/**
+ * Shows `panel` while the user is at work and fades it out after IDLE_MS
+ * without pointer or key input (unless the pointer is over it or one of
+ * its fields has the focus), so the view is the whole picture: what a
+ * client watching sees, and what a screenshot of the page shows. It
+ * starts hidden and appears with the first input.
+ */
+function hideWhenIdle(panel) {
+  let timer = null;
+  const idle = () => {
+    if (panel.matches(':hover') || panel.contains(document.activeElement)) {
+      timer = setTimeout(idle, IDLE_MS);
+      return;
+    }
+    panel.classList.add('idle');
+  };
+  const active = () => {
+    panel.classList.remove('idle');
+    clearTimeout(timer);
+    timer = setTimeout(idle, IDLE_MS);
+  };
+  panel.classList.add('idle');
+  for (const type of ['pointermove', 'pointerdown', 'keydown', 'wheel', 'touchstart']) {
+    window.addEventListener(type, active, { passive: true });
+  }
 }
