@@ -260,13 +260,21 @@ fn the_page_draws_the_render_and_reads_a_click() {
     let data_url = page.eval("window.isorad.canvasDataURL()");
     let data_url = data_url.as_str().expect("a data URL");
     let canvas = pixels(&base64(data_url.split(',').nth(1).expect("base64")));
-    assert_eq!(canvas.dimensions(), (SIZE, SIZE), "the canvas is the camera's size");
+    assert_eq!(
+        canvas.dimensions(),
+        (SIZE, SIZE),
+        "the canvas is the camera's size"
+    );
     // The page as the browser shows it (the panel hides while nobody
     // works it) is drawn, and it is the renderer's picture.
     let screenshot = page.call("Page.captureScreenshot", json!({"format": "png"}), true);
     let screenshot = screenshot["data"].as_str().expect("a screenshot");
     let shown = pixels(&base64(screenshot));
-    assert_eq!(shown.dimensions(), (SIZE, SIZE), "the screenshot is the window's size");
+    assert_eq!(
+        shown.dimensions(),
+        (SIZE, SIZE),
+        "the screenshot is the window's size"
+    );
     let reference = pixels(&std::fs::read(&png).expect("the render"));
     let lit = shown.pixels().filter(|p| luminance(&p.0) > 0.01).count();
     assert!(
