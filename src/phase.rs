@@ -26,6 +26,9 @@ pub enum Phase {
     /// Under the contour mesher, which receivers get contours (the
     /// dominance analysis) and their layouts; counted in surfaces.
     ContourLayouts,
+    /// The dominance analysis alone (`isorad info`): which luminaire
+    /// dominates each receiver; counted in receivers.
+    Dominance,
     /// Meshing, surface by surface, then dropping the parts hidden under
     /// objects; counted in surfaces, and one unit more for the hidden parts.
     Meshing,
@@ -43,6 +46,7 @@ impl Phase {
             Phase::ClosedRooms => "closed rooms",
             Phase::ShadowBoundaries => "shadow boundaries",
             Phase::ContourLayouts => "contour layouts",
+            Phase::Dominance => "dominance analysis",
             Phase::Meshing => "meshing",
             Phase::AmbientTerm => "ambient term",
         }
@@ -54,6 +58,7 @@ impl Phase {
         match self {
             Phase::ClosedRooms => "steps",
             Phase::ShadowBoundaries | Phase::ContourLayouts | Phase::Meshing => "surfaces",
+            Phase::Dominance => "receivers",
             Phase::AmbientTerm => "vertices",
         }
     }

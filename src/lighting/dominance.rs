@@ -21,6 +21,7 @@ use super::direct_field::DirectField;
 use super::sample_stream::SampleStream;
 use super::stratified::stratified_points;
 use crate::error::{Error, Result};
+use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
 use crate::scene::{Scene, Surface, SurfaceId, Visibility, polygon_contains};
 
 /// Receiver sample points are pulled this fraction of the way towards their
@@ -208,6 +209,18 @@ pub fn analyse_receivers_among<'v>(
     settings: &DominanceSettings,
     room_of: &(dyn Fn(SurfaceId) -> (&'v Visibility, Vec<usize>) + Sync),
 ) -> Vec<ReceiverAnalysis> {
+    analyse_receivers_reporting(scene, area_lights, settings, room_of, &silent)
+}
+
+/// [`analyse_receivers_among`], reporting its progress receiver by
+/// receiver as [`Phase::Dominance`].
+pub(crate) fn analyse_receivers_reporting<'v>(
+    scene: &Scene,
+    area_lights: &[AreaLight],
+    settings: &DominanceSettings,
+    room_of: &(dyn Fn(SurfaceId) -> (&'v Visibility, Vec<usize>) + Sync),
+    report: PhaseReporter,
+) -> Vec<ReceiverAnalysis> {
     let receivers: Vec<SurfaceId> = scene
         .surfaces_with_ids()
         .filter(|(_, surface)| {
@@ -218,13 +231,19 @@ pub fn analyse_receivers_among<'v>(
         })
         .map(|(id, _)| id)
         .collect();
-    receivers
+    let counter = PhaseCounter::start(Phase::Dominance, receivers.len(), report);
+    let analyses = receivers
         .par_iter()
         .map(|&receiver| {
             let (visibility, lights) = room_of(receiver);
-            analyse_receiver(scene, visibility, area_lights, settings, receiver, &lights)
+            let analysis =
+                analyse_receiver(scene, visibility, area_lights, settings, receiver, &lights);
+            counter.add(1);
+            analysis
         })
-        .collect()
+        .collect();
+    counter.finish();
+    analyses
 }
 
 /// The analysis of one receiver.

@@ -24,6 +24,7 @@ mod stratified;
 
 pub use area_light::{AreaLight, area_lights};
 pub use direct_field::DirectField;
+pub(crate) use dominance::analyse_receivers_reporting;
 pub use dominance::{
     ContourMesher, DominanceSettings, ReceiverAnalysis, analyse_receivers, analyse_receivers_among,
     dominant_field,

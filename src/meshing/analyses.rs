@@ -2,21 +2,35 @@
 //! of its own closed zone.
 
 use super::zones::Zones;
-use crate::lighting::{AreaLight, DominanceSettings, ReceiverAnalysis, analyse_receivers_among};
+use crate::lighting::{
+    AreaLight, DominanceSettings, ReceiverAnalysis, analyse_receivers_reporting,
+};
+use crate::phase::{Phase, PhaseCounter, PhaseReporter};
 use crate::scene::{Scene, Visibility};
 
 /// What [`crate::lighting::analyse_receivers`] finds on every receiver, each paired only
 /// with the lights of its own closed zone
-/// ([`analyse_receivers_among`]): as `mesh_scene` analyses them.
+/// ([`crate::lighting::analyse_receivers_among`]): as `mesh_scene`
+/// analyses them. `report` hears [`Phase::ClosedRooms`], then
+/// [`Phase::Dominance`] receiver by receiver.
 #[must_use]
 pub fn scene_receiver_analyses(
     scene: &Scene,
     visibility: &Visibility,
     area_lights: &[AreaLight],
     settings: &DominanceSettings,
+    report: PhaseReporter,
 ) -> Vec<ReceiverAnalysis> {
+    let zones = closed_zones(scene, visibility, report);
+    analyses_in_zones(scene, visibility, area_lights, settings, &zones, report)
+}
+
+/// The scene's closed zones, reported as [`Phase::ClosedRooms`].
+pub(super) fn closed_zones(scene: &Scene, visibility: &Visibility, report: PhaseReporter) -> Zones {
+    let counter = PhaseCounter::start(Phase::ClosedRooms, 1, report);
     let zones = Zones::new(scene, visibility);
-    analyses_in_zones(scene, visibility, area_lights, settings, &zones)
+    counter.finish();
+    zones
 }
 
 /// [`scene_receiver_analyses`] with the scene's closed zones found: each
@@ -28,6 +42,7 @@ pub(super) fn analyses_in_zones(
     area_lights: &[AreaLight],
     settings: &DominanceSettings,
     zones: &Zones,
+    report: PhaseReporter,
 ) -> Vec<ReceiverAnalysis> {
     let mut per_zone = vec![Vec::new(); zones.count()];
     for (k, lamp) in area_lights.iter().enumerate() {
@@ -44,5 +59,5 @@ pub(super) fn analyses_in_zones(
         let inside = zones.visibility(zone).unwrap_or(visibility);
         (inside, per_zone[zone].clone())
     };
-    analyse_receivers_among(scene, area_lights, settings, &room_of)
+    analyse_receivers_reporting(scene, area_lights, settings, &room_of, report)
 }

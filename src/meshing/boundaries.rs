@@ -5,12 +5,13 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use super::analyses::closed_zones;
 use super::resolved::ResolvedMeshSettings;
 use super::zones::{ZoneLabels, Zones};
 use crate::lighting::{
     AreaLight, BoundaryLimits, EdgeNeighbours, ShadowReceiver, light_reaches, shadow_boundaries,
 };
-use crate::phase::{Phase, PhaseCounter, PhaseReporter, silent};
+use crate::phase::{Phase, PhaseCounter, PhaseReporter};
 use crate::scene::{Scene, SurfaceBoxes, SurfaceId, Visibility};
 
 /// Every surface's shadow boundaries, indexed by surface, in its plane
@@ -23,19 +24,22 @@ use crate::scene::{Scene, SurfaceBoxes, SurfaceId, Visibility};
 /// ([`light_reaches`]), and only the lights and occluders of its own
 /// closed zone (a room whose doors are shut, `Zones`) are tried: a lamp
 /// in another closed room adds none, and a building of separate rooms
-/// costs what its rooms cost alone. Computed in parallel.
+/// costs what its rooms cost alone. Computed in parallel; `report` hears
+/// [`Phase::ClosedRooms`], then [`Phase::ShadowBoundaries`] receiver by
+/// receiver.
 #[must_use]
 pub fn scene_shadow_boundaries(
     scene: &Scene,
     visibility: &Visibility,
     area_lights: &[AreaLight],
     settings: &ResolvedMeshSettings,
+    report: PhaseReporter,
 ) -> Vec<Vec<[DVec2; 2]>> {
     if casting_limits(scene, area_lights, settings).is_none() {
         return vec![Vec::new(); scene.surfaces.len()];
     }
-    let zones = Zones::new(scene, visibility);
-    boundaries_in_zones(scene, visibility, area_lights, settings, &zones, &silent)
+    let zones = closed_zones(scene, visibility, report);
+    boundaries_in_zones(scene, visibility, area_lights, settings, &zones, report)
 }
 
 /// The shadow boundaries on one receiver, as [`scene_shadow_boundaries`]

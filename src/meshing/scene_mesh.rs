@@ -135,7 +135,15 @@ fn contour_layouts(
     let counter = PhaseCounter::start(Phase::ContourLayouts, scene.surfaces.len(), report);
     let lights = &analysis.area_lights;
     analysis.receivers = match zones {
-        Some(zones) => analyses_in_zones(scene, visibility, lights, &settings.dominance, zones),
+        // Reported as part of the contour layouts.
+        Some(zones) => analyses_in_zones(
+            scene,
+            visibility,
+            lights,
+            &settings.dominance,
+            zones,
+            &silent,
+        ),
         None => analyse_receivers(scene, visibility, lights, &settings.dominance),
     };
     let analysed = analysed_index(scene, &analysis.receivers);

@@ -331,6 +331,7 @@ fn shadow_boundaries_stay_in_the_room_the_light_reaches() {
         &visibility,
         &lights,
         &isorad::MeshSettings::default().resolve(&scene),
+        &isorad::phase::silent,
     );
     let count = |name: &str| -> usize {
         scene
@@ -354,6 +355,7 @@ fn shadow_boundaries_stay_in_the_room_the_light_reaches() {
         &visibility,
         &lights,
         &settings.resolve(&scene),
+        &isorad::phase::silent,
     );
     let floor_a = scene
         .surfaces_with_ids()
@@ -509,12 +511,14 @@ fn a_room_meshes_the_same_among_closed_rooms() {
             &visibility,
             &lights,
             &settings.resolve(scene),
+            &isorad::phase::silent,
         );
         let analyses = isorad::meshing::scene_receiver_analyses(
             scene,
             &visibility,
             &lights,
             &settings.dominance,
+            &isorad::phase::silent,
         );
         (lights, boundaries, analyses)
     };

@@ -2,6 +2,7 @@
 //! enums they name, and how a flag's invalid value is reported.
 
 use std::path::Path;
+use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 use isorad::{
@@ -27,6 +28,11 @@ pub struct SolveArgs {
     /// polygons when loading).
     #[arg(long)]
     pub no_merge: bool,
+    /// Stop the solve once the command has run this long (loading and
+    /// meshing count); the ambient term stands in for the light not yet
+    /// shot, as after Ctrl-C, and the outputs are written.
+    #[arg(long, value_name = "SECONDS", value_parser = crate::stop::parse_time_limit, allow_hyphen_values = true)]
+    pub time_limit: Option<f64>,
 }
 
 /// Flags that override the scene file's settings, each onto one field of
@@ -300,6 +306,8 @@ value_enum!(
 /// A loaded and meshed scene, ready to solve.
 pub struct Prepared {
     pub solver: Solver,
+    /// When the command began preparing: `--time-limit` counts from here.
+    pub started: Instant,
     /// The progress bars of the phases outside the shots, and their times.
     pub phases: PhaseBars,
     /// Where the scene came from, for messages.
@@ -308,6 +316,7 @@ pub struct Prepared {
 
 /// Loads and meshes a scene: the scene file's settings, then the flags.
 pub fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
+    let started = Instant::now();
     let mut load_settings = LoadSettings::default();
     load_settings.merge_coplanar = !args.no_merge;
     let loaded = load_scene_with(&args.scene, &load_settings)?;
@@ -348,6 +357,7 @@ pub fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
     }
     Ok(Prepared {
         solver,
+        started,
         phases,
         source: loaded.source,
     })

@@ -47,7 +47,10 @@ pub struct GridArgs {
 pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
     check_outputs(args)?;
     let Prepared {
-        mut solver, phases, ..
+        mut solver,
+        phases,
+        started,
+        ..
     } = prepare(&args.solve)?;
     // The grid is checked before solving, so that a wrong name costs no solve.
     let grid =
@@ -59,7 +62,8 @@ pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
                 }
                 other => other.into(),
             })?;
-    solve_to_tolerance(&mut solver, args.solve.quiet)?;
+    let until = args.solve.until(started);
+    solve_to_tolerance(&mut solver, &until, args.solve.quiet)?;
     // The ambient term of the closed rooms the grid lies in alone.
     let places = grid.reading_places(solver.scene(), solver.visibility());
     let solution = phases.solution_for(&solver, &places);

@@ -15,6 +15,7 @@ use isorad::{
 };
 
 use crate::args::with_flag_names;
+use crate::progress::PhaseBars;
 use crate::table::{significant, write_table};
 
 #[derive(Args)]
@@ -30,6 +31,9 @@ pub struct InfoArgs {
     /// 0.25, or the scene file's `[mesh.dominance] max_size_ratio`].
     #[arg(long)]
     max_size_ratio: Option<f64>,
+    /// No progress bars.
+    #[arg(long, short)]
+    quiet: bool,
 }
 
 /// Prints the scene's area lights and the dominant-emitter analysis of each
@@ -57,9 +61,12 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
     }
     let visibility = Visibility::new(scene);
     let lights = area_lights(scene);
-    let analyses = scene_receiver_analyses(scene, &visibility, &lights, &settings);
+    let phases = PhaseBars::new(args.quiet);
+    let report = |progress| phases.report(progress);
+    let analyses = scene_receiver_analyses(scene, &visibility, &lights, &settings, &report);
     let mesh_settings = mesh_settings.resolve(scene);
-    let boundaries = scene_shadow_boundaries(scene, &visibility, &lights, &mesh_settings);
+    let boundaries = scene_shadow_boundaries(scene, &visibility, &lights, &mesh_settings, &report);
+    phases.finish();
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     writeln!(
         out,

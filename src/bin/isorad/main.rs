@@ -9,7 +9,9 @@ mod info;
 mod photometry;
 mod probe;
 mod progress;
+mod progress_lines;
 mod render;
+mod stop;
 mod table;
 #[cfg(feature = "view")]
 mod view;

@@ -32,9 +32,13 @@ pub struct ProbeArgs {
 pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
     let points = load_probe_points(&args.points)?;
     let Prepared {
-        mut solver, phases, ..
+        mut solver,
+        phases,
+        started,
+        ..
     } = prepare(&args.solve)?;
-    solve_to_tolerance(&mut solver, args.solve.quiet)?;
+    let until = args.solve.until(started);
+    solve_to_tolerance(&mut solver, &until, args.solve.quiet)?;
     // The ambient term of the closed rooms the probes lie in alone (a
     // point on no surface fails below, whatever the term).
     let places: Vec<ReadingPlace> = points

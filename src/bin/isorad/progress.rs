@@ -11,6 +11,9 @@ use isorad::{
     solver::ReadingPlace,
 };
 
+use crate::progress_lines::{LineClock, phase_line, plain_lines_wanted};
+use crate::stop::report_time_limit;
+
 /// Set by Ctrl-C: the solve stops between two shots and the solution so far
 /// is written.
 pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
@@ -27,18 +30,26 @@ impl std::fmt::Display for Interrupted {
 
 impl std::error::Error for Interrupted {}
 
-/// Solves to the settings' tolerance with a progress bar (none when
-/// `quiet`) and no previews: what the commands that read a solution need.
-pub fn solve_to_tolerance(solver: &mut Solver, quiet: bool) -> anyhow::Result<StopReason> {
+/// Solves until `until` (the tolerance, or a time limit) with a progress
+/// bar (none when `quiet`) and no previews: what the commands that read a
+/// solution need.
+pub fn solve_to_tolerance(
+    solver: &mut Solver,
+    until: &Until,
+    quiet: bool,
+) -> anyhow::Result<StopReason> {
     let no_previews = |_: &Solver| Ok(());
-    let (stop, _) = solve_with_progress(solver, &Until::default(), quiet, None, no_previews)?;
+    let (stop, _) = solve_with_progress(solver, until, quiet, None, no_previews)?;
+    report_time_limit(solver, stop);
     Ok(stop)
 }
 
 /// Runs the solver until `until` stops it, with a progress bar of the
-/// unshot fraction on a log scale from 100 % down to the tolerance, and
-/// calls `preview` every `preview_every` shots. Returns why it stopped and
-/// the seconds spent solving (previews not counted).
+/// unshot fraction on a log scale from 100 % down to the tolerance (plain
+/// lines when stderr is not a terminal), and calls `preview` every
+/// `preview_every` shots. `until`'s time budget counts from this call,
+/// previews included. Returns why it stopped and the seconds spent solving
+/// (previews not counted).
 pub fn solve_with_progress(
     solver: &mut Solver,
     until: &Until,
@@ -47,9 +58,12 @@ pub fn solve_with_progress(
     mut preview: impl FnMut(&Solver) -> anyhow::Result<()>,
 ) -> anyhow::Result<(StopReason, f64)> {
     let start = Instant::now();
+    let deadline = until.time_budget.map(|budget| start + budget);
     let mut preview_seconds = 0.0;
     let tolerance = solver.settings().tolerance;
-    let bar = if quiet {
+    let lines = plain_lines_wanted(quiet);
+    let clock = LineClock::new();
+    let bar = if quiet || lines {
         ProgressBar::hidden()
     } else {
         ProgressBar::new(1000)
@@ -71,11 +85,18 @@ pub fn solve_with_progress(
         } else {
             String::new()
         };
-        bar.set_message(format!(
+        let message = format!(
             "unshot {:.2} %{counted}, {} shots",
             100.0 * unshot,
             progress.shots
-        ));
+        );
+        if lines && clock.due() {
+            eprintln!(
+                "solving: {message} ({:.0} s)",
+                start.elapsed().as_secs_f64()
+            );
+        }
+        bar.set_message(message);
     };
     let max_shots = until.total_shots.unwrap_or(solver.settings().max_shots);
     let stop = loop {
@@ -87,7 +108,11 @@ pub fn solve_with_progress(
             }
             None => max_shots,
         };
-        let stop = solver.run_until(&until.total_shots(next), show);
+        let mut run = until.total_shots(next);
+        if let Some(deadline) = deadline {
+            run = run.time_budget(deadline.saturating_duration_since(Instant::now()));
+        }
+        let stop = solver.run_until(&run, show);
         if stop != StopReason::ShotLimit || next >= max_shots {
             break stop;
         }
@@ -121,6 +146,9 @@ fn warn_if_nothing_is_lit(solver: &Solver) {
 /// kept for the summary.
 pub struct PhaseBars {
     quiet: bool,
+    /// Plain lines instead of bars (stderr is not a terminal).
+    lines: bool,
+    clock: LineClock,
     state: Mutex<PhaseState>,
 }
 
@@ -137,6 +165,8 @@ impl PhaseBars {
     pub fn new(quiet: bool) -> Self {
         PhaseBars {
             quiet,
+            lines: plain_lines_wanted(quiet),
+            clock: LineClock::new(),
             state: Mutex::new(PhaseState::default()),
         }
     }
@@ -152,7 +182,11 @@ impl PhaseBars {
         // image) starts a new bar.
         if !same || progress.done == 0 {
             state.close();
-            let bar = if self.quiet {
+            if self.lines {
+                eprintln!("{}: started", progress.phase.describe());
+                self.clock.restart();
+            }
+            let bar = if self.quiet || self.lines {
                 ProgressBar::hidden()
             } else {
                 ProgressBar::new(progress.total as u64)
@@ -169,12 +203,28 @@ impl PhaseBars {
             bar.enable_steady_tick(Duration::from_millis(100));
             state.current = Some((progress.phase, bar, Instant::now()));
         }
-        if let Some((_, bar, _)) = &state.current {
+        if let Some((phase, bar, started)) = &state.current {
             // Reports from several threads may arrive out of order.
             bar.set_position(bar.position().max(progress.done as u64));
+            let ongoing = progress.done < progress.total;
+            if self.lines && ongoing && self.clock.due() {
+                let (done, seconds) = (bar.position() as usize, started.elapsed().as_secs_f64());
+                let line = phase_line(
+                    phase.describe(),
+                    done,
+                    progress.total,
+                    phase.unit(),
+                    seconds,
+                );
+                eprintln!("{line}");
+            }
         }
         // The phase's time ends with its last unit.
         if progress.done >= progress.total {
+            if let Some((phase, _, started)) = state.current.as_ref().filter(|_| self.lines) {
+                let seconds = started.elapsed().as_secs_f64();
+                eprintln!("{}: done in {seconds:.1} s", phase.describe());
+            }
             state.close();
         }
     }

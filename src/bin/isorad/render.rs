@@ -8,7 +8,7 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use isorad::{
-    Camera, RenderSettings, Rgb, Scene, Solution, Solver, StopReason, ToneMap, Until,
+    Camera, RenderSettings, Rgb, Scene, Solution, Solver, StopReason, ToneMap,
     calculation::{FalseColorScale, write_falsecolor_image},
     export::ExportFormat,
     export_solution,
@@ -21,6 +21,7 @@ use isorad::{
 
 use crate::args::{Prepared, SolveArgs, ensure_directory_exists, prepare};
 use crate::progress::{INTERRUPTED, Interrupted, phase_times, solve_with_progress};
+use crate::stop::report_time_limit;
 use crate::table::significant;
 
 #[derive(Args)]
@@ -91,6 +92,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         mut solver,
         phases,
         source,
+        started,
     } = prepare(&args.solve)?;
     let mut camera = solver.scene().camera_or_default();
     camera.width = args.width.unwrap_or(camera.width);
@@ -112,7 +114,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     };
     // The camera reads the solution where it stands.
     let seen_from = [ReadingPlace::InSpace(camera.position)];
-    let until = Until::default().cancelled_by(&INTERRUPTED);
+    let until = args.solve.until(started);
     let (stop, solve_seconds) = solve_with_progress(
         &mut solver,
         &until,
@@ -120,6 +122,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         args.preview_every,
         |solver| write_images(&phases.solution_for(solver, &seen_from)).map(|_| ()),
     )?;
+    report_time_limit(&solver, stop);
     // The images, exports and false colour read one solution: the ambient
     // term is gathered once, in the room the camera stands in unless the
     // whole mesh is exported.

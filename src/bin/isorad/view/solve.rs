@@ -84,11 +84,11 @@ fn run(
     requests: &Receiver<Request>,
     interrupt: &AtomicBool,
 ) {
-    let started = Instant::now();
     let Prepared {
         mut solver,
         phases,
         source,
+        started,
     } = match prepare(args) {
         Ok(prepared) => prepared,
         Err(error) => {
@@ -104,7 +104,12 @@ fn run(
     let mut publisher = Publisher::new(broadcast, camera, started);
     publisher.hello(solver.scene(), &source);
     let solve_start = Instant::now();
-    let reason = solve(&mut solver, &mut publisher, requests, interrupt);
+    // --time-limit counts from the command's start, loading included.
+    let deadline = args
+        .until(started)
+        .time_budget
+        .map(|budget| solve_start + budget);
+    let reason = solve(&mut solver, &mut publisher, requests, interrupt, deadline);
     eprintln!(
         "solved: {} shots, {} shadow rays in {:.2} s, unshot {:.3} %",
         solver.stats().shots,
@@ -133,6 +138,7 @@ fn solve(
     publisher: &mut Publisher<'_>,
     requests: &Receiver<Request>,
     interrupt: &AtomicBool,
+    deadline: Option<Instant>,
 ) -> StopReason {
     let mut paused = false;
     // A request that woke a paused solve, answered by the next pass.
@@ -172,7 +178,10 @@ fn solve(
         }
         let interval = publisher.interval();
         let run_start = Instant::now();
-        let until = Until::default().cancelled_by(interrupt);
+        let mut until = Until::default().cancelled_by(interrupt);
+        if let Some(deadline) = deadline {
+            until = until.time_budget(deadline.saturating_duration_since(Instant::now()));
+        }
         let reason = solver.run_until(&until, |_| {
             if run_start.elapsed() >= interval {
                 interrupt.store(true, Ordering::SeqCst);
