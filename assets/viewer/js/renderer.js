@@ -7,12 +7,17 @@
 // to [0, 1]. Back faces (clockwise on screen) are black but still hide what
 // is behind them. No lighting, no fog. Background black.
 //
+// Where the browser can draw to floating-point targets, the scene is drawn
+// in linear light and its samples averaged before the curve (linear.js),
+// as the renderer averages its samples; else straight to the canvas.
+//
 // Positions are uploaded relative to the scene's bounds centre c (f32
 // precision stays where the scene is); the view matrix is built in f64
 // from eye − c.
 
 import { FALSE_COLOUR_GLSL, bandColoursUniform, EFFICACY } from './falsecolor.js';
 import { sub, dot, length, cameraFrame } from './picking.js';
+import { createLinearTarget } from './linear.js';
 
 const VERTEX_SHADER = `#version 300 es
 layout(location = 0) in vec3 a_position;
@@ -37,12 +42,19 @@ uniform float u_scale;     // 2^exposure
 uniform int u_display;     // 0 radiance, 1 luminance, 2 illuminance
 uniform float u_max;       // false-colour maximum
 uniform bool u_log;        // false-colour log scale
+uniform bool u_linear;     // write linear radiance and Y(H) for linear.js
 out vec4 outColour;
 ${FALSE_COLOUR_GLSL}
 float srgb(float v) {
   return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
 }
 void main() {
+  if (u_linear) {
+    outColour = gl_FrontFacing
+      ? vec4(v_radiance, v_illuminance / ${EFFICACY.toFixed(1)})
+      : vec4(0.0);
+    return;
+  }
   if (!gl_FrontFacing) {
     outColour = vec4(0.0, 0.0, 0.0, 1.0);
     return;
@@ -187,8 +199,15 @@ export function createRenderer(canvas) {
     display: uniform('u_display'),
     max: uniform('u_max'),
     log: uniform('u_log'),
+    linear: uniform('u_linear'),
     bandColours: uniform('u_bandColours[0]') || uniform('u_bandColours'),
   };
+  let linear = null;
+  try {
+    linear = createLinearTarget(gl);
+  } catch (error) {
+    console.warn('drawing without the linear target:', error);
+  }
   const vao = gl.createVertexArray();
   const buffers = {
     position: gl.createBuffer(),
@@ -258,11 +277,13 @@ export function createRenderer(canvas) {
         canvas.width = width;
         canvas.height = height;
       }
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
       gl.viewport(0, 0, width, height);
       gl.clearColor(0, 0, 0, 1);
       gl.clearDepth(1);
       gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
       if (!camera || indexCount === 0) return null;
+      const inLinear = linear !== null && linear.begin(width, height);
       const matrix = viewProjection(camera, centre, diagonal, width / height);
       gl.enable(gl.DEPTH_TEST);
       gl.depthFunc(gl.LESS);
@@ -274,9 +295,11 @@ export function createRenderer(canvas) {
       gl.uniform1i(loc.display, DISPLAY[view.display] ?? 0);
       gl.uniform1f(loc.max, view.max > 0 && Number.isFinite(view.max) ? view.max : 1);
       gl.uniform1i(loc.log, view.log ? 1 : 0);
+      gl.uniform1i(loc.linear, inLinear ? 1 : 0);
       gl.bindVertexArray(vao);
       gl.drawElements(gl.TRIANGLES, indexCount, gl.UNSIGNED_INT, 0);
       gl.bindVertexArray(null);
+      if (inLinear) linear.finish(view, DISPLAY[view.display] ?? 0);
       return matrix;
     },
   };

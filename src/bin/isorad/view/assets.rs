@@ -36,6 +36,7 @@ pub const ASSETS: &[Asset] = &[
     asset!("/js/falsecolor.js", "js/falsecolor.js", JS),
     asset!("/js/connection.js", "js/connection.js", JS),
     asset!("/js/picking.js", "js/picking.js", JS),
+    asset!("/js/linear.js", "js/linear.js", JS),
     asset!("/js/ui.js", "js/ui.js", JS),
 ];
 
