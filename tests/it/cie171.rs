@@ -445,9 +445,13 @@ fn a_work_plane_grid_lists_the_exact_illuminance_and_draws_it() {
         );
         let csv = std::fs::read_to_string(dir.path().join("grid.csv")).unwrap();
         let mut lines = csv.lines().skip_while(|l| l.starts_with('#'));
-        assert_eq!(lines.next(), Some("x,y,z,illuminance_lux"));
+        assert_eq!(lines.next(), Some("x,y,z,illuminance_lux,status"));
         let rows: Vec<Vec<f64>> = lines
-            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .map(|l| {
+                let (values, status) = l.rsplit_once(',').unwrap();
+                assert_eq!(status, "kept");
+                values.split(',').map(|v| v.parse().unwrap()).collect()
+            })
             .collect();
         // A 4 m room: EN 12464-1's p = 0.2 · 5^log10(4) ≈ 0.53 m, so 8 × 8 points.
         assert_eq!(rows.len(), 64);
@@ -616,9 +620,13 @@ fn work_plane_points_inside_furniture_are_left_out() {
         inside += usize::from(in_cabinet);
     }
     assert_eq!(inside, 4);
+    let rule = isorad::calculation::ObstructionRule::default();
+    let selection = grid
+        .select(solution.scene, solution.visibility, &rule)
+        .unwrap();
     assert!(
-        grid.header_lines(&lux)
-            .contains(&"inside_objects = 4 (left out)".to_owned())
+        grid.header_lines(&lux, &selection)
+            .contains(&"left_out_inside_object = 4".to_owned())
     );
     assert_eq!(IlluminanceStatistics::of(&lux).unwrap().points, 60);
     // On the floor itself, the points under the cabinet are left out too.
