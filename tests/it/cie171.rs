@@ -490,7 +490,7 @@ fn a_work_plane_grid_lists_the_exact_illuminance_and_draws_it() {
 #[test]
 fn a_grid_on_an_unknown_surface_or_with_a_bad_spacing_is_refused_before_solving() {
     let dir = room_folder(0.0, Some("asymmetric.ies"), "");
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 6] = [
         (
             &["--surface", "flor"],
             "--surface: no surface is named `flor`; the scene has ceiling, floor",
@@ -506,6 +506,10 @@ fn a_grid_on_an_unknown_surface_or_with_a_bad_spacing_is_refused_before_solving(
         (
             &["--surface", "floor", "--clearance", "-1"],
             "--clearance: -1 must be ≥ 0",
+        ),
+        (
+            &["--surface", "floor", "--height", "0.8", "--clearance", "10"],
+            "all 64 grid points on `floor` lie inside objects or within --clearance 10",
         ),
         (
             &["--surface", "floor", "--isolux", "plot.jpg"],

@@ -82,6 +82,15 @@ pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
                 }
                 other => other.into(),
             })?;
+    let inside = grid.points.iter().flatten().count();
+    let obstructed = selection.obstructions.iter().flatten().count();
+    anyhow::ensure!(
+        inside == 0 || obstructed < inside || args.keep_obstructed_points,
+        "all {inside} grid points on `{}` lie inside objects or within \
+         --clearance {} of another surface; --keep-obstructed-points counts them",
+        args.surface,
+        args.clearance
+    );
     solve_to_tolerance(&mut solver, args.solve.quiet)?;
     // The ambient term of the closed rooms the grid lies in alone.
     let places = grid.reading_places(solver.scene(), &selection);
