@@ -7,7 +7,9 @@
 //! on the surface is read by the solution's gather probe; a point of a
 //! raised work plane lies in free space, where the gather is evaluated on a
 //! small horizontal receiver ([`Solution::irradiance_in_space`]), not
-//! interpolated on a mesh.
+//! interpolated on a mesh. Points inside an object or closer than a
+//! clearance to another surface are left out of the statistics unless
+//! kept (the `grid_obstruction` module's rule).
 
 use std::io::Write;
 use std::path::Path;
@@ -15,6 +17,7 @@ use std::path::Path;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+use super::grid_obstruction::{GridSelection, ObstructionRule, obstruction_at};
 use super::grid_picture::GridPicture;
 use crate::error::Result;
 use crate::fs::{io_error, write_atomically};
@@ -109,26 +112,76 @@ pub fn illuminance_lux(irradiance: Rgb) -> f64 {
 }
 
 impl CalculationGrid {
-    /// The illuminance at every point, lx, row-major; NaN outside the
-    /// outline. On the surface (height 0) each point is a gather probe of
-    /// the surface under it; above it, a gather in free space facing the
-    /// surface's normal. A point inside an object is NaN (a work plane
-    /// through a bookcase, or a floor point under a cabinet standing on it:
-    /// five rays from it, up and sideways, all meet a surface's back), as
-    /// it is no place to read light; so is a point outside the rooms whose
-    /// ambient term `solution` was made for (give it the grid's
+    /// The grid's points sorted by `rule` (see [`ObstructionRule`]): which
+    /// are inside an object or near a surface, and whether those count.
+    /// Points are tested in parallel.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSetting`](crate::Error::InvalidSetting) naming
+    /// `clearance` when the rule's clearance is negative or not finite.
+    pub fn select(
+        &self,
+        scene: &Scene,
+        visibility: &Visibility,
+        rule: &ObstructionRule,
+    ) -> Result<GridSelection> {
+        rule.validate()?;
+        let on_surface = self.height <= 0.0;
+        let obstructions = self
+            .points
+            .par_iter()
+            .map(|point| {
+                let (position, _) = (*point)?;
+                obstruction_at(
+                    scene,
+                    visibility,
+                    position,
+                    &self.frame,
+                    on_surface,
+                    rule.clearance,
+                )
+            })
+            .collect();
+        Ok(GridSelection {
+            obstructions,
+            rule: *rule,
+        })
+    }
+
+    /// The illuminance at every point, lx, row-major, under the default
+    /// [`ObstructionRule`]: NaN outside the outline, and at points inside
+    /// an object or within 1 cm of another surface.
+    /// [`CalculationGrid::illuminance_of`] with
+    /// [`CalculationGrid::select`]'s default selection.
+    #[must_use]
+    pub fn illuminance(&self, solution: &Solution<'_>) -> Vec<f64> {
+        let rule = ObstructionRule::default();
+        match self.select(solution.scene, solution.visibility, &rule) {
+            Ok(selection) => self.illuminance_of(solution, &selection),
+            // The default rule is valid.
+            Err(_) => vec![f64::NAN; self.points.len()],
+        }
+    }
+
+    /// The illuminance at the points `selection` counts, lx, row-major;
+    /// NaN outside the outline and at the points it leaves out. On the
+    /// surface (height 0) each point is a gather probe of the surface
+    /// under it; above it, a gather in free space facing the surface's
+    /// normal. A point outside the rooms whose ambient term `solution` was
+    /// made for is NaN too (give it the grid's
     /// [`CalculationGrid::reading_places`], or the whole term). Points are
     /// evaluated in parallel.
     #[must_use]
-    pub fn illuminance(&self, solution: &Solution<'_>) -> Vec<f64> {
+    pub fn illuminance_of(&self, solution: &Solution<'_>, selection: &GridSelection) -> Vec<f64> {
         let normal = self.frame.normal;
         self.points
             .par_iter()
-            .map(|point| {
+            .enumerate()
+            .map(|(index, point)| {
                 let Some((position, _)) = *point else {
                     return f64::NAN;
                 };
-                if self.is_inside_an_object(position, solution.scene, solution.visibility) {
+                if !selection.counts(index) {
                     return f64::NAN;
                 }
                 let irradiance = if self.height > 0.0 {
@@ -148,33 +201,44 @@ impl CalculationGrid {
             .collect()
     }
 
-    /// Writes the grid's points inside the outline with their illuminance
-    /// `lux` (from [`CalculationGrid::illuminance`]) as CSV, columns
-    /// `x,y,z,illuminance_lux`, after `#` lines that say what the grid is
-    /// and give Emin, Eavg, Emax, U₀ = Emin/Eavg and Emin/Emax, one per line
-    /// as `# name = value`. The file is written atomically.
+    /// Writes the grid's points inside the outline as CSV, columns
+    /// `x,y,z,illuminance_lux,status`, after `#` lines that say what the
+    /// grid is, which points were left out and why, and give Emin, Eavg,
+    /// Emax, U₀ = Emin/Eavg and Emin/Emax, one per line as
+    /// `# name = value` ([`CalculationGrid::header_lines`]). `lux` comes
+    /// from [`CalculationGrid::illuminance_of`] with the same `selection`;
+    /// a point left out has an empty illuminance and its reason as status
+    /// ([`GridSelection::status`]). The file is written atomically.
     ///
     /// # Errors
     /// [`Error::Io`](crate::Error::Io) when the file cannot be written.
-    pub fn write_csv(&self, path: &Path, lux: &[f64]) -> Result<()> {
+    pub fn write_csv(&self, path: &Path, lux: &[f64], selection: &GridSelection) -> Result<()> {
         write_atomically(path, |out| {
             let io = |error| io_error(path, error);
-            for line in self.header_lines(lux) {
+            for line in self.header_lines(lux, selection) {
                 writeln!(out, "# {line}").map_err(io)?;
             }
-            writeln!(out, "x,y,z,illuminance_lux").map_err(io)?;
-            for (point, &e) in self.points.iter().zip(lux) {
-                if let (Some((p, _)), true) = (point, e.is_finite()) {
-                    writeln!(out, "{},{},{},{e}", p.x, p.y, p.z).map_err(io)?;
-                }
+            writeln!(out, "x,y,z,illuminance_lux,status").map_err(io)?;
+            for (index, (point, &e)) in self.points.iter().zip(lux).enumerate() {
+                let Some((p, _)) = point else { continue };
+                let status = selection.status(index, e.is_finite());
+                let value = if e.is_finite() {
+                    e.to_string()
+                } else {
+                    String::new()
+                };
+                writeln!(out, "{},{},{},{value},{status}", p.x, p.y, p.z).map_err(io)?;
             }
             Ok(())
         })
     }
 
     /// What the grid is and its statistics, as `name = value` lines.
+    /// Besides the grid, the clearance and the points left out (or kept)
+    /// for each reason ([`GridSelection::summary_lines`]), and `unread` when
+    /// counted points could not be read.
     #[must_use]
-    pub fn header_lines(&self, lux: &[f64]) -> Vec<String> {
+    pub fn header_lines(&self, lux: &[f64], selection: &GridSelection) -> Vec<String> {
         let n = self.frame.normal;
         let mut lines = vec![
             format!("surface = {}", self.name),
@@ -185,14 +249,12 @@ impl CalculationGrid {
                 self.columns, self.rows, self.spacing.x, self.spacing.y
             ),
         ];
-        let inside = self
-            .points
-            .iter()
-            .zip(lux)
-            .filter(|(p, e)| p.is_some() && e.is_nan())
+        lines.extend(selection.summary_lines());
+        let unread = (self.points.iter().zip(lux).enumerate())
+            .filter(|(k, (p, e))| p.is_some() && e.is_nan() && selection.counts(*k))
             .count();
-        if inside > 0 {
-            lines.push(format!("inside_objects = {inside} (left out)"));
+        if unread > 0 {
+            lines.push(format!("unread = {unread}"));
         }
         match IlluminanceStatistics::of(lux) {
             Some(stats) => lines.extend([
@@ -286,15 +348,16 @@ impl CalculationGrid {
     /// [`crate::Ambient::For`]: on the surface (height
     /// 0), the front of the surface each point's probe lies on
     /// ([`ReadingPlace::of_probe`], as [`Solution::probe`] finds it);
-    /// above it, each point in space. Points inside an object, which read
-    /// nothing ([`CalculationGrid::illuminance`]), are left out.
+    /// above it, each point in space. Points `selection` leaves out, which
+    /// read nothing ([`CalculationGrid::illuminance_of`]), are left out.
     #[must_use]
-    pub fn reading_places(&self, scene: &Scene, visibility: &Visibility) -> Vec<ReadingPlace> {
+    pub fn reading_places(&self, scene: &Scene, selection: &GridSelection) -> Vec<ReadingPlace> {
         self.points
             .par_iter()
-            .filter_map(|point| {
+            .enumerate()
+            .filter_map(|(index, point)| {
                 let (position, _) = (*point)?;
-                if self.is_inside_an_object(position, scene, visibility) {
+                if !selection.counts(index) {
                     return None;
                 }
                 if self.height > 0.0 {
@@ -315,57 +378,12 @@ impl CalculationGrid {
         }
     }
 
-    /// Whether grid point `position` lies inside an object
-    /// ([`inside_an_object`]); on the surface itself (height 0), the test
-    /// runs a hair above it: a point under a cabinet standing there is
-    /// inside the cabinet.
-    fn is_inside_an_object(&self, position: DVec3, scene: &Scene, visibility: &Visibility) -> bool {
-        let lift = if self.height > 0.0 {
-            0.0
-        } else {
-            10.0 * visibility.surface_offset()
-        };
-        let lifted = position + self.frame.normal * lift;
-        inside_an_object(scene, visibility, lifted, &self.frame)
-    }
-
     /// Plane coordinates of point `index` (row-major).
     #[must_use]
     pub fn plane_point(&self, index: usize) -> DVec2 {
         let (column, row) = (index % self.columns, index / self.columns);
         self.origin + DVec2::new(column as f64, row as f64) * self.spacing
     }
-}
-
-/// Whether `x`, a point of the work plane `frame`, lies inside a closed
-/// object: each of five rays from it, along the plane's normal and along
-/// ±u and ±v in the plane (each tilted by about 1°), first meets a surface
-/// from behind (surfaces are
-/// one-sided, facing out of the solids they bound). The ray down to the
-/// surface under the plane is not cast: an object's base lies on that
-/// surface, where the two tie. A point under a table top sees the top's
-/// back above it but the room's walls sideways, so it is not inside; a
-/// point in open air whose rays escape is not either.
-fn inside_an_object(scene: &Scene, visibility: &Visibility, x: DVec3, frame: &PlaneFrame) -> bool {
-    let reach = 2.0 * scene.diagonal();
-    let (n, u, v) = (frame.normal, frame.u, frame.v);
-    // Each ray leans a little off its axis, so that a grid point over a
-    // quad's diagonal (where a symmetric grid often falls) does not send it
-    // along the crack between the quad's two triangles.
-    [
-        n + u * 0.0131 + v * 0.0173,
-        u + v * 0.0137 + n * 0.0119,
-        -u - v * 0.0151 + n * 0.0113,
-        v - u * 0.0127 + n * 0.0109,
-        -v + u * 0.0157 + n * 0.0103,
-    ]
-    .into_iter()
-    .map(DVec3::normalize)
-    .all(|direction| {
-        visibility
-            .closest_hit(x, direction, reach, SurfaceId::NONE)
-            .is_some_and(|(surface, _)| scene.surface(surface).normal().dot(direction) > 0.0)
-    })
 }
 
 #[cfg(test)]

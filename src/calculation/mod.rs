@@ -6,6 +6,10 @@
 //!   ([`en12464_spacing`], at most [`MAX_GRID_POINTS`]), their illuminance
 //!   from a solution ([`illuminance_lux`]) and its statistics
 //!   ([`IlluminanceStatistics`]: Emin, Eavg, Emax, U₀).
+//! - [`ObstructionRule`], [`GridSelection`], [`Obstruction`]: which grid
+//!   points lie inside an object or closer than a clearance
+//!   ([`DEFAULT_CLEARANCE`]) to another surface, left out of the
+//!   statistics unless kept.
 //! - [`GridPicture`]: a calculation grid on a plane ready to be drawn, its
 //!   illuminance, the surface's outline and the luminaires, in metres.
 //! - [`write_isolux_plot`]: its lines of equal illuminance, labelled, on
@@ -26,6 +30,7 @@ mod falsecolor;
 mod falsecolor_scale;
 mod grid;
 mod grid_layout;
+mod grid_obstruction;
 mod grid_picture;
 mod isolux;
 mod isolux_lines;
@@ -36,6 +41,7 @@ pub use falsecolor::{write_falsecolor_grid, write_falsecolor_image};
 pub use falsecolor_scale::{FalseColorScale, LOG_DECADES};
 pub use grid::{CalculationGrid, IlluminanceStatistics, illuminance_lux};
 pub use grid_layout::{MAX_GRID_POINTS, en12464_spacing};
+pub use grid_obstruction::{DEFAULT_CLEARANCE, GridSelection, Obstruction, ObstructionRule};
 pub use grid_picture::GridPicture;
 pub use isolux::write_isolux_plot;
 pub use levels::{format_lux, nice_ceiling, nice_levels};

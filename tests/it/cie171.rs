@@ -445,9 +445,13 @@ fn a_work_plane_grid_lists_the_exact_illuminance_and_draws_it() {
         );
         let csv = std::fs::read_to_string(dir.path().join("grid.csv")).unwrap();
         let mut lines = csv.lines().skip_while(|l| l.starts_with('#'));
-        assert_eq!(lines.next(), Some("x,y,z,illuminance_lux"));
+        assert_eq!(lines.next(), Some("x,y,z,illuminance_lux,status"));
         let rows: Vec<Vec<f64>> = lines
-            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .map(|l| {
+                let (values, status) = l.rsplit_once(',').unwrap();
+                assert_eq!(status, "kept");
+                values.split(',').map(|v| v.parse().unwrap()).collect()
+            })
             .collect();
         // A 4 m room: EN 12464-1's p = 0.2 · 5^log10(4) ≈ 0.53 m, so 8 × 8 points.
         assert_eq!(rows.len(), 64);
@@ -486,7 +490,7 @@ fn a_work_plane_grid_lists_the_exact_illuminance_and_draws_it() {
 #[test]
 fn a_grid_on_an_unknown_surface_or_with_a_bad_spacing_is_refused_before_solving() {
     let dir = room_folder(0.0, Some("asymmetric.ies"), "");
-    let cases: [(&[&str], &str); 4] = [
+    let cases: [(&[&str], &str); 6] = [
         (
             &["--surface", "flor"],
             "--surface: no surface is named `flor`; the scene has ceiling, floor",
@@ -498,6 +502,14 @@ fn a_grid_on_an_unknown_surface_or_with_a_bad_spacing_is_refused_before_solving(
         (
             &["--surface", "floor", "--height", "-1"],
             "--height: -1 must be ≥ 0",
+        ),
+        (
+            &["--surface", "floor", "--clearance", "-1"],
+            "--clearance: -1 must be ≥ 0",
+        ),
+        (
+            &["--surface", "floor", "--height", "0.8", "--clearance", "10"],
+            "all 64 grid points on `floor` lie inside objects or within --clearance 10",
         ),
         (
             &["--surface", "floor", "--isolux", "plot.jpg"],
@@ -616,9 +628,13 @@ fn work_plane_points_inside_furniture_are_left_out() {
         inside += usize::from(in_cabinet);
     }
     assert_eq!(inside, 4);
+    let rule = isorad::calculation::ObstructionRule::default();
+    let selection = grid
+        .select(solution.scene, solution.visibility, &rule)
+        .unwrap();
     assert!(
-        grid.header_lines(&lux)
-            .contains(&"inside_objects = 4 (left out)".to_owned())
+        grid.header_lines(&lux, &selection)
+            .contains(&"left_out_inside_object = 4".to_owned())
     );
     assert_eq!(IlluminanceStatistics::of(&lux).unwrap().points, 60);
     // On the floor itself, the points under the cabinet are left out too.

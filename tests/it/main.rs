@@ -19,6 +19,7 @@ mod dominance;
 mod export;
 mod fuzz_regressions;
 mod golden;
+mod grid_points;
 mod level_lines;
 mod long_runs;
 mod luminaires;

@@ -1496,7 +1496,9 @@ fn readings_in_closed_rooms_make_the_ambient_term_of_those_rooms_alone() {
     // Grids on room 0's floor and work plane read only room 0.
     for height in [0.0, 0.8] {
         let grid = CalculationGrid::on_surface(scene, "floor_0", height, Some(0.5)).unwrap();
-        let places = grid.reading_places(scene, solver.visibility());
+        let rule = isorad::calculation::ObstructionRule::default();
+        let selection = grid.select(scene, solver.visibility(), &rule).unwrap();
+        let places = grid.reading_places(scene, &selection);
         let inside = grid.points.iter().flatten().count();
         assert!(
             (inside / 2..=inside).contains(&places.len()),

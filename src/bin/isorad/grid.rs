@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use isorad::calculation::{
-    CalculationGrid, FalseColorScale, IlluminanceStatistics, write_falsecolor_grid,
-    write_isolux_plot,
+    CalculationGrid, DEFAULT_CLEARANCE, FalseColorScale, IlluminanceStatistics, ObstructionRule,
+    write_falsecolor_grid, write_isolux_plot,
 };
 
 use crate::args::{Prepared, SolveArgs, ensure_directory_exists, prepare};
@@ -32,7 +32,21 @@ pub struct GridArgs {
     /// p = 0.2 · 5^log10(d), d the longer side in metres].
     #[arg(long, value_name = "S", allow_hyphen_values = true)]
     spacing: Option<f64>,
-    /// The CSV to write: x,y,z,illuminance_lux, statistics in `#` lines.
+    /// Points closer than D to another surface (a contact shadow) are
+    /// left out of the statistics, as are points inside objects; 0: only
+    /// those inside.
+    #[arg(
+        long,
+        default_value_t = DEFAULT_CLEARANCE,
+        value_name = "D",
+        allow_hyphen_values = true
+    )]
+    clearance: f64,
+    /// Read and count the points inside objects or near a surface too.
+    #[arg(long)]
+    keep_obstructed_points: bool,
+    /// The CSV to write: x,y,z,illuminance_lux,status, statistics in `#`
+    /// lines.
     #[arg(long, value_name = "FILE")]
     csv: PathBuf,
     /// Also draw labelled iso-lux lines over the outline, luminaires
@@ -52,9 +66,18 @@ pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
         started,
         ..
     } = prepare(&args.solve)?;
-    // The grid is checked before solving, so that a wrong name costs no solve.
-    let grid =
+    // The grid and its points' obstructions are found before solving, so
+    // that a wrong name costs no solve.
+    let rule = ObstructionRule {
+        clearance: args.clearance,
+        keep_obstructed: args.keep_obstructed_points,
+    };
+    let (grid, selection) =
         CalculationGrid::on_surface(solver.scene(), &args.surface, args.height, args.spacing)
+            .and_then(|grid| {
+                let selection = grid.select(solver.scene(), solver.visibility(), &rule)?;
+                Ok((grid, selection))
+            })
             .map_err(|error| match error {
                 // The library names the field; the user gave a flag.
                 isorad::Error::InvalidSetting { name, message } => {
@@ -62,14 +85,23 @@ pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
                 }
                 other => other.into(),
             })?;
+    let inside = grid.points.iter().flatten().count();
+    let obstructed = selection.obstructions.iter().flatten().count();
+    anyhow::ensure!(
+        inside == 0 || obstructed < inside || args.keep_obstructed_points,
+        "all {inside} grid points on `{}` lie inside objects or within \
+         --clearance {} of another surface; --keep-obstructed-points counts them",
+        args.surface,
+        args.clearance
+    );
     let until = args.solve.until(started);
     solve_to_tolerance(&mut solver, &until, args.solve.quiet)?;
     // The ambient term of the closed rooms the grid lies in alone.
-    let places = grid.reading_places(solver.scene(), solver.visibility());
+    let places = grid.reading_places(solver.scene(), &selection);
     let solution = phases.solution_for(&solver, &places);
-    let lux = grid.illuminance(&solution);
-    grid.write_csv(&args.csv, &lux)?;
-    for line in grid.header_lines(&lux) {
+    let lux = grid.illuminance_of(&solution, &selection);
+    grid.write_csv(&args.csv, &lux, &selection)?;
+    for line in grid.header_lines(&lux, &selection) {
         println!("{line}");
     }
     if IlluminanceStatistics::of(&lux).is_none() {
