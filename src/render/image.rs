@@ -1,5 +1,6 @@
 //! A linear-radiance image: what the rasterizer produces and the writers store.
 
+use crate::photometry::LUMENS_PER_WATT;
 use crate::rgb::Rgb;
 
 /// A rectangular image of linear radiance, W/(m²·sr), one RGB triple per pixel.
@@ -80,6 +81,20 @@ impl Image {
     #[must_use]
     pub fn pixels(&self) -> &[[f32; 3]] {
         &self.pixels
+    }
+
+    /// Each pixel's photometric value, 179 lm/W × its Rec. 709 luminance
+    /// Y: cd/m² in an image of radiance, lx in one of irradiance. What a
+    /// false-colour scale is fitted to.
+    #[must_use]
+    pub fn photometric_values(&self) -> Vec<f64> {
+        self.pixels
+            .iter()
+            .map(|&[r, g, b]| {
+                let rgb = Rgb::new(f64::from(r), f64::from(g), f64::from(b));
+                rgb.luminance() * LUMENS_PER_WATT
+            })
+            .collect()
     }
 
     /// Mean radiance per channel over all pixels, (1/N) Σ L_p; zero for an

@@ -3,7 +3,7 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-fn isorad(dir: &Path, args: &[&str]) -> Output {
+pub fn isorad(dir: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_isorad"))
         .current_dir(dir)
         .args(args)
@@ -11,7 +11,7 @@ fn isorad(dir: &Path, args: &[&str]) -> Output {
         .expect("the isorad binary runs")
 }
 
-fn stderr(output: &Output) -> String {
+pub fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
 

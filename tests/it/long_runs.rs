@@ -2,20 +2,7 @@
 //! a file or a pipe (as here), progress from `isorad info`, and
 //! `--time-limit`, which stops the solve and still writes the outputs.
 
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn isorad(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_isorad"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("the isorad binary runs")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
+use super::cli::{isorad, stderr};
 
 #[test]
 fn phases_show_as_lines_when_stderr_is_not_a_terminal() {

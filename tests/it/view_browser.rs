@@ -17,6 +17,8 @@ use std::time::{Duration, Instant};
 use serde_json::{Value, json};
 use tungstenite::{Message, WebSocket, stream::MaybeTlsStream};
 
+use super::view_server::Viewer;
+
 /// The largest mean per-pixel luminance difference, relative to the mean
 /// luminance, between the page and `isorad render`'s PNG: the 3 %.
 const IMAGE_TOLERANCE: f64 = 0.03;
@@ -232,25 +234,10 @@ fn the_page_draws_the_render_and_reads_a_click() {
         .status()
         .expect("isorad render");
     assert!(rendered.success());
-    let mut viewer = Command::new(isorad)
-        .arg("view")
-        .args(scene)
-        .args(["--quiet", "--port", "0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("isorad view");
-    let mut line = String::new();
-    BufReader::new(viewer.stdout.take().expect("stdout"))
-        .read_line(&mut line)
-        .expect("the address");
-    let _viewer = Killed(viewer);
-    let url = line
-        .split_whitespace()
-        .find(|w| w.starts_with("http://"))
-        .expect("a URL");
+    let viewer = Viewer::start(&scene);
+    let url = format!("http://{}/", viewer.address);
     let (_browser, address) = start_chromium(binary, &dir.path().join("profile"));
-    let mut page = open_page(&address, url);
+    let mut page = open_page(&address, &url);
     page.wait_for(
         "window.isorad !== undefined && window.isorad.settled === true",
         Duration::from_secs(180),
@@ -318,9 +305,8 @@ fn the_page_draws_the_render_and_reads_a_click() {
         .iter()
         .map(|k| format!("{k}={}", request[k]))
         .collect();
-    let probe_url = format!("{url}probe?{}", query.join("&"));
-    let host = url.trim_start_matches("http://").trim_end_matches('/');
-    let answer = http_get(host, &probe_url[url.len() - 1..]);
+    let answer = viewer.get(&format!("/probe?{}", query.join("&")));
+    let answer = answer.split("\r\n\r\n").nth(1).unwrap_or("").to_owned();
     let expected: Value = serde_json::from_str(&answer).expect("probe JSON");
     let lux = shown["lux"].as_f64().expect("lux shown");
     let expected_lux = expected["illuminance_lx"].as_f64().expect("lux");
@@ -328,14 +314,4 @@ fn the_page_draws_the_render_and_reads_a_click() {
         lux > 0.0 && (lux - expected_lux).abs() <= 1e-6 * expected_lux,
         "{lux} against {expected_lux}"
     );
-}
-
-/// The body of a GET to the viewer.
-fn http_get(host: &str, path: &str) -> String {
-    use std::io::{Read, Write};
-    let mut stream = TcpStream::connect(host).expect("connect");
-    write!(stream, "GET {path} HTTP/1.1\r\nHost: {host}\r\n\r\n").expect("request");
-    let mut answer = String::new();
-    stream.read_to_string(&mut answer).expect("answer");
-    answer.split("\r\n\r\n").nth(1).unwrap_or("").to_owned()
 }

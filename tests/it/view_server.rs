@@ -11,13 +11,13 @@ use std::time::{Duration, Instant};
 use tungstenite::Message;
 
 /// A running `isorad view` on a free port; killed when dropped.
-struct Viewer {
-    child: Child,
-    address: String,
+pub struct Viewer {
+    pub child: Child,
+    pub address: String,
 }
 
 impl Viewer {
-    fn start(args: &[&str]) -> Viewer {
+    pub fn start(args: &[&str]) -> Viewer {
         let mut child = Command::new(env!("CARGO_BIN_EXE_isorad"))
             .arg("view")
             .args(args)
@@ -61,7 +61,7 @@ impl Viewer {
         self.raw(head.as_bytes())
     }
 
-    fn get(&self, path: &str) -> String {
+    pub fn get(&self, path: &str) -> String {
         self.request("GET", path)
     }
 

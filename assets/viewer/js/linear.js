@@ -50,7 +50,7 @@ void main() {
 `;
 
 /** Compiles and links a program; throws with the driver's log. */
-function program(gl, vertex, fragment) {
+export function linkProgram(gl, vertex, fragment) {
   const p = gl.createProgram();
   for (const [type, source] of [[gl.VERTEX_SHADER, vertex], [gl.FRAGMENT_SHADER, fragment]]) {
     const shader = gl.createShader(type);
@@ -76,7 +76,7 @@ function program(gl, vertex, fragment) {
 export function createLinearTarget(gl) {
   if (!gl.getExtension('EXT_color_buffer_float')) return null;
   const samples = Math.min(8, gl.getParameter(gl.MAX_SAMPLES) || 1);
-  const screen = program(gl, SCREEN_VERTEX, SCREEN_FRAGMENT);
+  const screen = linkProgram(gl, SCREEN_VERTEX, SCREEN_FRAGMENT);
   const uniform = (name) => gl.getUniformLocation(screen, name);
   const loc = {
     image: uniform('u_image'),

@@ -17,7 +17,7 @@
 
 import { FALSE_COLOUR_GLSL, bandColoursUniform, EFFICACY } from './falsecolor.js';
 import { sub, dot, length, cameraFrame } from './picking.js';
-import { createLinearTarget } from './linear.js';
+import { createLinearTarget, linkProgram } from './linear.js';
 
 const VERTEX_SHADER = `#version 300 es
 layout(location = 0) in vec3 a_position;
@@ -75,29 +75,6 @@ void main() {
 
 /** Display modes, as the shader's u_display. */
 export const DISPLAY = { radiance: 0, luminance: 1, illuminance: 2 };
-
-/** Compiles one shader; throws with the driver's log on failure. */
-function compile(gl, type, source) {
-  const shader = gl.createShader(type);
-  gl.shaderSource(shader, source);
-  gl.compileShader(shader);
-  if (!gl.getShaderParameter(shader, gl.COMPILE_STATUS)) {
-    throw new Error('shader: ' + gl.getShaderInfoLog(shader));
-  }
-  return shader;
-}
-
-/** Links the viewer's program. */
-function link(gl) {
-  const program = gl.createProgram();
-  gl.attachShader(program, compile(gl, gl.VERTEX_SHADER, VERTEX_SHADER));
-  gl.attachShader(program, compile(gl, gl.FRAGMENT_SHADER, FRAGMENT_SHADER));
-  gl.linkProgram(program);
-  if (!gl.getProgramParameter(program, gl.LINK_STATUS)) {
-    throw new Error('program: ' + gl.getProgramInfoLog(program));
-  }
-  return program;
-}
 
 /**
  * The centre and diagonal of a bounds box {min, max}:
@@ -191,7 +168,7 @@ export function createRenderer(canvas) {
     depth: true,
   });
   if (!gl) throw new Error('WebGL2 is not available');
-  const program = link(gl);
+  const program = linkProgram(gl, VERTEX_SHADER, FRAGMENT_SHADER);
   const uniform = (name) => gl.getUniformLocation(program, name);
   const loc = {
     viewProjection: uniform('u_viewProjection'),

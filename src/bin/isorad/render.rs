@@ -181,14 +181,7 @@ fn write_false_colour(
             "illuminance",
         ),
     };
-    let values: Vec<f64> = image
-        .pixels()
-        .iter()
-        .map(|&[r, g, b]| {
-            let rgb = Rgb::new(f64::from(r), f64::from(g), f64::from(b));
-            rgb.luminance() * LUMENS_PER_WATT
-        })
-        .collect();
+    let values = image.photometric_values();
     let mut scale = FalseColorScale::fitted_to_quantile(&values, 0.99);
     if let Some(maximum) = args.falsecolor_max {
         scale.maximum = maximum;

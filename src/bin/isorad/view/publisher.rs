@@ -18,9 +18,8 @@
 use std::time::{Duration, Instant};
 
 use isorad::{
-    Camera, RenderSettings, Rgb, Scene, Solution, Solver,
+    Camera, RenderSettings, Scene, Solution, Solver,
     calculation::{FalseColorScale, illuminance_lux},
-    photometry::LUMENS_PER_WATT,
     render::{Image, auto_exposure},
 };
 use serde::Serialize;
@@ -285,13 +284,5 @@ fn preview_camera(camera: &Camera) -> Camera {
 /// times the luminance Y of each pixel (cd/m² of radiance, lx of
 /// irradiance), as `render --falsecolor` fits it.
 fn false_colour_top(image: &Image) -> f64 {
-    let values: Vec<f64> = image
-        .pixels()
-        .iter()
-        .map(|&[r, g, b]| {
-            let rgb = Rgb::new(f64::from(r), f64::from(g), f64::from(b));
-            rgb.luminance() * LUMENS_PER_WATT
-        })
-        .collect();
-    FalseColorScale::fitted_to_quantile(&values, FALSE_COLOUR_QUANTILE).maximum
+    FalseColorScale::fitted_to_quantile(&image.photometric_values(), FALSE_COLOUR_QUANTILE).maximum
 }
