@@ -340,3 +340,14 @@ fn controls_stop_the_solve_and_ctrl_c_ends_with_130() {
         sent.elapsed()
     );
 }
+
+#[test]
+fn a_scene_that_cannot_be_loaded_ends_the_command_with_its_error() {
+    let output = Command::new(env!("CARGO_BIN_EXE_isorad"))
+        .args(["view", "no/such/scene.toml", "--port", "0", "--quiet"])
+        .output()
+        .expect("isorad view runs");
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("no/such/scene.toml"), "{stderr}");
+}

@@ -32,6 +32,8 @@ const state = {
   /** lightSerial when the first "done" status arrived, and when. */
   doneSerial: null,
   doneTime: 0,
+  /** Whether the "loading" message is up. */
+  loadingShown: false,
   /** The probed point and its normal, for the marker. */
   probePoint: null,
   probeSerial: 0,
@@ -235,6 +237,17 @@ function onStatus(m) {
     hooks.settled = false;
   }
   ui.showStatus(m);
+  // Before the first mesh, and on failure, the view itself says why it is
+  // empty (the panel may be faded).
+  if (m.state === 'failed') {
+    ui.message(`the scene could not be solved: ${m.error ?? ''}`, 0);
+  } else if (m.state === 'loading' && !state.mesh) {
+    ui.message('loading and meshing the scene…', 0);
+    state.loadingShown = true;
+  } else if (state.loadingShown) {
+    ui.clearMessage();
+    state.loadingShown = false;
+  }
 }
 
 /** Dispatches one decoded message, then redraws. */

@@ -65,6 +65,10 @@ function progressText(s) {
   ];
   if (typeof s.triangles === 'number') parts.push(`${s.triangles} triangles`);
   if (s.stop_reason) parts.push(`(${s.stop_reason})`);
+  if (typeof s.ambient_progress === 'number') {
+    parts.push(`ambient term ${(100 * s.ambient_progress).toFixed(0)} %`);
+  }
+  if (s.error) parts.push(`error: ${s.error}`);
   return parts.join(' · ');
 }
 
@@ -216,6 +220,11 @@ export function createUi(handlers) {
         clearTimeout(el.message.timer);
         el.message.timer = setTimeout(() => (el.message.hidden = true), ms);
       }
+    },
+    /** Hides the message. */
+    clearMessage() {
+      clearTimeout(el.message.timer);
+      el.message.hidden = true;
     },
     /** Shows "probing…" at canvas point (x, y). */
     probePending(x, y) {

@@ -7,7 +7,8 @@
 //! The server (`server.rs`, `http.rs`, `socket.rs`) serves the page's
 //! embedded files (`assets.rs`, from `assets/viewer/`) and pushes the
 //! published state to every page over a WebSocket. Ctrl-C ends the command
-//! with status 130.
+//! with status 130; a scene that cannot be loaded or meshed
+//! ends it with its error, as in every command.
 
 mod assets;
 mod broadcast;
@@ -54,6 +55,7 @@ pub fn view(args: ViewArgs) -> anyhow::Result<()> {
     // A page that asks before the solve thread has begun sees it loading.
     broadcast.set_status(publisher::Status::loading().to_json());
     let solve = solve::start(args.solve, Arc::clone(&broadcast));
+    let watched = solve.clone();
     let context = Arc::new(Context {
         broadcast,
         solve,
@@ -75,6 +77,10 @@ pub fn view(args: ViewArgs) -> anyhow::Result<()> {
         );
     }
     while !INTERRUPTED.load(Ordering::Relaxed) {
+        // A scene that cannot be loaded or meshed ends the command.
+        if let Some(failure) = watched.failure() {
+            anyhow::bail!("{failure}");
+        }
         std::thread::sleep(Duration::from_millis(20));
     }
     Err(Interrupted("interrupted: the viewer stopped".into()).into())

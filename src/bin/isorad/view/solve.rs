@@ -9,9 +9,9 @@
 //! arriving, so a page waits at most one shot for an answer.
 
 use std::path::Path;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, Sender, channel};
+use std::sync::{Arc, OnceLock};
 use std::time::{Duration, Instant};
 
 use isorad::{
@@ -53,6 +53,8 @@ pub enum Control {
 pub struct SolveHandle {
     requests: Sender<Request>,
     interrupt: Arc<AtomicBool>,
+    /// Why the scene could not be loaded or meshed, once that is known.
+    failure: Arc<OnceLock<String>>,
 }
 
 impl SolveHandle {
@@ -63,17 +65,24 @@ impl SolveHandle {
         self.interrupt.store(true, Ordering::SeqCst);
         sent
     }
+
+    /// Why the scene could not be loaded or meshed, if it could not.
+    pub fn failure(&self) -> Option<&str> {
+        self.failure.get().map(String::as_str)
+    }
 }
 
 /// Starts the solve thread for `args`.
 pub fn start(args: SolveArgs, broadcast: Arc<Broadcast>) -> SolveHandle {
     let (requests, receiver) = channel();
     let interrupt = Arc::new(AtomicBool::new(false));
-    let flag = Arc::clone(&interrupt);
-    std::thread::spawn(move || run(&args, &broadcast, &receiver, &flag));
+    let failure = Arc::new(OnceLock::new());
+    let (flag, failed) = (Arc::clone(&interrupt), Arc::clone(&failure));
+    std::thread::spawn(move || run(&args, &broadcast, &receiver, &flag, &failed));
     SolveHandle {
         requests,
         interrupt,
+        failure,
     }
 }
 
@@ -83,6 +92,7 @@ fn run(
     broadcast: &Broadcast,
     requests: &Receiver<Request>,
     interrupt: &AtomicBool,
+    failure: &OnceLock<String>,
 ) {
     let Prepared {
         mut solver,
@@ -92,7 +102,7 @@ fn run(
     } = match prepare(args) {
         Ok(prepared) => prepared,
         Err(error) => {
-            eprintln!("error: {error:#}");
+            let _ = failure.set(format!("{error:#}"));
             let mut status = Status::loading();
             status.state = "failed";
             status.error = Some(format!("{error:#}"));
@@ -119,9 +129,15 @@ fn run(
     );
     publisher.status.stop_reason = Some(describe(reason));
     publisher.status("ambient", &solver);
+    // The pages see the ambient term's progress.
+    let ambient = publisher.status.clone();
     let solution = solver.solution(Ambient::Everywhere, &|progress| {
         phases.report(progress);
+        let mut status = ambient.clone();
+        status.ambient_progress = Some(progress.done as f64 / progress.total.max(1) as f64);
+        broadcast.set_status(status.to_json());
     });
+    publisher.status.ambient_progress = None;
     phases.finish();
     publisher.frames(&solver, &solution, true);
     publisher.status("done", &solver);
