@@ -20,6 +20,7 @@ mod export;
 mod fuzz_regressions;
 mod golden;
 mod level_lines;
+mod luminaire_files;
 mod luminaires;
 mod office;
 mod patch_shots;
