@@ -27,7 +27,7 @@ use glam::DVec3;
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::scene_file::line_at;
+use super::source::line_at;
 use crate::error::{Error, Result};
 use crate::photometry::{PreparedDistribution, read_photometric_file};
 use crate::rgb::Rgb;

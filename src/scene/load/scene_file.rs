@@ -63,7 +63,7 @@ use super::build::check_not_empty;
 use super::loaded::LoadedScene;
 use super::luminaire_tables::{LuminaireTables, LuminaireToml};
 use super::obj::load_obj_from;
-use super::source::{Disk, SourceFiles};
+use super::source::{Disk, SourceFiles, line_at};
 use crate::scene::{Camera, SceneOptions};
 
 #[derive(Deserialize)]
@@ -166,12 +166,6 @@ fn toml_message(text: &str, error: &toml::de::Error) -> String {
         Some(span) => format!("line {}: {what}", line_at(text, span.start)),
         None => what.to_owned(),
     }
-}
-
-/// The 1-based line of `text` holding byte `offset`.
-pub(crate) fn line_at(text: &str, offset: usize) -> usize {
-    let before = text.get(..offset.min(text.len())).unwrap_or(text);
-    before.matches('\n').count() + 1
 }
 
 /// The `[camera]` table, with defaults, checked by [`Camera::validate`].
