@@ -104,6 +104,25 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// A scene file's `[[luminaire]]` table holds a value isorad cannot
+    /// use, or names a photometric file that cannot be read or parsed
+    /// (whose own error, with its file and line, is then the message).
+    #[error("{path}:{line}: [[luminaire]] {index}: {key} = {value}: {message}")]
+    SceneLuminaire {
+        /// The scene file.
+        path: PathBuf,
+        /// 1-based line of the value in the scene file.
+        line: usize,
+        /// 1-based index of the table among the file's `[[luminaire]]`s.
+        index: usize,
+        /// The key at fault: `ies`, `position`, `aim`, `c0`, `multiplier`
+        /// or `color`.
+        key: String,
+        /// Its value as the file gives it.
+        value: String,
+        /// What is wrong.
+        message: String,
+    },
     /// A scene name is neither a file nor a built-in scene.
     #[error("`{name}` is neither a readable file nor a built-in scene (built-in: {builtins})")]
     UnknownScene {

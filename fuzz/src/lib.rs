@@ -307,38 +307,51 @@ pub fn check_mesh(name: &str, scene: &Scene, mesh: &Mesh) {
     }
 }
 
-/// The `photometry` target: `data` as the text of an IES LM-63 file and of
-/// an EULUMDAT file. Each parse ends in a distribution whose intensities
-/// are finite and non-negative everywhere, with C planes from 0° to 360°
-/// and a finite flux, or in an error naming a line of the text.
+/// The `photometry` target: `data` as an IES LM-63 file and as an
+/// EULUMDAT file ([`parse_ies_bytes`], [`parse_eulumdat_bytes`]).
 pub fn parse_photometry(data: &[u8]) {
-    let text: String = data.iter().map(|&b| char::from(b)).collect();
-    let lines = text.lines().count().max(1);
-    let results = [
-        isorad::photometry::parse_ies(&text).map(|f| f.distribution),
-        isorad::photometry::parse_eulumdat(&text).map(|f| f.distribution),
-    ];
-    for result in results {
-        match result {
-            Ok(distribution) => {
-                let c = distribution.c_angles();
-                assert_eq!(c.first(), Some(&0.0));
-                assert_eq!(c.last(), Some(&360.0));
-                assert!(c.windows(2).all(|w| w[0] < w[1]), "{c:?}");
-                for k in 0..=24 {
-                    for j in 0..=12 {
-                        let i = distribution.intensity(15.0 * k as f64, 15.0 * j as f64);
-                        assert!(i.is_finite() && i >= 0.0, "I = {i}");
-                    }
+    parse_ies_bytes(data);
+    parse_eulumdat_bytes(data);
+}
+
+/// The `photometry_ies` target: `data` as the bytes of an IES LM-63 file,
+/// decoded as files are (a byte-order mark dropped, UTF-8 or Latin-1).
+/// The parse ends in a distribution whose intensities are finite and
+/// non-negative everywhere, with C planes from 0° to 360° and a finite
+/// flux, or in an error naming a line of the text.
+pub fn parse_ies_bytes(data: &[u8]) {
+    check_photometric(data, isorad::photometry::PhotometricFormat::Ies);
+}
+
+/// The `photometry_eulumdat` target: [`parse_ies_bytes`] for EULUMDAT.
+pub fn parse_eulumdat_bytes(data: &[u8]) {
+    check_photometric(data, isorad::photometry::PhotometricFormat::Eulumdat);
+}
+
+/// Parses `data` in `format` and checks what comes back (see
+/// [`parse_ies_bytes`]).
+fn check_photometric(data: &[u8], format: isorad::photometry::PhotometricFormat) {
+    let lines = isorad::photometry::decode_text(data).lines().count().max(1);
+    match isorad::photometry::parse_photometric_bytes(data, format) {
+        Ok(file) => {
+            let distribution = file.distribution();
+            let c = distribution.c_angles();
+            assert_eq!(c.first(), Some(&0.0));
+            assert_eq!(c.last(), Some(&360.0));
+            assert!(c.windows(2).all(|w| w[0] < w[1]), "{c:?}");
+            for k in 0..=24 {
+                for j in 0..=12 {
+                    let i = distribution.intensity(15.0 * k as f64, 15.0 * j as f64);
+                    assert!(i.is_finite() && i >= 0.0, "I = {i}");
                 }
-                assert!(distribution.flux(1).is_finite());
             }
-            Err(problem) => {
-                if let Some(line) = problem.line {
-                    assert!((1..=lines).contains(&line), "line {line} of {lines}");
-                }
-                assert!(!problem.message.is_empty());
+            assert!(distribution.flux(1).is_finite());
+        }
+        Err(problem) => {
+            if let Some(line) = problem.line {
+                assert!((1..=lines).contains(&line), "line {line} of {lines}");
             }
+            assert!(!problem.message.is_empty());
         }
     }
 }

@@ -27,11 +27,10 @@
 //! format's description by LIGHTTOOLS/Relux (1990).
 
 use super::distribution::{IntensityDistribution, LuminousOpening, Symmetry};
-use super::problem::{MAX_CANDELA, ParseProblem, push_increasing, scaled_intensity};
+use super::problem::{
+    MAX_ANGLES, MAX_CANDELA, MAX_VALUES, ParseProblem, push_increasing, scaled_intensity,
+};
 
-/// The most C planes or γ angles a file may give (real files give at most
-/// a few hundred).
-const MAX_ANGLES: usize = 3600;
 /// The most lamp sets a file may give (EULUMDAT allows 20).
 const MAX_LAMP_SETS: usize = 1000;
 /// Millimetres per metre.
@@ -62,12 +61,10 @@ pub struct EulumdatFile {
 /// intensities, no lamp flux.
 pub fn parse_eulumdat(text: &str) -> Result<EulumdatFile, ParseProblem> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let lines = Lines {
-        lines: text.lines().collect(),
-    };
-    let header = Header::read(&lines)?;
+    let mut lines = Lines::new(text);
+    let header = Header::read(&mut lines)?;
     let (mc, ng, isym) = (header.mc, header.ng, header.isym);
-    let lamp_flux = lamp_flux(&lines, header.sets)?;
+    let lamp_flux = lamp_flux(&mut lines, header.sets)?;
     // Ten direct ratios follow the lamp sets, then the angles.
     let c_start = 27 + 6 * header.sets + 10;
     let c_angles = lines.angles(c_start, mc, "C", 0.0, 360.0)?;
@@ -83,19 +80,14 @@ pub fn parse_eulumdat(text: &str) -> Result<EulumdatFile, ParseProblem> {
             format!("lamp flux {lamp_flux} lm × conversion factor {conversion}: out of range"),
         ));
     }
-    // The intensities, Ng per stored plane, from the line after the γ angles.
-    let mut planes: Vec<(f64, Vec<f64>)> = Vec::with_capacity(stored.indices.len());
-    let mut line = g_start + ng;
-    for &plane in &stored.indices {
-        let mut values = Vec::with_capacity(ng);
-        for _ in 0..ng {
-            let value = lines.number(line, "luminous intensity")?;
-            let what = || format!("intensity {value} cd/klm");
-            values.push(scaled_intensity(value, scale, line, &what)?);
-            line += 1;
-        }
-        let angle = if isym == 1 { 0.0 } else { c_angles[plane] };
-        planes.push((angle, values));
+    let table = IntensityTable {
+        start: g_start + ng,
+        planes: stored.indices.len(),
+        ng,
+    };
+    let mut planes = table.read(&mut lines, scale)?;
+    for (plane, &index) in planes.iter_mut().zip(&stored.indices) {
+        plane.0 = if isym == 1 { 0.0 } else { c_angles[index] };
     }
     if stored.symmetry == Symmetry::AboutC90C270 {
         // Stored C270 … C90; their mirror images across the C90–C270 plane,
@@ -120,6 +112,56 @@ pub fn parse_eulumdat(text: &str) -> Result<EulumdatFile, ParseProblem> {
         lamp_flux,
         light_output_ratio: header.light_output_ratio,
     })
+}
+
+/// Where the intensities stand: Ng values, one a line, for each stored
+/// plane, from line `start`; the file ends after them.
+struct IntensityTable {
+    /// The line of the first value.
+    start: usize,
+    /// The number of stored planes.
+    planes: usize,
+    /// Values per plane, Ng.
+    ng: usize,
+}
+
+impl IntensityTable {
+    /// The planes' intensities in cd/klm × `scale` (their C angles left 0
+    /// for the caller); an error for a bad value, a table larger than
+    /// [`MAX_VALUES`], or anything but blank lines after it: the counts
+    /// must match the data, as LM-63's reader asks.
+    fn read(&self, lines: &mut Lines, scale: f64) -> Result<Vec<(f64, Vec<f64>)>, ParseProblem> {
+        let (planes, ng) = (self.planes, self.ng);
+        if planes * ng > MAX_VALUES {
+            return Err(ParseProblem::at(
+                4,
+                format!("{planes} stored planes × Ng {ng} intensities: more than {MAX_VALUES}"),
+            ));
+        }
+        let mut table = Vec::with_capacity(planes);
+        let mut line = self.start;
+        for _ in 0..planes {
+            let mut values = Vec::with_capacity(ng);
+            for _ in 0..ng {
+                let value = lines.number(line, "luminous intensity")?;
+                let what = || format!("intensity {value} cd/klm");
+                values.push(scaled_intensity(value, scale, line, &what)?);
+                line += 1;
+            }
+            table.push((0.0, values));
+        }
+        if let Some((extra, text)) = lines.next_non_blank() {
+            return Err(ParseProblem::at(
+                extra,
+                format!(
+                    "`{text}` after the intensity table, which ends at line {}: \
+                     {planes} stored plane(s) × Ng {ng} values; the counts do not match the data",
+                    line - 1
+                ),
+            ));
+        }
+        Ok(table)
+    }
 }
 
 /// The 26 header lines' fields that isorad uses.
@@ -150,7 +192,7 @@ struct Header {
 impl Header {
     /// Reads the header; an error when a field is missing, not a number or
     /// out of range.
-    fn read(lines: &Lines) -> Result<Header, ParseProblem> {
+    fn read(lines: &mut Lines) -> Result<Header, ParseProblem> {
         let company = lines.text(1)?.to_owned();
         let _ityp = lines.integer(2, "type indicator Ityp", 0, 3)?;
         let isym = lines.integer(3, "symmetry indicator Isym", 0, 4)?;
@@ -200,7 +242,7 @@ impl Header {
 
 /// The total flux of the `sets` lamp sets, lm (the third of each set's six
 /// lines); an error when one is negative or the total is 0.
-fn lamp_flux(lines: &Lines, sets: usize) -> Result<f64, ParseProblem> {
+fn lamp_flux(lines: &mut Lines, sets: usize) -> Result<f64, ParseProblem> {
     let mut lamp_flux = 0.0;
     for set in 0..sets {
         let line = 27 + 6 * set + 2;
@@ -302,22 +344,61 @@ fn check_stored_angles(
     Ok(())
 }
 
-/// The file's lines, addressed 1-based.
+/// The file's lines, addressed 1-based and read forwards only: every field
+/// lies after the one read before it, so reading holds one line at a time.
 struct Lines<'a> {
-    lines: Vec<&'a str>,
+    rest: std::str::Lines<'a>,
+    /// How many lines have been taken from `rest`; the last is `current`.
+    taken: usize,
+    current: &'a str,
 }
 
-impl Lines<'_> {
-    fn text(&self, line: usize) -> Result<&str, ParseProblem> {
-        self.lines.get(line - 1).map(|l| l.trim()).ok_or_else(|| {
-            ParseProblem::at(
-                self.lines.len().max(1),
-                format!("the file ends before line {line}: not a whole EULUMDAT file"),
-            )
-        })
+impl<'a> Lines<'a> {
+    fn new(text: &'a str) -> Lines<'a> {
+        Lines {
+            rest: text.lines(),
+            taken: 0,
+            current: "",
+        }
     }
 
-    fn number(&self, line: usize, what: &str) -> Result<f64, ParseProblem> {
+    /// Line `line`, trimmed: the one read last or one after it.
+    fn text(&mut self, line: usize) -> Result<&'a str, ParseProblem> {
+        if line < self.taken.max(1) {
+            return Err(ParseProblem::at(
+                line,
+                "isorad's EULUMDAT reader read this line out of order (a bug)",
+            ));
+        }
+        while self.taken < line {
+            let Some(next) = self.rest.next() else {
+                return Err(ParseProblem::at(
+                    self.taken.max(1),
+                    format!("the file ends before line {line}: not a whole EULUMDAT file"),
+                ));
+            };
+            self.taken += 1;
+            self.current = next;
+        }
+        Ok(self.current.trim())
+    }
+
+    /// The first line after those read that is not blank, with its number,
+    /// shortened for a message.
+    fn next_non_blank(&mut self) -> Option<(usize, String)> {
+        for next in self.rest.by_ref() {
+            self.taken += 1;
+            let text = next.trim();
+            if !text.is_empty() {
+                let short: String = text.chars().take(40).collect();
+                let more = if short.len() < text.len() { "…" } else { "" };
+                return Some((self.taken, format!("{short}{more}")));
+            }
+        }
+        None
+    }
+
+    fn number(&mut self, line: usize, what: &str) -> Result<f64, ParseProblem> {
         let text = self.text(line)?;
         // Some writers use a decimal comma.
         let value: f64 = text
@@ -334,7 +415,7 @@ impl Lines<'_> {
     }
 
     fn integer(
-        &self,
+        &mut self,
         line: usize,
         what: &str,
         min: usize,
@@ -352,7 +433,7 @@ impl Lines<'_> {
 
     /// `n` angles from line `start`, strictly increasing within [lo, hi].
     fn angles(
-        &self,
+        &mut self,
         start: usize,
         n: usize,
         what: &str,
@@ -471,6 +552,8 @@ mod tests {
             (with(50, "-3"), 50, "negative"),
             (with(51, "NaN"), 51, "not finite"),
             (with(24, "0"), 24, "conversion factor"),
+            (format!("{good}\r\n7"), 53, "after the intensity table"),
+            (format!("{good}\r\n\r\nx"), 54, "`x` after"),
         ];
         for (text, line, fault) in cases {
             let problem = parse_eulumdat(&text).unwrap_err();

@@ -26,13 +26,9 @@
 //! and LM-63-02 (2002).
 
 use super::distribution::{IntensityDistribution, LuminousOpening, Symmetry};
-use super::problem::{MAX_CANDELA, ParseProblem, push_increasing, scaled_intensity};
+use super::ies_numbers::Numbers;
+use super::problem::{MAX_CANDELA, MAX_VALUES, ParseProblem, scaled_intensity};
 
-/// The most angles of either kind a file may give (every 0.05° of γ or
-/// 0.1° of C; real files give at most a few hundred).
-const MAX_ANGLES: usize = 3600;
-/// The most candela values a file may give.
-const MAX_VALUES: usize = 10_000_000;
 /// Feet per metre's inverse: LM-63 units type 1 is feet.
 const FOOT: f64 = 0.3048;
 
@@ -62,11 +58,10 @@ pub struct IesFile {
 /// not increasing, negative or non-finite candela, photometric type A or B.
 pub fn parse_ies(text: &str) -> Result<IesFile, ParseProblem> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let lines: Vec<&str> = text.lines().collect();
-    let header = Header::read(&lines)?;
-    let mut numbers = Numbers::new(&lines, header.tilt_line + 1);
+    let header = Header::read(text)?;
+    let mut numbers = Numbers::new(text, header.tilt_line + 1);
     let parameters = Parameters::read(&mut numbers)?;
-    let scale = parameters.check(&numbers)?;
+    let scale = parameters.check(&mut numbers)?;
     let web = Web::read(&mut numbers, &parameters)?;
     let factor = parameters.candela_factor(header.tilt_line)?;
     let planes = read_candela(&mut numbers, &web, parameters.n_vertical, factor)?;
@@ -111,10 +106,10 @@ struct Header {
 impl Header {
     /// Reads the lines up to `TILT=`; an error when there is none or it
     /// names tilt data.
-    fn read(lines: &[&str]) -> Result<Header, ParseProblem> {
+    fn read(text: &str) -> Result<Header, ParseProblem> {
         let mut format = "LM-63-1986".to_owned();
         let mut keywords: Vec<(String, String)> = Vec::new();
-        for (index, raw) in lines.iter().enumerate() {
+        for (index, raw) in text.lines().enumerate() {
             let line = raw.trim();
             if index == 0 && (line.starts_with("IESNA") || line.starts_with("IES:")) {
                 format = line.to_owned();
@@ -227,7 +222,7 @@ impl Parameters {
     /// Checks the photometric type (C only), the units type and the size
     /// of the candela table (the error at the next value's line); returns
     /// metres per unit of the luminous opening.
-    fn check(&self, numbers: &Numbers) -> Result<f64, ParseProblem> {
+    fn check(&self, numbers: &mut Numbers) -> Result<f64, ParseProblem> {
         match self.photometric_type {
             1.0 => {}
             t if t == 2.0 || t == 3.0 => {
@@ -353,102 +348,6 @@ fn read_candela(
         planes.push(plane);
     }
     Ok(planes)
-}
-
-/// The numbers after the TILT line, each with its line.
-struct Numbers<'a> {
-    tokens: Vec<(&'a str, usize)>,
-    next: usize,
-    last_line: usize,
-}
-
-impl<'a> Numbers<'a> {
-    fn new(lines: &[&'a str], from: usize) -> Numbers<'a> {
-        let tokens = lines
-            .iter()
-            .enumerate()
-            .skip(from)
-            .flat_map(|(index, line)| {
-                line.split(|c: char| c.is_whitespace() || c == ',')
-                    .filter(|t| !t.is_empty())
-                    .map(move |t| (t, index + 1))
-            })
-            .collect();
-        Numbers {
-            tokens,
-            next: 0,
-            last_line: lines.len().max(1),
-        }
-    }
-
-    /// The line of the next value (or the last line at the end).
-    fn line(&self) -> usize {
-        self.tokens
-            .get(self.next)
-            .map_or(self.last_line, |&(_, line)| line)
-    }
-
-    fn next_with_line(&mut self, what: &str) -> Result<(f64, usize), ParseProblem> {
-        let Some(&(token, line)) = self.tokens.get(self.next) else {
-            return Err(ParseProblem::at(
-                self.last_line,
-                format!("the file ends before the {what}"),
-            ));
-        };
-        self.next += 1;
-        let value: f64 = token
-            .parse()
-            .map_err(|_| ParseProblem::at(line, format!("{what}: `{token}` is not a number")))?;
-        if !value.is_finite() {
-            return Err(ParseProblem::at(
-                line,
-                format!("{what}: {token} is not finite"),
-            ));
-        }
-        Ok((value, line))
-    }
-
-    fn next(&mut self, what: &str) -> Result<f64, ParseProblem> {
-        self.next_with_line(what).map(|(v, _)| v)
-    }
-
-    fn positive(&mut self, what: &str) -> Result<f64, ParseProblem> {
-        let (value, line) = self.next_with_line(what)?;
-        if value <= 0.0 {
-            return Err(ParseProblem::at(
-                line,
-                format!("{what} {value}: must be positive"),
-            ));
-        }
-        Ok(value)
-    }
-
-    fn count(&mut self, what: &str) -> Result<usize, ParseProblem> {
-        let (value, line) = self.next_with_line(what)?;
-        if value < 1.0 || value.fract() != 0.0 || value > MAX_ANGLES as f64 {
-            return Err(ParseProblem::at(
-                line,
-                format!("{what} {value}: must be a whole number from 1 to {MAX_ANGLES}"),
-            ));
-        }
-        Ok(value as usize)
-    }
-
-    /// `n` angles, strictly increasing, with the line of the first.
-    fn angles(&mut self, n: usize, what: &str) -> Result<(Vec<f64>, usize), ParseProblem> {
-        let first_line = self.line();
-        let mut angles = Vec::with_capacity(n);
-        for _ in 0..n {
-            let (angle, line) = self.next_with_line(&format!("{what} angle"))?;
-            push_increasing(&mut angles, angle, line, what)?;
-        }
-        Ok((angles, first_line))
-    }
-
-    /// The line of the first value left unread, if any.
-    fn remaining_line(&self) -> Option<usize> {
-        self.tokens.get(self.next).map(|&(_, line)| line)
-    }
 }
 
 #[cfg(test)]

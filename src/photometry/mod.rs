@@ -12,7 +12,10 @@
 
 mod distribution;
 mod eulumdat;
+mod file_text;
 mod ies;
+mod ies_numbers;
+mod prepared;
 mod problem;
 
 use std::path::Path;
@@ -21,7 +24,9 @@ pub use distribution::{
     IntensityDistribution, IntensityWithDerivatives, LuminousOpening, Symmetry,
 };
 pub use eulumdat::{EulumdatFile, parse_eulumdat};
+pub use file_text::{MAX_FILE_BYTES, decode_text};
 pub use ies::{IesFile, parse_ies};
+pub use prepared::{FLUX_REFINEMENT, PreparedDistribution};
 pub use problem::ParseProblem;
 
 use crate::error::{Error, Result};
@@ -81,30 +86,64 @@ impl PhotometricFile {
     }
 }
 
+/// The two formats isorad reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PhotometricFormat {
+    /// IES LM-63.
+    Ies,
+    /// EULUMDAT.
+    Eulumdat,
+}
+
+impl PhotometricFormat {
+    /// The format a file's name says: EULUMDAT for `.ldt` and `.eul` (any
+    /// case), IES LM-63 otherwise.
+    #[must_use]
+    pub fn of_path(path: &Path) -> PhotometricFormat {
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match extension.as_deref() {
+            Some("ldt" | "eul") => PhotometricFormat::Eulumdat,
+            _ => PhotometricFormat::Ies,
+        }
+    }
+}
+
+/// Reads a photometric file's bytes in `format`, decoded as
+/// [`decode_text`] says (a byte-order mark dropped, UTF-8 or Latin-1).
+///
+/// # Errors
+/// The reader's [`ParseProblem`], naming the line.
+pub fn parse_photometric_bytes(
+    bytes: &[u8],
+    format: PhotometricFormat,
+) -> std::result::Result<PhotometricFile, ParseProblem> {
+    parse_text(&decode_text(bytes), format)
+}
+
+/// Reads a photometric file's text in `format`.
+fn parse_text(
+    text: &str,
+    format: PhotometricFormat,
+) -> std::result::Result<PhotometricFile, ParseProblem> {
+    match format {
+        PhotometricFormat::Eulumdat => parse_eulumdat(text).map(PhotometricFile::Eulumdat),
+        PhotometricFormat::Ies => parse_ies(text).map(PhotometricFile::Ies),
+    }
+}
+
 /// Reads a photometric file: EULUMDAT for `.ldt` and `.eul`, IES LM-63
-/// otherwise.
+/// otherwise. Only a regular file of at most [`MAX_FILE_BYTES`] is read.
 ///
 /// # Errors
 /// [`Error::Photometry`] naming the file, and the line where the fault
-/// lies, when it cannot be read or is not a file isorad can use.
+/// lies, when it cannot be read (missing, a directory, a device or pipe,
+/// too large) or is not a file isorad can use.
 pub fn read_photometric_file(path: &Path) -> Result<PhotometricFile> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Photometry {
-        path: path.to_owned(),
-        line: None,
-        message: format!("cannot be read: {source}"),
-    })?;
-    // Photometric files are ASCII or Latin-1 (manufacturers' names); bytes
-    // beyond ASCII only ever sit in text fields.
-    let text: String = bytes.iter().map(|&b| char::from(b)).collect();
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let parsed = match extension.as_deref() {
-        Some("ldt" | "eul") => parse_eulumdat(&text).map(PhotometricFile::Eulumdat),
-        _ => parse_ies(&text).map(PhotometricFile::Ies),
-    };
-    parsed.map_err(|problem| Error::Photometry {
+    let text = file_text::read_file_text(path)?;
+    parse_text(&text, PhotometricFormat::of_path(path)).map_err(|problem| Error::Photometry {
         path: path.to_owned(),
         line: problem.line,
         message: problem.message,

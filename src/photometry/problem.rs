@@ -6,6 +6,16 @@
 /// about 10⁷).
 pub(super) const MAX_CANDELA: f64 = 1e12;
 
+/// The most angles of either kind a file may give (every 0.05° of γ or
+/// 0.1° of C; real files give at most a few hundred).
+pub(super) const MAX_ANGLES: usize = 3600;
+
+/// The most intensities a file may tabulate: a web of every 0.1° in γ and
+/// 1° in C holds 650,000; real files hold at most some 65,000 (every 1°).
+/// Symmetry expands a stored web at most fivefold, so a distribution stays
+/// under 40 MB.
+pub(super) const MAX_VALUES: usize = 1_000_000;
+
 /// A problem in a photometric file, with its 1-based line where known.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ParseProblem {

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use super::{ShadowCache, SurfaceId, Visibility};
-use crate::photometry::{IntensityDistribution, LUMENS_PER_WATT};
+use crate::photometry::{IntensityDistribution, LUMENS_PER_WATT, PreparedDistribution};
 use crate::rgb::Rgb;
 
 /// A luminaire from a photometric file (a scene file's `[[luminaire]]`):
@@ -40,19 +40,34 @@ impl PhotometricLuminaire {
     /// A luminaire of `distribution` at `position`, γ = 0 along the unit
     /// `aim`, C0 along the unit `c0` (perpendicular to it), intensities
     /// times `multiplier`, tinted by `color` (unit luminance). Its power is
-    /// integrated here, once.
+    /// integrated here; to place one distribution many times, prepare it
+    /// once and use [`PhotometricLuminaire::placed`].
     #[must_use]
     pub fn new(
         name: String,
         distribution: Arc<IntensityDistribution>,
+        frame: [DVec3; 3],
+        multiplier: f64,
+        color: Rgb,
+    ) -> PhotometricLuminaire {
+        let prepared = PreparedDistribution::new(distribution);
+        PhotometricLuminaire::placed(name, &prepared, frame, multiplier, color)
+    }
+
+    /// A luminaire of the `prepared` distribution (shared, its flux
+    /// integrated once), placed as [`PhotometricLuminaire::new`] says.
+    #[must_use]
+    pub fn placed(
+        name: String,
+        prepared: &PreparedDistribution,
         [position, aim, c0]: [DVec3; 3],
         multiplier: f64,
         color: Rgb,
     ) -> PhotometricLuminaire {
-        let power = color * (distribution.flux(8) * multiplier / LUMENS_PER_WATT);
+        let power = color * (prepared.flux * multiplier / LUMENS_PER_WATT);
         PhotometricLuminaire {
             name,
-            distribution,
+            distribution: Arc::clone(&prepared.distribution),
             position,
             aim,
             c0,

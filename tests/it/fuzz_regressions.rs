@@ -84,3 +84,28 @@ fn photometric_files_survive_every_truncation_and_corruption_of_the_seeds() {
     }
     assert!(variants > 1000, "{variants} variants");
 }
+
+/// The minimised corpora of the `photometry_ies` and `photometry_eulumdat`
+/// targets (`fuzz/corpus/`), what 1 M executions each kept as new
+/// behaviour: every input reads as its target reads it, to a valid
+/// distribution or an error naming a line.
+#[test]
+fn the_lm_63_and_eulumdat_fuzz_corpora_read_cleanly() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/corpus");
+    for target in ["photometry_ies", "photometry_eulumdat"] {
+        let read = match target {
+            "photometry_ies" => fuzz_support::parse_ies_bytes,
+            _ => fuzz_support::parse_eulumdat_bytes,
+        };
+        let entries: Vec<_> = std::fs::read_dir(root.join(target))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        assert!(entries.len() > 100, "{target}: {} inputs", entries.len());
+        for path in entries {
+            let data = std::fs::read(&path).unwrap();
+            let outcome = std::panic::catch_unwind(|| read(&data));
+            assert!(outcome.is_ok(), "{target}: {} fails", path.display());
+        }
+    }
+}

@@ -228,11 +228,11 @@ fn a_luminaire_table_with_a_fault_is_an_error_naming_it() {
     let cases = [
         (
             LUMINAIRE.replace("[0.0, -1.0, 0.0]", "[0.0, 0.0, 0.0]"),
-            "aim = [0.0, 0.0, 0.0] gives no direction",
+            "scene.toml:6: [[luminaire]] 1: aim = [0.0, 0.0, 0.0]: gives no direction",
         ),
         (
             LUMINAIRE.replace("c0 = [1.0, 0.0, 0.0]", "c0 = [0.0, 2.0, 0.0]"),
-            "c0 runs along aim",
+            "c0 = [0.0, 2.0, 0.0]: runs along aim",
         ),
         (LUMINAIRE.replace("0.8", "-1.0"), "multiplier = -1"),
         (

@@ -22,6 +22,7 @@ mod golden;
 mod grid_points;
 mod level_lines;
 mod long_runs;
+mod luminaire_files;
 mod luminaires;
 mod office;
 mod patch_shots;

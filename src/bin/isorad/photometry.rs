@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use clap::Args;
-use isorad::photometry::read_photometric_file;
+use isorad::photometry::{FLUX_REFINEMENT, read_photometric_file};
 
 use crate::table::{significant, write_table};
 
@@ -48,7 +48,7 @@ pub fn photometry(args: &PhotometryArgs) -> anyhow::Result<()> {
         distribution.c_angles().len(),
         distribution.gamma_angles().len(),
         significant(distribution.peak()),
-        significant(distribution.flux(8))
+        significant(distribution.flux(FLUX_REFINEMENT))
     )?;
     let header = ["γ (°)", "C 0° (cd)", "C 90°", "C 180°", "C 270°"];
     let steps = (180.0 / args.step).floor() as usize;

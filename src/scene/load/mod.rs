@@ -8,6 +8,7 @@ mod build;
 mod builtin;
 mod coplanar_merge;
 mod loaded;
+mod luminaire_tables;
 mod mtl;
 mod obj;
 mod obj_scan;

@@ -53,7 +53,6 @@
 //! path (`mesh.refinement.threshold`).
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 use glam::DVec3;
 use serde::Deserialize;
@@ -62,11 +61,10 @@ use crate::error::{Error, Result};
 
 use super::build::check_not_empty;
 use super::loaded::LoadedScene;
+use super::luminaire_tables::{LuminaireTables, LuminaireToml};
 use super::obj::load_obj_from;
-use super::source::{Disk, SourceFiles};
-use crate::photometry::read_photometric_file;
-use crate::rgb::Rgb;
-use crate::scene::{Camera, PhotometricLuminaire, SceneOptions};
+use super::source::{Disk, SourceFiles, line_at};
+use crate::scene::{Camera, SceneOptions};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -81,18 +79,6 @@ struct SceneFileToml {
     #[serde(rename = "mesh")]
     _mesh: Option<toml::Table>,
     luminaire: Option<Vec<LuminaireToml>>,
-}
-
-/// One `[[luminaire]]` table.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct LuminaireToml {
-    ies: PathBuf,
-    position: [f64; 3],
-    aim: [f64; 3],
-    c0: [f64; 3],
-    multiplier: Option<f64>,
-    color: Option<[f64; 3]>,
 }
 
 #[derive(Deserialize)]
@@ -159,11 +145,11 @@ pub(crate) fn load_scene_file_with(
         other => other,
     })?;
     scene.camera = camera;
+    // The luminaires, each file read once (see `luminaire_tables`).
     let folder = path.parent().unwrap_or(Path::new(""));
-    for (k, table) in luminaire_tables.into_iter().enumerate() {
-        let luminaire = luminaire_from_toml(folder, table)
-            .map_err(|message| file_error(format!("[[luminaire]] {}: {message}", k + 1)))?;
-        scene.luminaires.push(luminaire?);
+    let mut luminaires = LuminaireTables::new(path, &text, folder);
+    for (k, table) in luminaire_tables.iter().enumerate() {
+        scene.luminaires.push(luminaires.read(k + 1, table)?);
     }
     check_not_empty(&obj_path, &scene)?;
     Ok(LoadedScene {
@@ -180,62 +166,6 @@ fn toml_message(text: &str, error: &toml::de::Error) -> String {
         Some(span) => format!("line {}: {what}", line_at(text, span.start)),
         None => what.to_owned(),
     }
-}
-
-/// The 1-based line of `text` holding byte `offset`.
-pub(crate) fn line_at(text: &str, offset: usize) -> usize {
-    let before = text.get(..offset.min(text.len())).unwrap_or(text);
-    before.matches('\n').count() + 1
-}
-
-/// A `[[luminaire]]` table: its photometric file read (relative to the
-/// scene file's folder; its own errors name it and its line), its frame
-/// checked (`aim` non-zero, `c0` not along it, made perpendicular), the
-/// multiplier finite and non-negative, the colour non-negative with a
-/// positive luminance, normalised to unit luminance. The outer error is
-/// this table's fault, the inner one the photometric file's.
-fn luminaire_from_toml(
-    folder: &Path,
-    t: LuminaireToml,
-) -> Result<Result<PhotometricLuminaire>, String> {
-    let finite = |v: [f64; 3]| v.iter().all(|x| x.is_finite());
-    if !(finite(t.position) && finite(t.aim) && finite(t.c0)) {
-        return Err("position, aim and c0 must be finite".into());
-    }
-    let Some(aim) = DVec3::from_array(t.aim).try_normalize() else {
-        return Err(format!(
-            "aim = {:?} gives no direction: it must be a non-zero vector",
-            t.aim
-        ));
-    };
-    let Some(c0_unit) = DVec3::from_array(t.c0).try_normalize() else {
-        return Err(format!("c0 = {:?} gives no direction", t.c0));
-    };
-    let c0 = c0_unit - aim * c0_unit.dot(aim);
-    if c0.length() < 1e-6 {
-        return Err("c0 runs along aim: it must point away from it, to the C0 half-plane".into());
-    }
-    let multiplier = t.multiplier.unwrap_or(1.0);
-    if !(multiplier.is_finite() && multiplier >= 0.0) {
-        return Err(format!("multiplier = {multiplier}: must be a number ≥ 0"));
-    }
-    let color = t.color.map_or(Rgb::ONE, |[r, g, b]| Rgb::new(r, g, b));
-    if !(color.is_finite() && color.min_element() >= 0.0 && color.luminance() > 0.0) {
-        return Err(format!(
-            "color = [{}, {}, {}]: components must be ≥ 0 with a positive luminance",
-            color.r, color.g, color.b
-        ));
-    }
-    let file = folder.join(&t.ies);
-    Ok(read_photometric_file(&file).map(|photometric| {
-        PhotometricLuminaire::new(
-            t.ies.display().to_string(),
-            Arc::new(photometric.distribution().clone()),
-            [DVec3::from_array(t.position), aim, c0.normalize()],
-            multiplier,
-            color / color.luminance(),
-        )
-    }))
 }
 
 /// The `[camera]` table, with defaults, checked by [`Camera::validate`].

@@ -15,7 +15,7 @@ use std::path::Path;
 use serde::de::DeserializeOwned;
 use toml::de::{DeTable, DeValue};
 
-use super::scene_file::line_at;
+use super::source::line_at;
 use crate::error::{Error, Result};
 use crate::scene::SceneOptions;
 

@@ -1,5 +1,6 @@
 //! Where loaders read their text from: the file system, or files embedded in
-//! the binary (the built-in scenes), so both go through the same parsers.
+//! the binary (the built-in scenes), so both go through the same parsers;
+//! and the line of a place in that text, for messages.
 
 use std::path::{Path, PathBuf};
 
@@ -52,6 +53,12 @@ pub(crate) fn read_text(path: &Path) -> Result<String> {
     }
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&bytes);
     Ok(String::from_utf8_lossy(bytes).into_owned())
+}
+
+/// The 1-based line of `text` holding byte `offset`.
+pub(crate) fn line_at(text: &str, offset: usize) -> usize {
+    let before = text.get(..offset.min(text.len())).unwrap_or(text);
+    before.matches('\n').count() + 1
 }
 
 /// Files compiled into the binary, as (path, text) pairs.
