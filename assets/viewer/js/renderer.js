@@ -264,7 +264,6 @@ export function createRenderer(canvas) {
       const matrix = viewProjection(camera, centre, diagonal, width / height);
       gl.enable(gl.DEPTH_TEST);
       gl.depthFunc(gl.LESS);
-      gl.disable(gl.CULL_FACE);
       gl.frontFace(gl.CCW);
       gl.useProgram(program);
       gl.uniformMatrix4fv(loc.viewProjection, false, new Float32Array(matrix));
@@ -274,7 +273,19 @@ export function createRenderer(canvas) {
       gl.uniform1i(loc.log, view.log ? 1 : 0);
       gl.uniform1i(loc.linear, inLinear ? 1 : 0);
       gl.bindVertexArray(vao);
+      // Front faces first, then back faces pushed back a little: where a
+      // front and a back face coincide (the walls two rooms share), the
+      // front face wins, as it does in the renderer, which draws only the
+      // camera's room.
+      gl.enable(gl.CULL_FACE);
+      gl.cullFace(gl.BACK);
       gl.drawElements(gl.TRIANGLES, indexCount, gl.UNSIGNED_INT, 0);
+      gl.cullFace(gl.FRONT);
+      gl.enable(gl.POLYGON_OFFSET_FILL);
+      gl.polygonOffset(1, 4);
+      gl.drawElements(gl.TRIANGLES, indexCount, gl.UNSIGNED_INT, 0);
+      gl.disable(gl.POLYGON_OFFSET_FILL);
+      gl.disable(gl.CULL_FACE);
       gl.bindVertexArray(null);
       if (inLinear) linear.finish(view, DISPLAY[view.display] ?? 0);
       return matrix;
