@@ -48,7 +48,8 @@
 //! The crate root holds what these steps need; the rest lives in public
 //! modules named after the pipeline ([`scene`], [`radiometry`],
 //! [`photometry`], [`lighting`], [`mesh`], [`meshing`], [`solver`],
-//! [`render`], [`view`], [`export`], [`study`], [`calculation`]).
+//! [`render`], [`view`], [`export`], [`study`], [`calculation`]), and the
+//! pure sky and sun models in [`daylight`].
 //!
 //! 1. **A scene.** Build it in code with [`Scene::new`],
 //!    [`Scene::add_material`] ([`Material::diffuse`], [`Material::emitter`]),
@@ -131,6 +132,7 @@ mod fs;
 mod rgb;
 
 pub mod calculation;
+pub mod daylight;
 pub mod export;
 pub mod lighting;
 pub mod mesh;
