@@ -96,7 +96,11 @@ impl Cursor<'_> {
 
     /// The error for a missing `what` at the current position.
     fn expected(&self, what: &str) -> String {
-        let found = match self.text[self.at..].chars().next() {
+        let found = match self
+            .text
+            .get(self.at..)
+            .and_then(|rest| rest.chars().next())
+        {
             Some(c) => format!("'{c}'"),
             None => "the end".to_string(),
         };
