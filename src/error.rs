@@ -123,6 +123,24 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// A scene file's `[sky]` or `[sun]` table holds a value isorad cannot
+    /// use, or misses one it needs.
+    #[error("{path}:{line}: [{table}] {key} = {value}: {message}")]
+    SceneDaylight {
+        /// The scene file.
+        path: PathBuf,
+        /// 1-based line of the value (of the table's header when the key
+        /// is missing).
+        line: usize,
+        /// `sky` or `sun`.
+        table: &'static str,
+        /// The key at fault.
+        key: String,
+        /// Its value as the file gives it (`(missing)` when absent).
+        value: String,
+        /// What is wrong.
+        message: String,
+    },
     /// A scene name is neither a file nor a built-in scene.
     #[error("`{name}` is neither a readable file nor a built-in scene (built-in: {builtins})")]
     UnknownScene {

@@ -144,7 +144,8 @@ pub fn write_falsecolor_grid(
     }
 
     draw_plan(&mut image, picture, &frame).map_err(|e| output_error(path, e))?;
-    draw_legend(&mut image, frame.size.0, scale, "lx").map_err(|e| output_error(path, e))?;
+    draw_legend(&mut image, frame.size.0, scale, picture.unit)
+        .map_err(|e| output_error(path, e))?;
     draw_title(&mut image, picture.title).map_err(|e| output_error(path, e))?;
     save_png(path, &image)
 }
@@ -470,6 +471,7 @@ mod tests {
             outlines: &[outline.to_vec()],
             luminaires: &luminaires,
             title: "floor at 0.80 m",
+            unit: "lx",
             axes: ["x (m)", "y (m)"],
         };
         let dir = tempfile::tempdir().unwrap();
@@ -518,6 +520,7 @@ mod tests {
             outlines: &[],
             luminaires: &[],
             title: "",
+            unit: "lx",
             axes: ["x (m)", "y (m)"],
         };
         write_falsecolor_grid(&path, &empty, &SCALE).unwrap();

@@ -19,6 +19,7 @@ use rayon::prelude::*;
 
 use super::grid_obstruction::{GridSelection, ObstructionRule, obstruction_at};
 use super::grid_picture::GridPicture;
+use super::grid_quantity::{GridQuantity, IlluminanceStatistics};
 use crate::error::Result;
 use crate::fs::{io_error, write_atomically};
 use crate::lighting::area_lights;
@@ -55,53 +56,6 @@ pub struct CalculationGrid {
     /// Row-major (`row * columns + column`): the world position of each point
     /// and the surface under it, `None` outside every outline.
     pub points: Vec<Option<(DVec3, SurfaceId)>>,
-}
-
-/// Statistics of a grid's illuminance, lx, over its points inside the outline.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct IlluminanceStatistics {
-    /// Points counted.
-    pub points: usize,
-    /// Emin, Eavg, Emax, lx.
-    pub minimum: f64,
-    /// The arithmetic mean over the points.
-    pub average: f64,
-    /// The largest value.
-    pub maximum: f64,
-}
-
-impl IlluminanceStatistics {
-    /// The statistics of the finite values of `lux` (NaN marks points
-    /// outside the outline); `None` when there are none.
-    #[must_use]
-    pub fn of(lux: &[f64]) -> Option<IlluminanceStatistics> {
-        let finite: Vec<f64> = lux.iter().copied().filter(|e| e.is_finite()).collect();
-        if finite.is_empty() {
-            return None;
-        }
-        Some(IlluminanceStatistics {
-            points: finite.len(),
-            minimum: finite.iter().copied().fold(f64::INFINITY, f64::min),
-            average: finite.iter().sum::<f64>() / finite.len() as f64,
-            maximum: finite.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-        })
-    }
-
-    /// Uniformity U₀ = Emin / Eavg (EN 12464-1); 0 when Eavg is 0.
-    #[must_use]
-    pub fn uniformity(&self) -> f64 {
-        ratio(self.minimum, self.average)
-    }
-
-    /// Diversity Emin / Emax; 0 when Emax is 0.
-    #[must_use]
-    pub fn diversity(&self) -> f64 {
-        ratio(self.minimum, self.maximum)
-    }
-}
-
-fn ratio(a: f64, b: f64) -> f64 {
-    if b > 0.0 { a / b } else { 0.0 }
 }
 
 /// Illuminance, lx, of an irradiance: its luminance (Rec. 709 weights of
@@ -213,12 +167,29 @@ impl CalculationGrid {
     /// # Errors
     /// [`Error::Io`](crate::Error::Io) when the file cannot be written.
     pub fn write_csv(&self, path: &Path, lux: &[f64], selection: &GridSelection) -> Result<()> {
+        let quantity = GridQuantity::Illuminance { daylight: false };
+        self.write_csv_as(path, lux, selection, quantity)
+    }
+
+    /// [`CalculationGrid::write_csv`] for values of `quantity`: its column
+    /// (`illuminance_lux` or `daylight_factor_percent`) and statistics
+    /// ([`GridQuantity::statistics_lines`]).
+    ///
+    /// # Errors
+    /// [`Error::Io`](crate::Error::Io) when the file cannot be written.
+    pub fn write_csv_as(
+        &self,
+        path: &Path,
+        lux: &[f64],
+        selection: &GridSelection,
+        quantity: GridQuantity,
+    ) -> Result<()> {
         write_atomically(path, |out| {
             let io = |error| io_error(path, error);
-            for line in self.header_lines(lux, selection) {
+            for line in self.header_lines_as(lux, selection, quantity) {
                 writeln!(out, "# {line}").map_err(io)?;
             }
-            writeln!(out, "x,y,z,illuminance_lux,status").map_err(io)?;
+            writeln!(out, "x,y,z,{},status", quantity.column()).map_err(io)?;
             for (index, (point, &e)) in self.points.iter().zip(lux).enumerate() {
                 let Some((p, _)) = point else { continue };
                 let status = selection.status(index, e.is_finite());
@@ -239,6 +210,21 @@ impl CalculationGrid {
     /// counted points could not be read.
     #[must_use]
     pub fn header_lines(&self, lux: &[f64], selection: &GridSelection) -> Vec<String> {
+        self.header_lines_as(
+            lux,
+            selection,
+            GridQuantity::Illuminance { daylight: false },
+        )
+    }
+
+    /// [`CalculationGrid::header_lines`] for values of `quantity`.
+    #[must_use]
+    pub fn header_lines_as(
+        &self,
+        lux: &[f64],
+        selection: &GridSelection,
+        quantity: GridQuantity,
+    ) -> Vec<String> {
         let n = self.frame.normal;
         let mut lines = vec![
             format!("surface = {}", self.name),
@@ -256,17 +242,7 @@ impl CalculationGrid {
         if unread > 0 {
             lines.push(format!("unread = {unread}"));
         }
-        match IlluminanceStatistics::of(lux) {
-            Some(stats) => lines.extend([
-                format!("points = {}", stats.points),
-                format!("Emin = {:.6} lx", stats.minimum),
-                format!("Eavg = {:.6} lx", stats.average),
-                format!("Emax = {:.6} lx", stats.maximum),
-                format!("U0 = Emin/Eavg = {:.6}", stats.uniformity()),
-                format!("Emin/Emax = {:.6}", stats.diversity()),
-            ]),
-            None => lines.push("points = 0".into()),
-        }
+        lines.extend(quantity.statistics_lines(lux));
         lines
     }
 
@@ -293,6 +269,7 @@ impl CalculationGrid {
             outlines: &self.outlines,
             luminaires,
             title,
+            unit: "lx",
             axes: [self.axes[0].as_str(), self.axes[1].as_str()],
         }
     }
@@ -336,6 +313,26 @@ impl CalculationGrid {
         match IlluminanceStatistics::of(lux) {
             Some(stats) => format!(
                 "{place}: Eavg {:.0} lx, Emin {:.0} lx, U0 {:.2}",
+                stats.average,
+                stats.minimum,
+                stats.uniformity()
+            ),
+            None => place,
+        }
+    }
+
+    /// A title for a daylight-factor grid's pictures: the place, the mean
+    /// and minimum DF and the uniformity.
+    #[must_use]
+    pub fn daylight_factor_title(&self, df: &[f64]) -> String {
+        let place = if self.height > 0.0 {
+            format!("{} + {} m", self.name, self.height)
+        } else {
+            self.name.clone()
+        };
+        match IlluminanceStatistics::of(df) {
+            Some(stats) => format!(
+                "{place}: DF avg {:.2} %, min {:.2} %, U0 {:.2}",
                 stats.average,
                 stats.minimum,
                 stats.uniformity()

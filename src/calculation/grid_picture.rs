@@ -29,7 +29,7 @@ pub struct GridPicture<'a> {
     pub columns: usize,
     /// Rows of points.
     pub rows: usize,
-    /// Illuminance in lux, row-major (row * columns + column); NaN where the point lies outside the outline.
+    /// Illuminance in lux (or the quantity `unit` names), row-major (row * columns + column); NaN where the point lies outside the outline.
     pub values: &'a [f64],
     /// The outlines of the surface's polygons in the same plane coordinates
     /// (closed polygons, first point not repeated).
@@ -38,6 +38,9 @@ pub struct GridPicture<'a> {
     pub luminaires: &'a [(DVec2, String)],
     /// Title, e.g. "floor at 0.80 m: Eavg 512 lx, U0 0.61".
     pub title: &'a str,
+    /// The values' unit, after each label: "lx", or "%" for daylight
+    /// factors.
+    pub unit: &'a str,
     /// The names of the plane's axes, with units, e.g. `["x (m)", "−z (m)"]`.
     pub axes: [&'a str; 2],
 }

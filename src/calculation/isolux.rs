@@ -41,6 +41,7 @@
 //!     outlines: &[outline.to_vec()],
 //!     luminaires: &[(DVec2::new(2.0, 1.5), "L1".to_string())],
 //!     title: "floor at 0.80 m",
+//!     unit: "lx",
 //!     axes: ["x (m)", "y (m)"],
 //! };
 //! write_isolux_plot(Path::new("floor.svg"), &picture, &[])?;
@@ -360,6 +361,7 @@ mod tests {
             outlines: &FLOOR_OUTLINES,
             luminaires,
             title: "floor at 0.80 m",
+            unit: "lx",
             axes: ["x (m)", "y (m)"],
         }
     }
@@ -532,6 +534,7 @@ mod tests {
                 outlines: &[outline.to_vec()],
                 luminaires: &[],
                 title: "extreme",
+                unit: "lx",
                 axes: ["x (m)", "y (m)"],
             };
             // A valid picture or a clear error, never a panic nor a hang.

@@ -60,7 +60,7 @@ pub(super) fn draw_contours<DB: DrawingBackend>(
     let mut labels = Vec::new();
     for (index, &level) in levels.iter().enumerate() {
         let colour = level_colour(index, levels.len());
-        let text = format!("{} lx", format_lux(level));
+        let text = format!("{} {}", format_lux(level), picture.unit);
         let text_width = 9 * text.chars().count() as i32;
         for line in contour_polylines(picture.values, picture.columns, picture.rows, level) {
             let plane: Vec<(f64, f64)> = line

@@ -32,6 +32,7 @@ mod grid;
 mod grid_layout;
 mod grid_obstruction;
 mod grid_picture;
+mod grid_quantity;
 mod isolux;
 mod isolux_lines;
 mod levels;
@@ -39,9 +40,13 @@ mod levels;
 pub use crate::mesh::contour_polylines;
 pub use falsecolor::{write_falsecolor_grid, write_falsecolor_image};
 pub use falsecolor_scale::{FalseColorScale, LOG_DECADES};
-pub use grid::{CalculationGrid, IlluminanceStatistics, illuminance_lux};
+pub use grid::{CalculationGrid, illuminance_lux};
 pub use grid_layout::{MAX_GRID_POINTS, en12464_spacing};
 pub use grid_obstruction::{DEFAULT_CLEARANCE, GridSelection, Obstruction, ObstructionRule};
 pub use grid_picture::GridPicture;
+pub use grid_quantity::{
+    DEFAULT_DF_TARGET, EN17037_TARGETS, GridQuantity, GridStatistics, IlluminanceStatistics,
+    share_reaching,
+};
 pub use isolux::write_isolux_plot;
 pub use levels::{format_lux, nice_ceiling, nice_levels};

@@ -9,6 +9,9 @@
 //!   [`SkyDirection`] and the illuminance they give an unobstructed plane.
 //! - [`solar_position`] at an [`Instant`] parsed from ISO 8601: NOAA's
 //!   algorithm after Meeus, with refraction.
+//! - [`Daylight`]: a scene's sky, [`Sun`] and ground placed in its
+//!   coordinates by a [`SkyFrame`] (up, north, east), with the radiance
+//!   toward any direction ([`SkyRadiance`]).
 //! - [`pane_transmittance`] and [`pane_reflectance`] of a clear glass pane
 //!   as Radiance's `glass` computes them, and their diffuse averages.
 //!
@@ -39,6 +42,7 @@ mod direction;
 mod glazing;
 mod instant;
 mod model;
+mod outdoor;
 mod quadrature;
 mod sky;
 mod sun_position;
@@ -55,6 +59,7 @@ pub use glazing::{
 };
 pub use instant::Instant;
 pub use model::{SkyModel, SkyPattern};
+pub use outdoor::{Daylight, SUN_DIAMETER_DEG, SkyFrame, SkyRadiance, Sun};
 pub use sky::Sky;
 pub use sun_position::{
     SolarGeometry, SolarPosition, refraction_deg, solar_geometry, solar_position,

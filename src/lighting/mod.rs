@@ -15,6 +15,7 @@
 //! meshing layer hands its fields down to the meshers as closures.
 
 mod area_light;
+mod daylight;
 mod direct_field;
 mod dominance;
 mod hemisphere;
@@ -23,6 +24,10 @@ mod shadow_boundaries;
 mod stratified;
 
 pub use area_light::{AreaLight, area_lights};
+pub use daylight::{
+    DaylightReceiver, DaylightSource, Opening, Portal, PortalKind, Portals, find_openings,
+    sky_transmittance,
+};
 pub use direct_field::DirectField;
 pub(crate) use dominance::analyse_receivers_reporting;
 pub use dominance::{

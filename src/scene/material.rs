@@ -15,6 +15,13 @@ pub struct Material {
     pub reflectance: Rgb,
     /// Emitted radiance L_e per channel, W/(m²·sr).
     pub emitted_radiance: Rgb,
+    /// Visible transmittance τ_n at normal incidence: the luminance of the
+    /// MTL `Tf`. Above zero, the material is glazing: a clear pane that
+    /// lets daylight through, τ falling with the angle of incidence as in
+    /// Radiance's `glass` ([`crate::daylight::pane_transmittance`]), and
+    /// that reflects as such a pane does; its `Kd` is not used. Zero for an
+    /// opaque material.
+    pub transmittance: f64,
 }
 
 impl Material {
@@ -25,6 +32,7 @@ impl Material {
             name: name.into(),
             reflectance,
             emitted_radiance: Rgb::ZERO,
+            transmittance: 0.0,
         }
     }
 
@@ -36,6 +44,7 @@ impl Material {
             name: name.into(),
             reflectance: Rgb::ZERO,
             emitted_radiance,
+            transmittance: 0.0,
         }
     }
 
@@ -56,14 +65,36 @@ impl Material {
         if let Some(problem) = reflectance_problem(self.reflectance) {
             return Some(format!("{}: {problem}", shown("Kd", self.reflectance)));
         }
-        emitted_radiance_problem(self.emitted_radiance)
-            .map(|problem| format!("{}: {problem}", shown("Ke", self.emitted_radiance)))
+        if let Some(problem) = emitted_radiance_problem(self.emitted_radiance) {
+            return Some(format!("{}: {problem}", shown("Ke", self.emitted_radiance)));
+        }
+        let tf = self.transmittance;
+        (!tf.is_finite() || !(0.0..1.0).contains(&tf))
+            .then(|| format!("Tf = {tf}: the transmittance must be at least 0 and below 1"))
     }
 
     /// Emitted exitance (radiosity) E = π L_e, W/m².
     #[must_use]
     pub fn emitted_radiosity(&self) -> Rgb {
         self.emitted_radiance * std::f64::consts::PI
+    }
+
+    /// A clear glazing pane of visible transmittance `transmittance` at
+    /// normal incidence (0 < τ_n < 1).
+    #[must_use]
+    pub fn glazing(name: impl Into<String>, transmittance: f64) -> Material {
+        Material {
+            name: name.into(),
+            reflectance: Rgb::ZERO,
+            emitted_radiance: Rgb::ZERO,
+            transmittance,
+        }
+    }
+
+    /// True when the material is glazing (transmits daylight).
+    #[must_use]
+    pub fn is_glazing(&self) -> bool {
+        self.transmittance > 0.0
     }
 
     /// True when the material emits light in any channel.

@@ -30,6 +30,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
+use crate::daylight::Daylight;
 use crate::rgb::Rgb;
 
 /// Something a loader noticed and repaired or skipped, for the user to read.
@@ -51,6 +52,9 @@ pub struct Scene {
     /// Luminaires from photometric files (a scene file's `[[luminaire]]`),
     /// lighting the scene besides its emitting faces.
     pub luminaires: Vec<PhotometricLuminaire>,
+    /// The sky, sun and ground outside (a scene file's `[sky]` and
+    /// `[sun]`), lighting the scene through its openings and glazing.
+    pub daylight: Option<Daylight>,
     /// What the loader repaired or skipped.
     pub warnings: Vec<Warning>,
 }

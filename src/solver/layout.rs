@@ -1,8 +1,9 @@
 //! What a solve knows of where things are, fixed for its whole run: the
 //! closed zones and each surface's, which zones keep all their light, each
 //! surface's reflectance and boundary inset, each patch's area, and the
-//! zone each photometric luminaire lights.
+//! zone each photometric luminaire lights, and the daylight's portals.
 
+use crate::lighting::DaylightSource;
 use crate::mesh::{Mesh, receiver_inset};
 use crate::meshing::MeshAnalysis;
 use crate::meshing::{ZoneLabels, ZoneMembers, Zones};
@@ -50,6 +51,8 @@ pub(crate) struct SolveLayout {
     pub(crate) luminaire_zones: Vec<Option<usize>>,
     /// What meshing found (empty when the caller brought the mesh).
     pub(crate) analysis: MeshAnalysis,
+    /// The scene's daylight with its portals, if it has a sky.
+    pub(crate) daylight: Option<DaylightSource>,
 }
 
 impl SolveLayout {
@@ -125,6 +128,7 @@ impl SolveLayout {
             patch_edge: mesh.longest_patch_edge(),
             luminaire_zones,
             analysis: MeshAnalysis::default(),
+            daylight: DaylightSource::of_scene(scene),
         }
     }
 

@@ -223,6 +223,11 @@ impl Solver {
             self.shoot_luminaire(k);
             return true;
         }
+        if !self.light.daylight_shot {
+            self.ambient.patch_shots = None;
+            self.shoot_daylight();
+            return true;
+        }
         // The shooter: pending emission first, else the most unshot power.
         let areas = &self.layout.patch_areas;
         let chosen = self.light.next_shooter(areas, self.settings.zone_affinity);
@@ -318,6 +323,25 @@ impl Solver {
         self.receive(&incident, zone, None, None);
         self.light.shot_power += self.scene.luminaires[k].power();
         self.light.luminaire_shot[k] = true;
+        self.stats.shots += 1;
+        self.refine();
+    }
+
+    /// Shoots the daylight: every vertex receives the sky, the ground and
+    /// the sun through the portals ([`crate::lighting::DaylightSource`]).
+    /// Its power is the power its shot landed, counted as emitted and
+    /// shot: the ledger's escaped power does not change.
+    fn shoot_daylight(&mut self) {
+        let vertices: Vec<u32> = (0..self.mesh.vertices.len() as u32).collect();
+        let (incident, rays) = shot_context!(self).daylight_light(&vertices);
+        self.stats.rays += rays;
+        let before = self.light.received_power;
+        self.receive(&incident, None, None, None);
+        let landed = self.light.received_power - before;
+        self.light.emitted_power += landed;
+        self.light.shot_power += landed;
+        self.light.reference_power = self.light.reference_power.max(landed.element_sum());
+        self.light.daylight_shot = true;
         self.stats.shots += 1;
         self.refine();
     }

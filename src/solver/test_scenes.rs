@@ -21,6 +21,7 @@ pub(crate) fn two_closed_rooms() -> Scene {
             name: name.into(),
             reflectance: Rgb::splat(reflectance),
             emitted_radiance: Rgb::splat(radiance),
+            transmittance: 0.0,
         });
     }
     // A quad of a box's face, turned to face `towards`.

@@ -280,6 +280,7 @@ fn shadow_boundaries_get_vertices_on_the_shadow_line() {
             name: name.into(),
             reflectance: Rgb::splat(reflectance),
             emitted_radiance: Rgb::splat(radiance),
+            transmittance: 0.0,
         });
     }
     let quad = |x0: f64, x1: f64, y0: f64, y1: f64, z: f64, up: bool| {

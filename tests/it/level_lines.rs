@@ -242,6 +242,7 @@ fn a_floor_under_two_equal_lamps_gets_level_lines() {
             name: name.into(),
             reflectance: Rgb::splat(reflectance),
             emitted_radiance: Rgb::splat(radiance),
+            transmittance: 0.0,
         });
     }
     let floor = vec![

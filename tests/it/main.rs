@@ -14,6 +14,7 @@ mod compare;
 mod contacts;
 mod contour;
 mod coplanar_merge;
+mod daylight;
 mod direct_field;
 mod dominance;
 mod export;

@@ -67,6 +67,7 @@ fn floor_scene(points: &[DVec2]) -> Scene {
         name: "white".into(),
         reflectance: Rgb::splat(0.5),
         emitted_radiance: Rgb::ZERO,
+        transmittance: 0.0,
     });
     let vertices = points.iter().map(|p| p.extend(0.0)).collect();
     scene
@@ -343,6 +344,7 @@ proptest! {
             name: "glowing wall".into(),
             reflectance: Rgb::splat(reflectance),
             emitted_radiance: Rgb::splat(radiance),
+            transmittance: 0.0,
         });
         for face in box_faces(DVec3::from_array(size)) {
             scene.surfaces.push(Surface::new("wall", 0, face).unwrap());

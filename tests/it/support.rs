@@ -46,6 +46,7 @@ impl SceneBuilder {
             name: name.into(),
             reflectance: Rgb::splat(reflectance),
             emitted_radiance: Rgb::splat(emitted_radiance),
+            transmittance: 0.0,
         });
         self.scene.materials.len() - 1
     }

@@ -316,10 +316,19 @@ pub struct Prepared {
 
 /// Loads and meshes a scene: the scene file's settings, then the flags.
 pub fn prepare(args: &SolveArgs) -> anyhow::Result<Prepared> {
+    prepare_adjusted(args, |_| Ok(()))
+}
+
+/// [`prepare`], with the scene changed by `adjust` before it is meshed.
+pub fn prepare_adjusted(
+    args: &SolveArgs,
+    adjust: impl FnOnce(&mut isorad::Scene) -> anyhow::Result<()>,
+) -> anyhow::Result<Prepared> {
     let started = Instant::now();
     let mut load_settings = LoadSettings::default();
     load_settings.merge_coplanar = !args.no_merge;
-    let loaded = load_scene_with(&args.scene, &load_settings)?;
+    let mut loaded = load_scene_with(&args.scene, &load_settings)?;
+    adjust(&mut loaded.scene)?;
     for warning in &loaded.scene.warnings {
         eprintln!("warning: {}", warning.message);
     }

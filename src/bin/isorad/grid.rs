@@ -5,11 +5,11 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use isorad::calculation::{
-    CalculationGrid, DEFAULT_CLEARANCE, FalseColorScale, IlluminanceStatistics, ObstructionRule,
-    write_falsecolor_grid, write_isolux_plot,
+    CalculationGrid, DEFAULT_CLEARANCE, DEFAULT_DF_TARGET, FalseColorScale, GridQuantity,
+    IlluminanceStatistics, ObstructionRule, write_falsecolor_grid, write_isolux_plot,
 };
 
-use crate::args::{Prepared, SolveArgs, ensure_directory_exists, prepare};
+use crate::args::{Prepared, SolveArgs, ensure_directory_exists, prepare_adjusted};
 use crate::progress::solve_to_tolerance;
 
 #[derive(Args)]
@@ -56,16 +56,32 @@ pub struct GridArgs {
     /// Also draw the grid in false colour with a legend in lux (.png).
     #[arg(long, value_name = "FILE")]
     falsecolor: Option<PathBuf>,
+    /// Report the daylight factor DF = 100 E / E_h, %, under the CIE
+    /// standard overcast sky of the file's horizontal illuminance, whatever
+    /// sky the file names (its sun left out), with its mean, median,
+    /// minimum, uniformity and the share reaching --df-target. Needs a [sky].
+    #[arg(long)]
+    daylight_factor: bool,
+    /// The daylight factor a point should reach, % (BREEAM Hea 01: 2).
+    #[arg(long, default_value_t = DEFAULT_DF_TARGET, value_name = "PERCENT")]
+    df_target: f64,
 }
 
 pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
     check_outputs(args)?;
+    anyhow::ensure!(
+        args.df_target.is_finite() && args.df_target >= 0.0,
+        "--df-target {}: must be a percentage of at least 0",
+        args.df_target
+    );
     let Prepared {
         mut solver,
         phases,
         started,
         ..
-    } = prepare(&args.solve)?;
+    } = prepare_adjusted(&args.solve, |scene| {
+        daylight_factor_sky(scene, args.daylight_factor)
+    })?;
     // The grid and its points' obstructions are found before solving, so
     // that a wrong name costs no solve.
     let rule = ObstructionRule {
@@ -100,29 +116,70 @@ pub fn grid(args: &GridArgs) -> anyhow::Result<()> {
     let places = grid.reading_places(solver.scene(), &selection);
     let solution = phases.solution_for(&solver, &places);
     let lux = grid.illuminance_of(&solution, &selection);
-    grid.write_csv(&args.csv, &lux, &selection)?;
-    for line in grid.header_lines(&lux, &selection) {
+    let daylight = solver.scene().daylight.as_ref();
+    let (values, quantity) = match daylight.filter(|_| args.daylight_factor) {
+        Some(daylight) => {
+            let sky_illuminance = daylight.sky_horizontal_illuminance();
+            let df: Vec<f64> = lux.iter().map(|e| 100.0 * e / sky_illuminance).collect();
+            let target = args.df_target;
+            (
+                df,
+                GridQuantity::DaylightFactor {
+                    sky_illuminance,
+                    target,
+                },
+            )
+        }
+        None => (
+            lux,
+            GridQuantity::Illuminance {
+                daylight: daylight.is_some(),
+            },
+        ),
+    };
+    grid.write_csv_as(&args.csv, &values, &selection, quantity)?;
+    for line in grid.header_lines_as(&values, &selection, quantity) {
         println!("{line}");
     }
-    if IlluminanceStatistics::of(&lux).is_none() {
+    if IlluminanceStatistics::of(&values).is_none() {
         anyhow::bail!(
             "no grid point lies inside `{}`: try a smaller --spacing",
             args.surface
         );
     }
     let marks = grid.luminaire_marks(solution.scene);
-    let title = grid.title(&lux);
-    let picture = grid.picture(&lux, &marks, &title);
+    let title = match quantity {
+        GridQuantity::DaylightFactor { .. } => grid.daylight_factor_title(&values),
+        GridQuantity::Illuminance { .. } => grid.title(&values),
+    };
+    let mut picture = grid.picture(&values, &marks, &title);
+    picture.unit = quantity.unit();
     let mut written = vec![args.csv.display().to_string()];
     if let Some(path) = &args.isolux {
         write_isolux_plot(path, &picture, &[])?;
         written.push(path.display().to_string());
     }
     if let Some(path) = &args.falsecolor {
-        write_falsecolor_grid(path, &picture, &FalseColorScale::fitted(&lux))?;
+        write_falsecolor_grid(path, &picture, &FalseColorScale::fitted(&values))?;
         written.push(path.display().to_string());
     }
     eprintln!("wrote {}", written.join(", "));
+    Ok(())
+}
+
+/// Under --daylight-factor, the scene's sky made the CIE standard overcast
+/// sky of the same horizontal illuminance, without the sun; an error for a
+/// scene without daylight.
+fn daylight_factor_sky(scene: &mut isorad::Scene, daylight_factor: bool) -> anyhow::Result<()> {
+    if !daylight_factor {
+        return Ok(());
+    }
+    let Some(daylight) = &scene.daylight else {
+        anyhow::bail!(
+            "--daylight-factor needs daylight: give the scene file a [sky] table (model = \"cie_overcast\")"
+        );
+    };
+    scene.daylight = Some(daylight.overcast());
     Ok(())
 }
 

@@ -5,6 +5,7 @@ use std::io::Write;
 
 use clap::Args;
 use glam::DVec2;
+use isorad::lighting::Portals;
 use isorad::{
     MeshSettings, Scene, SurfaceId,
     lighting::{AreaLight, ContourMesher, ReceiverAnalysis, area_lights},
@@ -15,6 +16,7 @@ use isorad::{
 };
 
 use crate::args::with_flag_names;
+use crate::daylight_report::daylight_lines;
 use crate::progress::PhaseBars;
 use crate::table::{significant, write_table};
 
@@ -77,6 +79,9 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
         scene.luminaires.len(),
         analyses.len()
     )?;
+    for line in daylight_lines(scene, &Portals::of_scene(scene)) {
+        writeln!(out, "{line}")?;
+    }
     let header = ["luminaire", "surfaces", "area", "radius", "exitance (W/m²)"];
     write_table(&mut out, &header, &area_light_rows(&lights))?;
     writeln!(out)?;

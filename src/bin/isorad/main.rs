@@ -4,6 +4,7 @@
 
 mod args;
 mod compare;
+mod daylight_report;
 mod grid;
 mod info;
 mod photometry;

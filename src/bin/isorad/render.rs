@@ -20,6 +20,7 @@ use isorad::{
 };
 
 use crate::args::{Prepared, SolveArgs, ensure_directory_exists, prepare};
+use crate::daylight_report::daylight_lines;
 use crate::progress::{INTERRUPTED, Interrupted, phase_times, solve_with_progress};
 use crate::stop::report_time_limit;
 use crate::table::significant;
@@ -256,7 +257,14 @@ fn print_summary(source: &str, solver: &Solver, solve_seconds: f64) {
             solver.stats().listed_rays
         );
     }
-    eprintln!("{}", emitted_flux(scene));
+    if !area_lights(scene).is_empty() || !scene.luminaires.is_empty() {
+        eprintln!("{}", emitted_flux(scene));
+    }
+    if let Some(source) = solver.daylight() {
+        for line in daylight_lines(scene, source.portals()) {
+            eprintln!("{line}");
+        }
+    }
     if let Some(mib) = peak_memory_mib() {
         eprintln!("peak memory: {mib:.0} MiB (resident)");
     }

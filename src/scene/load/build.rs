@@ -126,9 +126,10 @@ pub(crate) fn check_not_empty(path: &Path, scene: &Scene) -> Result<()> {
         return Err(empty("the scene has no usable faces"));
     }
     let emits = |s: &Surface| scene.material_of(s).is_emitter();
-    if !scene.surfaces.iter().any(emits) && scene.luminaires.is_empty() {
+    if !scene.surfaces.iter().any(emits) && scene.luminaires.is_empty() && scene.daylight.is_none()
+    {
         return Err(empty(
-            "the scene has no emitter: no face uses a material with a positive `Ke`",
+            "the scene has no emitter: no face uses a material with a positive `Ke`, and it has no [[luminaire]] and no [sky]",
         ));
     }
     Ok(())

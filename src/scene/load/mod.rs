@@ -15,6 +15,7 @@ mod obj_scan;
 mod probe_points;
 mod scene_file;
 mod settings_tables;
+mod sky_tables;
 mod source;
 mod spec;
 mod statement;

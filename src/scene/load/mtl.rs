@@ -1,9 +1,10 @@
 //! MTL material libraries: a line-by-line check with line numbers, parsing
 //! through tobj, and conversion to [`Material`].
 //!
-//! Only `Kd` (diffuse reflectance ρ, 0 ≤ ρ < 1 per channel) and `Ke`
-//! (emitted radiance L_e ≥ 0) matter to isorad; other statements are checked
-//! only as far as tobj needs them to be well formed. Blanks and tabs may
+//! Only `Kd` (diffuse reflectance ρ, 0 ≤ ρ < 1 per channel), `Ke` (emitted
+//! radiance L_e ≥ 0) and `Tf` (glazing: transmittance at normal incidence,
+//! its luminance read as τ_n, 0 ≤ τ_n < 1) matter to isorad; other
+//! statements are checked only as far as tobj needs them to be well formed. Blanks and tabs may
 //! stand anywhere between tokens (see [`super::statement`]).
 
 use std::path::Path;
@@ -11,6 +12,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 
 use super::statement::{canonical_line, canonical_text, split_statement};
+use crate::daylight::pane_diffuse_reflectance;
 use crate::rgb::Rgb;
 use crate::scene::material::{Material, NOT_FINITE, emitted_radiance_problem, reflectance_problem};
 
@@ -50,6 +52,15 @@ pub(crate) fn check_mtl(path: &Path, text: &str) -> Result<()> {
                     message,
                 })?;
             }
+            "Tf" => {
+                let transmittance = parse_transmission_filter(rest).map_err(parse_error)?;
+                check_transmittance(transmittance).map_err(|message| Error::InvalidMaterial {
+                    path: path.to_path_buf(),
+                    line: Some(number),
+                    material: material.clone(),
+                    message,
+                })?;
+            }
             "Ns" | "Ni" | "d" if words.next().and_then(|w| w.parse::<f32>().ok()).is_none() => {
                 return Err(parse_error(format!("`{keyword}` needs a number")));
             }
@@ -72,6 +83,39 @@ fn parse_rgb(words: &mut std::str::SplitWhitespace) -> Option<[f32; 3]> {
         *c = words.next()?.parse().ok()?;
     }
     Some(rgb)
+}
+
+/// The visible transmittance of a `Tf` statement's text: `r g b` (or one
+/// number for all three), read as its Rec. 709 luminance. The `spectral`
+/// and `xyz` forms are refused: isorad reads colours as RGB.
+fn parse_transmission_filter(rest: &str) -> Result<f64, String> {
+    let words: Vec<&str> = rest.split_whitespace().collect();
+    let numbers: Option<Vec<f64>> = words.iter().map(|w| w.parse::<f64>().ok()).collect();
+    match numbers.as_deref() {
+        Some([t]) => Ok(*t),
+        Some([r, g, b]) => Ok(Rgb::new(*r, *g, *b).luminance()),
+        _ if words
+            .first()
+            .is_some_and(|w| *w == "spectral" || *w == "xyz") =>
+        {
+            Err(format!(
+                "`Tf {}` is not supported: give the transmittance as `Tf r g b`",
+                words[0]
+            ))
+        }
+        _ => Err("`Tf` needs three numbers (r g b) or one".into()),
+    }
+}
+
+/// Why a glazing transmittance is out of range (finite, at least 0 and
+/// below 1), or `Ok`.
+fn check_transmittance(transmittance: f64) -> Result<(), String> {
+    if !transmittance.is_finite() || !(0.0..1.0).contains(&transmittance) {
+        return Err(format!(
+            "Tf = {transmittance}: the transmittance (Tf's luminance) must be at least 0 and below 1"
+        ));
+    }
+    Ok(())
 }
 
 /// Range checks: `Kd` finite and in [0, 1), `Ke` finite and ≥ 0, the others
@@ -110,19 +154,46 @@ pub(crate) fn parse_mtl(path: &Path, text: &str) -> Result<tobj::MTLLoadResult> 
 }
 
 /// Converts a (checked) tobj material: `Kd` → reflectance, `Ke` → emitted
-/// radiance, a missing one taken as zero. Also returns a warning when `Kd`
-/// is missing.
+/// radiance, `Tf` → glazing transmittance, a missing one taken as zero.
+/// Also returns a warning when `Kd` is missing from an opaque material, or
+/// when a material is transparent by `d` or `Tr` but has no `Tf`.
 #[must_use]
 pub(crate) fn to_material(m: &tobj::Material) -> (Material, Option<String>) {
     let rgb = |c: [f32; 3]| Rgb::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]));
-    let warning = m
-        .diffuse
-        .is_none()
-        .then(|| format!("material `{}` has no `Kd`: it reflects nothing", m.name));
+    let transmittance = m
+        .unknown_param
+        .get("Tf")
+        .and_then(|text| parse_transmission_filter(text).ok())
+        .unwrap_or(0.0);
+    let dissolved = m.dissolve.is_some_and(|d| d < 1.0)
+        || m.unknown_param
+            .get("Tr")
+            .and_then(|t| t.trim().parse::<f64>().ok())
+            .is_some_and(|t| t > 0.0);
+    let warning = if transmittance > 0.0 {
+        None
+    } else if dissolved {
+        Some(format!(
+            "material `{}` is transparent (`d` or `Tr`) but has no `Tf`: it is taken as opaque; give glazing its transmittance with `Tf`",
+            m.name
+        ))
+    } else {
+        m.diffuse
+            .is_none()
+            .then(|| format!("material `{}` has no `Kd`: it reflects nothing", m.name))
+    };
+    // Glazing reflects as a clear pane does under diffuse light (its `Kd`,
+    // often a tint for a viewer, is not a reflectance).
+    let reflectance = if transmittance > 0.0 {
+        Rgb::splat(pane_diffuse_reflectance(transmittance))
+    } else {
+        m.diffuse.map_or(Rgb::ZERO, rgb)
+    };
     let material = Material {
         name: m.name.clone(),
-        reflectance: m.diffuse.map_or(Rgb::ZERO, rgb),
+        reflectance,
         emitted_radiance: m.emissive.map_or(Rgb::ZERO, rgb),
+        transmittance,
     };
     (material, warning)
 }
@@ -167,6 +238,21 @@ mod tests {
         assert!(e.contains("t.mtl:2") && e.contains("`wall`"), "{e}");
     }
 
+    /// `Tf`'s luminance is the glazing's transmittance; one number stands
+    /// for all three; `d` without `Tf` is opaque, with a warning.
+    #[test]
+    fn tf_is_glazing() {
+        let text = "newmtl pane\nKd 0.1 0.1 0.1\nTf 0.7 0.8 0.9\nnewmtl grey\nTf 0.6\nnewmtl veil\nKd 0.5 0.5 0.5\nd 0.3\n";
+        let (m, _) = parse_mtl(Path::new("t.mtl"), text).unwrap().unwrap();
+        let (pane, warning) = to_material(&m[0]);
+        let expected = 0.2126 * 0.7 + 0.7152 * 0.8 + 0.0722 * 0.9;
+        assert!((pane.transmittance - expected).abs() < 1e-12 && warning.is_none());
+        assert!((to_material(&m[1]).0.transmittance - 0.6).abs() < 1e-12);
+        let (veil, warning) = to_material(&m[2]);
+        assert_eq!(veil.transmittance, 0.0);
+        assert!(warning.is_some_and(|w| w.contains("`veil`") && w.contains("Tf")));
+    }
+
     #[test]
     fn errors_carry_line_and_material() {
         let e = check("newmtl a\n\nKd 0.5 0.5\n").unwrap_err().to_string();
@@ -180,6 +266,16 @@ mod tests {
         let e = check("newmtl x\nKd nan 0 0\n").unwrap_err().to_string();
         assert!(e.contains("finite"), "{e}");
         assert!(check("newmtl\n").is_err());
+        let e = check("newmtl glass\nTf 1 1 1\n").unwrap_err().to_string();
+        assert!(
+            e.contains("t.mtl:2") && e.contains("`glass`") && e.contains("below 1"),
+            "{e}"
+        );
+        let e = check("newmtl glass\nTf spectral a.rfl\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("t.mtl:2") && e.contains("not supported"), "{e}");
+        assert!(check("newmtl glass\nTf 0.5 0.5\n").is_err());
         assert!(check("newmtl x\nillum\n").is_err());
     }
 }

@@ -10,6 +10,9 @@
 //! vfov_deg = 39.3                      # default 40
 //! width    = 512                       # default 512
 //! height   = 512                       # default 512
+//! [sky]                                # optional: daylight (see `sky_tables.rs`)
+//! model = "cie_overcast"
+//! [sun]                                # optional: the sun (see `sky_tables.rs`)
 //! [solver]                             # optional; every key defaulted
 //! tolerance = 0.01                     # stop when unshot power < 1 % of emitted
 //! max_shots = 1000000                  # stop after this many shots
@@ -56,6 +59,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use serde::Deserialize;
+use toml::Spanned;
 
 use crate::error::{Error, Result};
 
@@ -63,6 +67,7 @@ use super::build::check_not_empty;
 use super::loaded::LoadedScene;
 use super::luminaire_tables::{LuminaireTables, LuminaireToml};
 use super::obj::load_obj_from;
+use super::sky_tables::{SkyTables, SkyToml, SunToml};
 use super::source::{Disk, SourceFiles, line_at};
 use crate::scene::{Camera, SceneOptions};
 
@@ -79,6 +84,8 @@ struct SceneFileToml {
     #[serde(rename = "mesh")]
     _mesh: Option<toml::Table>,
     luminaire: Option<Vec<LuminaireToml>>,
+    sky: Option<Spanned<SkyToml>>,
+    sun: Option<Spanned<SunToml>>,
 }
 
 #[derive(Deserialize)]
@@ -137,7 +144,7 @@ pub(crate) fn load_scene_file_with(
     let obj_path = path.parent().unwrap_or(Path::new("")).join(&file.obj);
     let merge = merge_coplanar && file.merge_coplanar.unwrap_or(true);
     let luminaire_tables = file.luminaire.unwrap_or_default();
-    let lit_elsewhere = !luminaire_tables.is_empty();
+    let lit_elsewhere = !luminaire_tables.is_empty() || file.sky.is_some();
     let mut scene = load_obj_from(&obj_path, files, merge, lit_elsewhere).map_err(|e| match e {
         Error::Io { path: p, source } if p == obj_path => {
             file_error(format!("obj = {:?}: {}: {source}", file.obj, p.display()))
@@ -151,6 +158,8 @@ pub(crate) fn load_scene_file_with(
     for (k, table) in luminaire_tables.iter().enumerate() {
         scene.luminaires.push(luminaires.read(k + 1, table)?);
     }
+    let sky_tables = SkyTables { path, text: &text };
+    scene.daylight = sky_tables.read(file.sky.as_ref(), file.sun.as_ref())?;
     check_not_empty(&obj_path, &scene)?;
     Ok(LoadedScene {
         scene,

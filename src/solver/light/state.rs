@@ -34,6 +34,9 @@ pub(crate) struct LightState {
     pub(crate) emission_pending: Vec<u32>,
     /// Whether each of the scene's photometric luminaires has shot.
     pub(crate) luminaire_shot: Vec<bool>,
+    /// Whether the daylight has shot (true when the scene has none). Its
+    /// power is what its shot landed: counted as emitted and shot then.
+    pub(crate) daylight_shot: bool,
     /// The largest power a single patch or photometric luminaire emits (sum
     /// of channels): the scale for the number of samples a shot gets.
     pub(crate) reference_power: f64,
@@ -99,6 +102,7 @@ impl LightState {
             unshot_by_zone,
             emission_pending,
             luminaire_shot: vec![false; scene.luminaires.len()],
+            daylight_shot: layout.daylight.is_none(),
             reference_power,
             emitted_power,
             shot_power: Rgb::ZERO,

@@ -27,7 +27,9 @@ impl Solver {
     /// before it has.
     #[must_use]
     pub fn emission_pending(&self) -> bool {
-        !self.light.emission_pending.is_empty() || self.light.luminaire_shot.contains(&false)
+        !self.light.emission_pending.is_empty()
+            || self.light.luminaire_shot.contains(&false)
+            || !self.light.daylight_shot
     }
 
     /// Unshot power over emitted power (sums of channels), after the patch
@@ -93,6 +95,13 @@ impl Solver {
     #[must_use]
     pub fn stats(&self) -> SolveStats {
         self.stats
+    }
+
+    /// The scene's daylight with the portals it comes in through, if the
+    /// scene has a sky.
+    #[must_use]
+    pub fn daylight(&self) -> Option<&crate::lighting::DaylightSource> {
+        self.layout.daylight.as_ref()
     }
 
     /// The settings in use.

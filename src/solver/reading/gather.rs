@@ -9,7 +9,7 @@ use std::collections::BinaryHeap;
 
 use glam::{DVec2, DVec3};
 
-use crate::lighting::SampleStream;
+use crate::lighting::{DaylightReceiver, SampleStream};
 use crate::mesh::Cell;
 use crate::radiometry::{polygon_form_factor, polygon_form_factor_gradient};
 use crate::rgb::Rgb;
@@ -240,7 +240,7 @@ impl Solution<'_> {
         }
         let (direct, direct_gradient) =
             self.luminaire_light(x, normal, surface, reflectance != [0.0; 3]);
-        irradiance += direct;
+        irradiance += direct + self.daylight_light(x, normal, surface);
         for (channel, g) in gradient.iter_mut().enumerate() {
             *g += direct_gradient[channel] * reflectance[channel];
         }
@@ -285,6 +285,24 @@ impl Solution<'_> {
             }
         }
         (total, gradient)
+    }
+
+    /// The direct daylight at `x` on `surface` (unit `normal`), when the
+    /// solution holds the daylight's light; its gradient is left out of
+    /// the gather's (the sky changes slowly; the sun's penumbra is the
+    /// mesh's to follow).
+    fn daylight_light(&self, x: DVec3, normal: DVec3, surface: SurfaceId) -> Rgb {
+        let Some(source) = self.daylight else {
+            return Rgb::ZERO;
+        };
+        let receiver = DaylightReceiver {
+            position: x,
+            normal,
+            surface,
+            key: x.x.to_bits() ^ x.y.to_bits().rotate_left(21) ^ x.z.to_bits().rotate_left(42),
+        };
+        let mut rays = 0;
+        Rgb::splat(source.irradiance_at(self.scene, self.visibility, &receiver, &mut rays))
     }
 
     /// The elements a gather at `x` facing `normal` on `surface`

@@ -117,6 +117,11 @@ pub(crate) fn solution_from<'a>(
         mesh: term.mesh,
         visibility: term.visibility,
         luminaires_shot: term.light.luminaire_shot.clone(),
+        daylight: term
+            .layout
+            .daylight
+            .as_ref()
+            .filter(|_| term.light.daylight_shot),
         shot_irradiance: &term.light.irradiance,
         ambient,
         receiver_insets: &term.layout.receiver_insets,

@@ -6,6 +6,7 @@
 use glam::DVec3;
 
 use crate::error::{Error, Result};
+use crate::lighting::DaylightSource;
 use crate::mesh::{Mesh, receiver_inset};
 use crate::rgb::Rgb;
 use crate::scene::{ProbePoint, Scene, SurfaceId, Visibility};
@@ -76,6 +77,9 @@ pub struct Solution<'a> {
     /// Which of the scene's photometric luminaires the solution holds the
     /// light of (gather probes add their direct light).
     pub luminaires_shot: Vec<bool>,
+    /// The daylight, when the solution holds its light (gather probes add
+    /// its direct light).
+    pub(crate) daylight: Option<&'a DaylightSource>,
     /// Irradiance per mesh vertex from the light shot, W/m²: the solver's.
     pub(crate) shot_irradiance: &'a VertexIrradiance,
     /// The ambient term G_v added to it (`solver/ambient/rays.rs`).

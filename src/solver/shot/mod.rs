@@ -6,6 +6,7 @@
 pub(super) mod cache_runs;
 pub(super) mod coarse_reception;
 pub(super) mod context;
+pub(super) mod daylight;
 pub(super) mod element_power;
 pub(super) mod incident;
 pub(super) mod landing_scale;

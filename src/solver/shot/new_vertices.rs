@@ -1,5 +1,6 @@
 //! The light new vertices of an adaptive mesh gather: every shot so far,
-//! the patches' and the photometric luminaires', shot again at them alone.
+//! the patches', the photometric luminaires' and the daylight's, shot again
+//! at them alone.
 
 use crate::rgb::Rgb;
 use crate::solver::layout::CulledZones;
@@ -77,6 +78,13 @@ impl ShotContext<'_> {
                 for (h, d) in gathered_light.iter_mut().zip(direct) {
                     *h += d;
                 }
+            }
+        }
+        if light.daylight_shot {
+            let (direct, rays) = self.daylight_light(vertices);
+            stats.rays += rays;
+            for (h, d) in gathered_light.iter_mut().zip(direct) {
+                *h += d;
             }
         }
         gathered_light

@@ -2,6 +2,8 @@
 //! and its image in memory. The one place where a solution meets the
 //! renderer, which itself knows only triangles.
 
+mod sky;
+
 use crate::mesh::{Element, Mesh};
 use crate::render::{Image, RenderSettings, ShadedTriangle, rasterize};
 use crate::rgb::Rgb;
@@ -87,10 +89,16 @@ impl Solution<'_> {
 
     /// Renders the solution through `camera` into an image of linear
     /// radiance that the caller owns; write it with [`crate::write_exr`] or
-    /// [`crate::write_png`].
+    /// [`crate::write_png`]. Under daylight, the sky and the ground are
+    /// seen where no surface is, and through glazing, attenuated
+    /// (`view/sky.rs`).
     #[must_use]
     pub fn render(&self, camera: &Camera, settings: &RenderSettings) -> Image {
-        rasterize(&self.triangles_seen_from(camera), camera, settings)
+        let triangles = self.triangles_seen_from(camera);
+        match self.daylight {
+            Some(source) => self.render_daylit(&triangles, camera, settings, source.daylight()),
+            None => rasterize(&triangles, camera, settings),
+        }
     }
 }
 
