@@ -409,3 +409,177 @@ fn the_open_vertical_plane_sees_sky_and_ground() {
         "{lux} lx against {want} lx"
     );
 }
+
+/// `isorad grid --daylight-factor`: DF = 100 E / E_h under the overcast
+/// sky whatever the file's sky, its statistics, and the same DF for any
+/// horizontal illuminance.
+#[test]
+fn the_daylight_factor_grid_is_the_overcast_sky_over_its_illuminance() {
+    let dir = tempfile::tempdir().unwrap();
+    let (obj, mtl) = room(Opening::Roof);
+    let clear = "[sky]\nmodel = \"cie_clear\"\nhorizontal_illuminance = 25000.0\nground_reflectance = 0.0\n\
+                 [sun]\naltitude_deg = 40.0\nazimuth_deg = 160.0\nnormal_illuminance = 80000.0\n";
+    let path = write_scene(dir.path(), &obj, &mtl, clear);
+    let csv = dir.path().join("df.csv");
+    let out = crate::cli::isorad(
+        dir.path(),
+        &[
+            "grid",
+            path.to_str().unwrap(),
+            "--surface",
+            "floor",
+            "--spacing",
+            "0.8",
+            "--daylight-factor",
+            "--csv",
+            csv.to_str().unwrap(),
+            "-q",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        text.contains("x,y,z,daylight_factor_percent,status"),
+        "{text}"
+    );
+    for key in [
+        "DFmin",
+        "DFavg",
+        "DFmedian",
+        "DFmax",
+        "U0 = DFmin/DFavg",
+        "share >= 2 %",
+        "sky = CIE standard overcast",
+    ] {
+        assert!(text.contains(key), "{key} missing: {text}");
+    }
+    // Under the overcast sky of the same E_h, DF is the sky component over
+    // E_h = 7π L_z / 9 (the ground is black).
+    let e_h = 7.0 * PI * ZENITH / 9.0;
+    let scale = ZENITH / overcast(DVec3::Y);
+    for line in text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with('x'))
+    {
+        let v: Vec<&str> = line.split(',').collect();
+        let x = DVec3::new(v[0].parse().unwrap(), 0.0, v[2].parse().unwrap());
+        let df: f64 = v[3].parse().unwrap();
+        let sky = |d: DVec3| overcast(d) * scale;
+        let want = 100.0
+            * sky_component(
+                x,
+                DVec3::new(1.5, 3.0, 1.5),
+                DVec3::X,
+                DVec3::Z,
+                DVec3::Y,
+                &sky,
+                None,
+            )
+            / e_h;
+        assert!(
+            (df / want - 1.0).abs() < 0.01,
+            "DF {df} % against {want} % at {x}"
+        );
+    }
+}
+
+/// A scene file's `[sky]` and `[sun]` mistakes name the file, the line and
+/// the key.
+#[test]
+fn sky_and_sun_mistakes_name_file_line_and_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let (obj, mtl) = room(Opening::Roof);
+    let cases = [
+        ("[sky]\nmodel = \"cie_cloudy\"\n", Some(3), "model"),
+        ("[sky]\nmodel = \"cie_general\"\n", None, "type"),
+        (
+            "[sky]\nmodel = \"cie_general\"\ntype = 16\n",
+            Some(4),
+            "type",
+        ),
+        (
+            "[sky]\nmodel = \"cie_overcast\"\ntype = 3\n",
+            Some(4),
+            "type",
+        ),
+        (
+            "[sky]\nmodel = \"uniform\"\nhorizontal_illuminance = 100.0\nzenith_luminance = 50.0\n",
+            Some(5),
+            "zenith_luminance",
+        ),
+        (
+            "[sky]\nmodel = \"uniform\"\nhorizontal_illuminance = -1.0\n",
+            Some(4),
+            "horizontal_illuminance",
+        ),
+        (
+            "[sky]\nmodel = \"uniform\"\nground_reflectance = 1.0\n",
+            Some(4),
+            "ground_reflectance",
+        ),
+        (
+            "[sky]\nmodel = \"uniform\"\nnorth = [0.0, 1.0, 0.0]\n",
+            Some(4),
+            "north",
+        ),
+        ("[sky]\nmodel = \"cie_clear\"\n", Some(3), "model"),
+        (
+            "[sun]\naltitude_deg = 30.0\nazimuth_deg = 180.0\nnormal_illuminance = 1.0\n",
+            None,
+            "(table)",
+        ),
+        (
+            "[sky]\nmodel = \"cie_clear\"\n[sun]\naltitude_deg = 30.0\nnormal_illuminance = 1.0\n",
+            None,
+            "altitude_deg",
+        ),
+        (
+            "[sky]\nmodel = \"cie_clear\"\n[sun]\naltitude_deg = 30.0\nazimuth_deg = 180.0\n",
+            None,
+            "normal_illuminance",
+        ),
+        (
+            "[sky]\nmodel = \"cie_clear\"\n[sun]\naltitude_deg = 95.0\nazimuth_deg = 180.0\nnormal_illuminance = 1.0\n",
+            Some(5),
+            "altitude_deg",
+        ),
+        (
+            "[sky]\nmodel = \"cie_clear\"\n[sun]\nlatitude = 48.0\nlongitude = 2.0\ntime = \"2026-06-21T12:00\"\nnormal_illuminance = 1.0\n",
+            Some(7),
+            "time",
+        ),
+    ];
+    for (tables, line, key) in cases {
+        let path = write_scene(dir.path(), &obj, &mtl, tables);
+        let error = load_scene(path.to_str().unwrap())
+            .err()
+            .unwrap_or_else(|| panic!("{tables} loaded"))
+            .to_string();
+        let place = line.map_or("room.toml:".to_owned(), |line| {
+            format!("room.toml:{line}: [")
+        });
+        assert!(
+            error.contains(&place) && error.contains(&format!("] {key} = ")),
+            "{tables}: {error}"
+        );
+    }
+    // An unknown key is refused by the TOML reader, with its line.
+    let path = write_scene(
+        dir.path(),
+        &obj,
+        &mtl,
+        "[sky]\nmodel = \"uniform\"\nbrightness = 2.0\n",
+    );
+    let error = load_scene(path.to_str().unwrap())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        error.contains("line 4") && error.contains("brightness"),
+        "{error}"
+    );
+}

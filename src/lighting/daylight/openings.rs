@@ -345,3 +345,116 @@ fn rectangle(raster: &Raster, region: CellBox, snap_to: &[DVec2], frame: &PlaneF
         normal: frame.normal,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rgb::Rgb;
+    use crate::scene::{Material, Surface};
+
+    /// A rectangle from `corner` along `a` and `b` (its front is a × b).
+    fn rect(corner: DVec3, a: DVec3, b: DVec3) -> Vec<DVec3> {
+        vec![corner, corner + a, corner + a + b, corner + b]
+    }
+
+    /// A 4 × 3 × 4 box facing inwards, without the faces `leave_out`
+    /// names (0 floor, 1 ceiling, 2 north z = 0, 3 south z = 4, 4 west, 5
+    /// east), with `extra` polygons.
+    fn room(leave_out: &[usize], extra: Vec<Vec<DVec3>>) -> Scene {
+        let (x, y, z) = (DVec3::X * 4.0, DVec3::Y * 3.0, DVec3::Z * 4.0);
+        let faces = [
+            rect(DVec3::ZERO, z, x),
+            rect(y, x, z),
+            rect(DVec3::ZERO, x, y),
+            rect(z, y, x),
+            rect(DVec3::ZERO, y, z),
+            rect(x, z, y),
+        ];
+        let mut scene = Scene::default();
+        scene
+            .materials
+            .push(Material::diffuse("m", Rgb::splat(0.5)));
+        for (k, face) in faces.into_iter().enumerate() {
+            if !leave_out.contains(&k) {
+                scene.surfaces.push(Surface::new("f", 0, face).unwrap());
+            }
+        }
+        for polygon in extra {
+            scene.surfaces.push(Surface::new("x", 0, polygon).unwrap());
+        }
+        scene
+    }
+
+    fn close(a: DVec3, b: DVec3) -> bool {
+        a.distance(b) < 1e-9
+    }
+
+    /// The opening's corners as a set, rounded.
+    fn has_corners(opening: &Opening, want: [DVec3; 4]) -> bool {
+        want.iter()
+            .all(|w| opening.corners.iter().any(|c| close(*c, *w)))
+    }
+
+    #[test]
+    fn a_closed_room_with_furniture_has_no_opening() {
+        let desk = rect(DVec3::new(1.0, 0.75, 1.0), DVec3::Z, DVec3::X * 1.5);
+        assert!(find_openings(&room(&[], vec![desk])).is_empty());
+    }
+
+    #[test]
+    fn a_window_written_as_four_pieces_is_found_exactly() {
+        // The south wall z = 4 around a hole x 1…3, y 0.9…2.1, in pieces
+        // whose edges meet in T-junctions.
+        let piece = |x0: f64, x1: f64, y0: f64, y1: f64| {
+            rect(
+                DVec3::new(x0, y0, 4.0),
+                DVec3::Y * (y1 - y0),
+                DVec3::X * (x1 - x0),
+            )
+        };
+        let wall = vec![
+            piece(0.0, 4.0, 0.0, 0.9),
+            piece(0.0, 4.0, 2.1, 3.0),
+            piece(0.0, 1.0, 0.9, 2.1),
+            piece(3.0, 4.0, 0.9, 2.1),
+        ];
+        let openings = find_openings(&room(&[3], wall));
+        assert_eq!(openings.len(), 1, "{openings:?}");
+        let want =
+            [(1.0, 0.9), (3.0, 0.9), (3.0, 2.1), (1.0, 2.1)].map(|(x, y)| DVec3::new(x, y, 4.0));
+        assert!(has_corners(&openings[0], want), "{:?}", openings[0]);
+        assert!(openings[0].normal.dot(DVec3::Z).abs() > 1.0 - 1e-12);
+    }
+
+    #[test]
+    fn a_door_down_to_the_floor_is_found() {
+        // The north wall z = 0 with a door x 1.5…2.5 up to 2.1: the floor's
+        // edge closes the notch.
+        let piece = |x0: f64, x1: f64, y0: f64, y1: f64| {
+            rect(
+                DVec3::new(x0, y0, 0.0),
+                DVec3::X * (x1 - x0),
+                DVec3::Y * (y1 - y0),
+            )
+        };
+        let wall = vec![
+            piece(0.0, 1.5, 0.0, 3.0),
+            piece(2.5, 4.0, 0.0, 3.0),
+            piece(1.5, 2.5, 2.1, 3.0),
+        ];
+        let openings = find_openings(&room(&[2], wall));
+        assert_eq!(openings.len(), 1, "{openings:?}");
+        let want =
+            [(1.5, 0.0), (2.5, 0.0), (2.5, 2.1), (1.5, 2.1)].map(|(x, y)| DVec3::new(x, y, 0.0));
+        assert!(has_corners(&openings[0], want), "{:?}", openings[0]);
+    }
+
+    #[test]
+    fn a_missing_facade_is_found() {
+        let openings = find_openings(&room(&[5], Vec::new()));
+        assert_eq!(openings.len(), 1, "{openings:?}");
+        let want =
+            [(0.0, 0.0), (4.0, 0.0), (4.0, 3.0), (0.0, 3.0)].map(|(z, y)| DVec3::new(4.0, y, z));
+        assert!(has_corners(&openings[0], want), "{:?}", openings[0]);
+    }
+}

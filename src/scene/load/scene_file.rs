@@ -144,7 +144,7 @@ pub(crate) fn load_scene_file_with(
     let obj_path = path.parent().unwrap_or(Path::new("")).join(&file.obj);
     let merge = merge_coplanar && file.merge_coplanar.unwrap_or(true);
     let luminaire_tables = file.luminaire.unwrap_or_default();
-    let lit_elsewhere = !luminaire_tables.is_empty() || file.sky.is_some();
+    let lit_elsewhere = !luminaire_tables.is_empty() || file.sky.is_some() || file.sun.is_some();
     let mut scene = load_obj_from(&obj_path, files, merge, lit_elsewhere).map_err(|e| match e {
         Error::Io { path: p, source } if p == obj_path => {
             file_error(format!("obj = {:?}: {}: {source}", file.obj, p.display()))
