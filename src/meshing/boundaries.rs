@@ -9,7 +9,8 @@ use super::analyses::closed_zones;
 use super::resolved::ResolvedMeshSettings;
 use super::zones::{ZoneLabels, Zones};
 use crate::lighting::{
-    AreaLight, BoundaryLimits, EdgeNeighbours, ShadowReceiver, light_reaches, shadow_boundaries,
+    AreaLight, BoundaryLimits, EdgeNeighbours, OccludersIn, ShadowReceiver, light_reaches,
+    shadow_boundaries,
 };
 use crate::phase::{Phase, PhaseCounter, PhaseReporter};
 use crate::scene::{Scene, SurfaceBoxes, SurfaceId, Visibility};
@@ -102,8 +103,60 @@ fn casting_limits(
     area_lights: &[AreaLight],
     settings: &ResolvedMeshSettings,
 ) -> Option<BoundaryLimits> {
-    let lit = !area_lights.is_empty() || !scene.luminaires.is_empty();
+    let sunlit = scene
+        .daylight
+        .as_ref()
+        .and_then(|d| d.sun_direction())
+        .is_some();
+    let lit = !area_lights.is_empty() || !scene.luminaires.is_empty() || sunlit;
     settings.shadow_boundaries.filter(|_| lit)
+}
+
+/// How far toward the sun its point stands, in scene diagonals: its rays
+/// across the scene are then parallel to 0.006°, well inside the sun's own
+/// 0.53°.
+const SUN_DISTANCE: f64 = 1e4;
+
+/// The sun as a caster of shadow boundaries: a point far along its
+/// direction, and what it shines through. Glazing does not stop it: the
+/// scene's BVH without the panes, when there are any.
+struct SunCaster {
+    point: [DVec3; 1],
+    /// The BVH and edges without the panes, when there are any.
+    clear: Option<ClearOfGlazing>,
+}
+
+/// A scene's BVH and edge index without its glazing.
+struct ClearOfGlazing {
+    visibility: Visibility,
+    neighbours: EdgeNeighbours,
+}
+
+impl SunCaster {
+    /// The scene's sun, if it shines.
+    fn of_scene(scene: &Scene) -> Option<SunCaster> {
+        let direction = scene.daylight.as_ref()?.sun_direction()?;
+        let bounds = scene.bounds();
+        let centre = (bounds.min + bounds.max) / 2.0;
+        let glazing = |id: SurfaceId| scene.material_of(scene.surface(id)).is_glazing();
+        let glazed = scene.surfaces_with_ids().any(|(id, _)| glazing(id));
+        Some(SunCaster {
+            point: [centre + direction * (SUN_DISTANCE * scene.diagonal().max(1e-9))],
+            clear: glazed.then(|| ClearOfGlazing {
+                visibility: Visibility::of_surfaces(scene, |id| !glazing(id)),
+                neighbours: EdgeNeighbours::of_surfaces(scene, |id| !glazing(id)),
+            }),
+        })
+    }
+}
+
+/// A receiver of the sun's boundaries: its surface, its zone's BVH (the
+/// sun's own when glazing is in the way) and its zone's occluders.
+#[derive(Clone, Copy)]
+struct SunReceiver<'a> {
+    surface: SurfaceId,
+    visibility: &'a Visibility,
+    occluders: OccludersIn<'a>,
 }
 
 /// What casts every receiver's shadow boundaries: each light with the
@@ -121,6 +174,8 @@ struct BoundaryCaster<'a> {
     limits: BoundaryLimits,
     /// The element edge: a receiver smaller than one element gets none.
     element: f64,
+    /// The sun, when it shines.
+    sun: Option<SunCaster>,
 }
 
 impl<'a> BoundaryCaster<'a> {
@@ -158,6 +213,7 @@ impl<'a> BoundaryCaster<'a> {
             boxes: SurfaceBoxes::new(scene),
             limits,
             element: settings.square.max_edge,
+            sun: SunCaster::of_scene(scene),
         }
     }
 
@@ -203,7 +259,7 @@ impl<'a> BoundaryCaster<'a> {
             surface: id,
             occluders: &occluders,
         };
-        shadow_boundaries(
+        let mut found = shadow_boundaries(
             scene,
             visibility,
             &self.neighbours,
@@ -211,6 +267,59 @@ impl<'a> BoundaryCaster<'a> {
             &lit,
             &points,
             self.limits,
-        )
+        );
+        if let Some(sun) = &self.sun {
+            let place = SunReceiver {
+                surface: id,
+                visibility,
+                occluders: &occluders,
+            };
+            self.add_sun_boundaries(scene, sun, place, &mut found);
+        }
+        found
+    }
+
+    /// The sun's boundaries on `id`, through every occluder but glazing,
+    /// added to `found`, the longest kept to the receiver's limit.
+    fn add_sun_boundaries(
+        &self,
+        scene: &Scene,
+        sun: &SunCaster,
+        place: SunReceiver<'_>,
+        found: &mut Vec<[DVec2; 2]>,
+    ) {
+        let (id, occluders) = (place.surface, place.occluders);
+        let (visibility, neighbours) = match &sun.clear {
+            Some(clear) => (&clear.visibility, &clear.neighbours),
+            None => (place.visibility, &self.neighbours),
+        };
+        if !light_reaches(scene, visibility, id, &sun.point, id) {
+            return;
+        }
+        let opaque = |low, high| {
+            let mut near = occluders(low, high);
+            near.retain(|&o| !scene.material_of(scene.surface(o)).is_glazing());
+            near
+        };
+        let receiver = ShadowReceiver {
+            surface: id,
+            occluders: &opaque,
+        };
+        let sunlit = shadow_boundaries(
+            scene,
+            visibility,
+            neighbours,
+            receiver,
+            &[],
+            &sun.point,
+            self.limits,
+        );
+        if sunlit.is_empty() {
+            return;
+        }
+        found.extend(sunlit);
+        let length = |s: &[DVec2; 2]| s[0].distance(s[1]);
+        found.sort_by(|a, b| length(b).total_cmp(&length(a)));
+        found.truncate(self.limits.max_per_receiver);
     }
 }

@@ -42,12 +42,20 @@ impl EdgeNeighbours {
     /// rounded to a millionth of the scene's diagonal.
     #[must_use]
     pub fn new(scene: &Scene) -> EdgeNeighbours {
+        EdgeNeighbours::of_surfaces(scene, |_| true)
+    }
+
+    /// [`EdgeNeighbours::new`] over the surfaces `keep` keeps alone (the
+    /// sun's occluders leave glazing out: a window's frame is a silhouette
+    /// to it though the pane shares its edges).
+    #[must_use]
+    pub fn of_surfaces(scene: &Scene, keep: impl Fn(SurfaceId) -> bool) -> EdgeNeighbours {
         let quantum = (1e-6 * scene.diagonal()).max(f64::MIN_POSITIVE);
         let mut neighbours = EdgeNeighbours {
             quantum,
             edges: FixedMap::default(),
         };
-        for (id, surface) in scene.surfaces_with_ids() {
+        for (id, surface) in scene.surfaces_with_ids().filter(|(id, _)| keep(*id)) {
             let polygon = surface.occluder_vertices();
             for k in 0..polygon.len() {
                 let key = neighbours.key(polygon[k], polygon[(k + 1) % polygon.len()]);
