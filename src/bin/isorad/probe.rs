@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use isorad::{
-    Rgb, calculation::illuminance_lux, photometry::LUMENS_PER_WATT, scene::load_probe_points,
-    solver::ReadingPlace,
+    Rgb, calculation::illuminance_lux, photometry::LUMENS_PER_WATT, scene::ProbePoint,
+    scene::load_probe_points, solver::ReadingPlace,
 };
 use rayon::prelude::*;
 
@@ -27,6 +27,13 @@ pub struct ProbeArgs {
     /// Also print the in-plane radiosity gradient of each channel.
     #[arg(long)]
     gradient: bool,
+    /// Read the points in free space (a work plane, another program's
+    /// calculation points): each needs its normal, x,y,z,nx,ny,nz, and
+    /// gets the irradiance on a small receiver there facing it, as
+    /// `isorad grid` reads a raised work plane. Columns:
+    /// x,y,z,nx,ny,nz,irradiance_r,irradiance_g,irradiance_b,illuminance_lux.
+    #[arg(long, conflicts_with_all = ["mode", "gradient"])]
+    in_space: bool,
 }
 
 pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
@@ -37,8 +44,25 @@ pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
         started,
         ..
     } = prepare(&args.solve)?;
+    if args.in_space
+        && let Some(point) = points.iter().find(|p| p.normal.is_none())
+    {
+        anyhow::bail!(
+            "{}:{}: --in-space needs each point's normal: x,y,z,nx,ny,nz",
+            args.points.display(),
+            point.line
+        );
+    }
     let until = args.solve.until(started);
     solve_to_tolerance(&mut solver, &until, args.solve.quiet)?;
+    if args.in_space {
+        let places: Vec<ReadingPlace> = points
+            .iter()
+            .map(|p| ReadingPlace::InSpace(p.position))
+            .collect();
+        let solution = phases.solution_for(&solver, &places);
+        return write_in_space(&solution, &points);
+    }
     // The ambient term of the closed rooms the probes lie in alone (a
     // point on no surface fails below, whatever the term).
     let places: Vec<ReadingPlace> = points
@@ -87,6 +111,42 @@ pub fn probe(args: &ProbeArgs) -> anyhow::Result<()> {
             luminance_cd_m2(probe.radiosity)
         ));
         writeln!(out, "{row}")?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// Each point's irradiance in free space, facing its normal, as CSV rows.
+fn write_in_space(solution: &isorad::Solution<'_>, points: &[ProbePoint]) -> anyhow::Result<()> {
+    let read: Vec<Rgb> = points
+        .par_iter()
+        .map(|p| {
+            solution
+                .irradiance_in_space(p.position, p.normal.unwrap_or_default())
+                .0
+        })
+        .collect();
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    writeln!(
+        out,
+        "x,y,z,nx,ny,nz,irradiance_r,irradiance_g,irradiance_b,illuminance_lux"
+    )?;
+    for (p, h) in points.iter().zip(read) {
+        let (x, n) = (p.position, p.normal.unwrap_or_default());
+        writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{},{}",
+            x.x,
+            x.y,
+            x.z,
+            n.x,
+            n.y,
+            n.z,
+            h.r,
+            h.g,
+            h.b,
+            illuminance_lux(h)
+        )?;
     }
     out.flush()?;
     Ok(())
