@@ -1,7 +1,8 @@
 //! Daylight: sky luminance models, the sun's position, and clear glazing.
 //!
 //! Pure functions of directions and time, in local (east, north, up)
-//! coordinates: nothing here knows of scenes, meshes or solvers.
+//! coordinates: nothing here knows of scenes, meshes or solvers (it takes
+//! only photometry's 179 lm/W).
 //!
 //! - [`Sky`] with a [`SkyModel`]: the CIE overcast, clear and intermediate
 //!   skies, the fifteen types of the CIE standard general sky
