@@ -583,3 +583,38 @@ fn sky_and_sun_mistakes_name_file_line_and_key() {
         "{error}"
     );
 }
+
+/// `[glazing]` makes a material glazing by name: the glazed façade of a
+/// pane whose MTL has no `Tf` reads as the one with `Tf 0.8`; a name no
+/// material has, or a transmittance of 1, is refused with its line.
+#[test]
+fn glazing_by_name_in_the_scene_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (obj, _) = room(Opening::Facade { glazed: true });
+    let plain = "newmtl black\nKd 0 0 0\nnewmtl glass\nKd 0.5 0.5 0.5\nd 0.2\n";
+    let tables = format!("{OVERCAST}[glazing]\nglass = 0.8\n");
+    let path = write_scene(dir.path(), &obj, plain, &tables);
+    let points = [DVec3::new(2.0, 0.0, 2.0), DVec3::new(0.8, 0.0, 3.2)];
+    let by_name = floor_lux(&path, &points);
+    let (_, with_tf) = room(Opening::Facade { glazed: true });
+    let path = write_scene(dir.path(), &obj, &with_tf, OVERCAST);
+    let by_tf = floor_lux(&path, &points);
+    assert!(
+        worst(&by_name, &by_tf) < 1e-9,
+        "{by_name:?} against {by_tf:?}"
+    );
+    for (glazing, line) in [
+        ("[glazing]\nwindow = 0.8\n", 7),
+        ("[glazing]\nglass = 1.0\n", 7),
+    ] {
+        let path = write_scene(dir.path(), &obj, plain, &format!("{OVERCAST}{glazing}"));
+        let error = load_scene(path.to_str().unwrap())
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            error.contains(&format!("room.toml:{line}: [glazing]")),
+            "{error}"
+        );
+    }
+}

@@ -13,6 +13,8 @@
 //! [sky]                                # optional: daylight (see `sky_tables.rs`)
 //! model = "cie_overcast"
 //! [sun]                                # optional: the sun (see `sky_tables.rs`)
+//! [glazing]                            # optional: materials made glazing by name
+//! "Glass_Clear" = 0.78                 #   (see `glazing_table.rs`)
 //! [solver]                             # optional; every key defaulted
 //! tolerance = 0.01                     # stop when unshot power < 1 % of emitted
 //! max_shots = 1000000                  # stop after this many shots
@@ -64,6 +66,7 @@ use toml::Spanned;
 use crate::error::{Error, Result};
 
 use super::build::check_not_empty;
+use super::glazing_table::{GlazingToml, apply_glazing};
 use super::loaded::LoadedScene;
 use super::luminaire_tables::{LuminaireTables, LuminaireToml};
 use super::obj::load_obj_from;
@@ -85,6 +88,7 @@ struct SceneFileToml {
     _mesh: Option<toml::Table>,
     luminaire: Option<Vec<LuminaireToml>>,
     sky: Option<Spanned<SkyToml>>,
+    glazing: Option<GlazingToml>,
     sun: Option<Spanned<SunToml>>,
 }
 
@@ -157,6 +161,9 @@ pub(crate) fn load_scene_file_with(
     let mut luminaires = LuminaireTables::new(path, &text, folder);
     for (k, table) in luminaire_tables.iter().enumerate() {
         scene.luminaires.push(luminaires.read(k + 1, table)?);
+    }
+    if let Some(glazing) = &file.glazing {
+        apply_glazing(&mut scene, glazing, path, &text)?;
     }
     let sky_tables = SkyTables { path, text: &text };
     scene.daylight = sky_tables.read(file.sky.as_ref(), file.sun.as_ref())?;
