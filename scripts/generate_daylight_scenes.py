@@ -225,6 +225,14 @@ def office():
           'obj = "daylit_office.obj"\n'
           + camera((2.0, 1.6, 0.3), (2.0, 1.3, 6.0), vfov=65.0, width=800, height=500)
           + SKY_OVERCAST)
+    # The same office under the clear sky and a winter afternoon's sun.
+    write(os.path.join(ROOT, "daylit_office_sun.toml"),
+          '# The daylit office under the CIE clear sky and the sun (isorad scene file).\n'
+          'obj = "daylit_office.obj"\n'
+          + camera((2.0, 1.6, 0.3), (2.0, 1.3, 6.0), vfov=65.0, width=800, height=500)
+          + '\n[sky]\nmodel = "cie_clear"\nhorizontal_illuminance = 10000.0\n'
+          'ground_reflectance = 0.2\nnorth = [0.0, 0.0, -1.0]\n'
+          '\n[sun]\naltitude_deg = 35.0\nazimuth_deg = 165.0\nnormal_illuminance = 70000.0\n')
     # The work plane: 0.85 m high, a 0.5 m grid inset 0.5 m from the walls.
     points_csv(os.path.join(ROOT, "daylit_office_points.csv"),
                frange(0.5, 3.5, 0.5), frange(0.5, 5.5, 0.5), 0.85)
