@@ -305,18 +305,30 @@ impl CalculationGrid {
     /// statistics.
     #[must_use]
     pub fn title(&self, lux: &[f64]) -> String {
+        self.titled(lux, |s| {
+            format!(
+                "Eavg {:.0} lx, Emin {:.0} lx, U0 {:.2}",
+                s.average,
+                s.minimum,
+                s.uniformity()
+            )
+        })
+    }
+
+    /// The grid's place (the surface, and the height when raised), then
+    /// `statistics` of `values`' statistics when there are any.
+    fn titled(
+        &self,
+        values: &[f64],
+        statistics: impl Fn(&IlluminanceStatistics) -> String,
+    ) -> String {
         let place = if self.height > 0.0 {
             format!("{} + {} m", self.name, self.height)
         } else {
             self.name.clone()
         };
-        match IlluminanceStatistics::of(lux) {
-            Some(stats) => format!(
-                "{place}: Eavg {:.0} lx, Emin {:.0} lx, U0 {:.2}",
-                stats.average,
-                stats.minimum,
-                stats.uniformity()
-            ),
+        match IlluminanceStatistics::of(values) {
+            Some(stats) => format!("{place}: {}", statistics(&stats)),
             None => place,
         }
     }
@@ -325,20 +337,14 @@ impl CalculationGrid {
     /// and minimum DF and the uniformity.
     #[must_use]
     pub fn daylight_factor_title(&self, df: &[f64]) -> String {
-        let place = if self.height > 0.0 {
-            format!("{} + {} m", self.name, self.height)
-        } else {
-            self.name.clone()
-        };
-        match IlluminanceStatistics::of(df) {
-            Some(stats) => format!(
-                "{place}: DF avg {:.2} %, min {:.2} %, U0 {:.2}",
-                stats.average,
-                stats.minimum,
-                stats.uniformity()
-            ),
-            None => place,
-        }
+        self.titled(df, |s| {
+            format!(
+                "DF avg {:.2} %, min {:.2} %, U0 {:.2}",
+                s.average,
+                s.minimum,
+                s.uniformity()
+            )
+        })
     }
 
     /// Where the grid's points read the solution, for
