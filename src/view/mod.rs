@@ -2,6 +2,7 @@
 //! and its image in memory. The one place where a solution meets the
 //! renderer, which itself knows only triangles.
 
+mod exact_sun;
 mod sky;
 
 use crate::mesh::{Element, Mesh};
@@ -94,11 +95,14 @@ impl Solution<'_> {
     /// (`view/sky.rs`).
     #[must_use]
     pub fn render(&self, camera: &Camera, settings: &RenderSettings) -> Image {
-        let triangles = self.triangles_seen_from(camera);
-        match self.daylight {
-            Some(source) => self.render_daylit(&triangles, camera, settings, source.daylight()),
-            None => rasterize(&triangles, camera, settings),
-        }
+        let Some(source) = self.daylight else {
+            return rasterize(&self.triangles_seen_from(camera), camera, settings);
+        };
+        let radiosity = |v: u32| self.radiosity_at(v as usize);
+        let indices = self.triangle_indices_seen_from(camera);
+        let triangles = shaded(self.mesh, &radiosity, indices.clone());
+        let image = self.render_daylit(&triangles, camera, settings, source.daylight());
+        self.with_exact_sun(image, &indices, camera, settings, source)
     }
 }
 

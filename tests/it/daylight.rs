@@ -638,3 +638,70 @@ fn glazing_by_name_in_the_scene_file() {
         );
     }
 }
+
+/// Renders light a sun patch's edge per pixel: a plate's shadow on a
+/// coarsely meshed floor (the sun in the east at 45°, the shadow's edge at
+/// x = −2) is sharp, each pixel beside its edge reading what a gather at
+/// its point reads.
+#[test]
+fn renders_draw_the_sun_patch_edge_at_each_pixel() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut obj = String::from("mtllib room.mtl\n");
+    face(
+        &mut obj,
+        "floor",
+        "grey",
+        [
+            [-5.0, 0.0, -5.0],
+            [-5.0, 0.0, 5.0],
+            [5.0, 0.0, 5.0],
+            [5.0, 0.0, -5.0],
+        ],
+    );
+    face(
+        &mut obj,
+        "plate",
+        "grey",
+        [
+            [-1.0, 1.0, -1.0],
+            [1.0, 1.0, -1.0],
+            [1.0, 1.0, 1.0],
+            [-1.0, 1.0, 1.0],
+        ],
+    );
+    let tables = "[camera]\nposition = [0.0, 6.0, 0.0]\nlook_at = [0.0, 0.0, 0.0]\nup = [0.0, 0.0, -1.0]\n\
+                  vfov_deg = 60.0\nwidth = 200\nheight = 200\n[mesh]\nmax_edge = 0.6\n\
+                  [sky]\nmodel = \"uniform\"\nzenith_luminance = 100.0\nground_reflectance = 0.0\n\
+                  [sun]\naltitude_deg = 45.0\nazimuth_deg = 90.0\nnormal_illuminance = 50000.0\n";
+    let path = write_scene(dir.path(), &obj, "newmtl grey\nKd 0.5 0.5 0.5\n", tables);
+    let loaded = load_scene(path.to_str().unwrap()).unwrap();
+    let camera = loaded.scene.camera.clone().unwrap();
+    let settings = Settings::from_scene_options(&loaded.options).unwrap();
+    let mut solver = Solver::new(loaded.scene, settings).unwrap();
+    solver.run();
+    let solution = solver.solution(Ambient::Everywhere, &silent);
+    let image = solution.render(&camera, &isorad::RenderSettings::default());
+    // Column c looks at x = (c + 0.5 − 100) / 100 · 6 tan 30° on the floor's
+    // centre row (z = 0.015 for row 100).
+    let half = 6.0 * 30_f64.to_radians().tan();
+    for column in [36, 38, 40, 44, 46, 48] {
+        let x = (column as f64 + 0.5 - 100.0) / 100.0 * half;
+        let z = 0.5 / 100.0 * half;
+        let point = ProbePoint {
+            position: DVec3::new(x, 0.0, z),
+            normal: Some(DVec3::Y),
+            line: 0,
+        };
+        let probe = solution.probe(&point, ProbeMode::Gather).unwrap();
+        let want = probe.radiosity.luminance() / PI;
+        let [r, g, b] = image.pixel(column, 100);
+        let got = isorad::Rgb::new(r.into(), g.into(), b.into()).luminance();
+        // Sunlit, the pixel is the sun's exact light; in the shadow, the
+        // mesh's dim sky light, within its interpolation error.
+        let tolerance = if x < -2.0 { 0.03 } else { 0.1 };
+        assert!(
+            (got / want - 1.0).abs() < tolerance,
+            "column {column}, x = {x:.3}: pixel {got}, gather {want}"
+        );
+    }
+}

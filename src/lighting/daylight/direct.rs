@@ -112,7 +112,7 @@ impl DaylightSource {
     ) -> f64 {
         self.through_portals(scene, visibility, at, rays)
             + self.rest_of_sky(scene, visibility, at, rays)
-            + self.sun(scene, visibility, at, rays)
+            + self.sun_irradiance(scene, visibility, at, rays)
     }
 
     /// The sky and ground through the portals.
@@ -208,8 +208,11 @@ impl DaylightSource {
         }
     }
 
-    /// The sun's beam, over its disc.
-    fn sun(
+    /// The sun's direct irradiance (W/m²) at `at`: E_n cos θ times the
+    /// transmittance toward 16 stratified points of its disc; 0 without a
+    /// shining sun.
+    #[must_use]
+    pub fn sun_irradiance(
         &self,
         scene: &Scene,
         visibility: &Visibility,
