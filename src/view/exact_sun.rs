@@ -13,6 +13,8 @@ use crate::rgb::Rgb;
 use crate::scene::{Camera, SurfaceId};
 use crate::solver::Solution;
 
+use super::pixel_rays::PixelRays;
+
 /// The share of full sun under which, or over 1 − it above which, the
 /// interpolated sunlight is taken as exact.
 const SETTLED: f64 = 1e-3;
@@ -60,27 +62,19 @@ impl Solution<'_> {
             &settings.clone().with_background(Rgb::ZERO),
         );
         let (width, height) = (camera.width, camera.height);
-        let frame = camera.frame();
-        let half_height = (0.5 * camera.vfov_deg.to_radians()).tan();
-        let half_width = half_height * f64::from(width) / f64::from(height);
-        let reach =
-            4.0 * self.visibility.diagonal() + (camera.position - self.scene.bounds().min).length();
+        let rays = PixelRays::new(camera, self.scene, self.visibility);
         let full_sun = daylight.sun_normal_irradiance() / std::f64::consts::PI;
-        let pixels: Vec<[f32; 3]> = (0..width as usize * height as usize)
+        let pixels: Vec<[f32; 3]> = (0..rays.count())
             .into_par_iter()
             .map(|index| {
                 let pixel = image.pixels()[index];
-                let (i, j) = (
-                    (index % width as usize) as f64,
-                    (index / width as usize) as f64,
-                );
-                let x = (2.0 * (i + 0.5) / f64::from(width) - 1.0) * half_width;
-                let y = (1.0 - 2.0 * (j + 0.5) / f64::from(height)) * half_height;
-                let direction = (frame.right * x + frame.up * y + frame.forward).normalize();
-                let Some((id, distance)) =
-                    self.visibility
-                        .closest_hit(camera.position, direction, reach, SurfaceId::NONE)
-                else {
+                let direction = rays.direction(index);
+                let Some((id, distance)) = self.visibility.closest_hit(
+                    camera.position,
+                    direction,
+                    rays.reach,
+                    SurfaceId::NONE,
+                ) else {
                     return pixel;
                 };
                 let surface = self.scene.surface(id);

@@ -3,6 +3,7 @@
 //! renderer, which itself knows only triangles.
 
 mod exact_sun;
+mod pixel_rays;
 mod sky;
 
 use crate::mesh::{Element, Mesh};

@@ -17,6 +17,8 @@ use crate::rgb::Rgb;
 use crate::scene::{Camera, SurfaceId};
 use crate::solver::Solution;
 
+use super::pixel_rays::PixelRays;
+
 impl Solution<'_> {
     /// `triangles` rendered through `camera` under `daylight`: the sky
     /// where no triangle is, and behind glazing.
@@ -39,27 +41,20 @@ impl Solution<'_> {
         );
         let (width, height) = (camera.width, camera.height);
         let sky_radiance = daylight.radiance();
-        let frame = camera.frame();
-        let half_height = (0.5 * camera.vfov_deg.to_radians()).tan();
-        let half_width = half_height * f64::from(width) / f64::from(height);
-        let reach =
-            4.0 * self.visibility.diagonal() + (camera.position - self.scene.bounds().min).length();
-        let pixels: Vec<[f32; 3]> = (0..width as usize * height as usize)
+        let rays = PixelRays::new(camera, self.scene, self.visibility);
+        let pixels: Vec<[f32; 3]> = (0..rays.count())
             .into_par_iter()
             .map(|index| {
-                let (i, j) = (
-                    (index % width as usize) as f64,
-                    (index / width as usize) as f64,
-                );
-                let x = (2.0 * (i + 0.5) / f64::from(width) - 1.0) * half_width;
-                let y = (1.0 - 2.0 * (j + 0.5) / f64::from(height)) * half_height;
-                let direction = (frame.right * x + frame.up * y + frame.forward).normalize();
+                let direction = rays.direction(index);
                 let (b, w) = (black.pixels()[index], white.pixels()[index]);
                 let open = ((w[0] - b[0] + w[1] - b[1] + w[2] - b[2]) / 3.0).clamp(0.0, 1.0);
                 let mut sky = f64::from(open) * sky_radiance.toward(direction);
-                let hit =
-                    self.visibility
-                        .closest_hit(camera.position, direction, reach, SurfaceId::NONE);
+                let hit = self.visibility.closest_hit(
+                    camera.position,
+                    direction,
+                    rays.reach,
+                    SurfaceId::NONE,
+                );
                 if let Some((surface, distance)) = hit {
                     let pane = self.scene.surface(surface);
                     let material = self.scene.material_of(pane);
