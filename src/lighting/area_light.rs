@@ -37,7 +37,9 @@ pub struct AreaLight {
     pub exitance: Rgb,
 }
 
-/// Groups the scene's emitting surfaces into area lights.
+/// Groups the scene's emitting surfaces into area lights. Surfaces of an
+/// emitting body are left out: their luminaire lights the scene
+/// ([`Scene::join_emitting_bodies`]).
 ///
 /// Two emitting surfaces i, j belong to one area light when they share a
 /// material, their unit normals differ by at most 10⁻⁶ (|n_i − n_j|), each
@@ -51,9 +53,10 @@ pub struct AreaLight {
 /// JACM 22 (1975) (the union–find that joins the groups).
 #[must_use]
 pub fn area_lights(scene: &Scene) -> Vec<AreaLight> {
+    let in_body = scene.in_emitting_body();
     let emitters: Vec<SurfaceId> = scene
         .surfaces_with_ids()
-        .filter(|(_, surface)| is_emitting(scene, surface))
+        .filter(|(id, surface)| !in_body[id.index()] && is_emitting(scene, surface))
         .map(|(id, _)| id)
         .collect();
     let tolerance = DISTANCE_TOLERANCE * scene.diagonal();

@@ -34,8 +34,8 @@ pub(super) fn closed_zones(scene: &Scene, visibility: &Visibility, report: Phase
 }
 
 /// [`scene_receiver_analyses`] with the scene's closed zones found: each
-/// receiver gets the area lights of its zone, and every photometric
-/// one (a point, in no zone).
+/// receiver gets the area lights and emitting bodies of its zone, and
+/// every photometric luminaire (a point, in no zone).
 pub(super) fn analyses_in_zones(
     scene: &Scene,
     visibility: &Visibility,
@@ -50,9 +50,12 @@ pub(super) fn analyses_in_zones(
             per_zone[zones.of(surface)].push(k);
         }
     }
-    let photometric = area_lights.len()..area_lights.len() + scene.luminaires.len();
-    for lights in &mut per_zone {
-        lights.extend(photometric.clone());
+    for (k, luminaire) in scene.luminaires.iter().enumerate() {
+        let index = area_lights.len() + k;
+        match &luminaire.body {
+            Some(body) => per_zone[zones.of(body.surfaces[0])].push(index),
+            None => per_zone.iter_mut().for_each(|lights| lights.push(index)),
+        }
     }
     let room_of = |receiver| {
         let zone = zones.of(receiver);

@@ -62,13 +62,13 @@ pub(super) fn shade_sample(
     // Depth t = |D| / Σ e_k; clip near, then the z-test.
     let sum = e[0] + e[1] + e[2];
     let depth = setup.volume / sum;
-    let visible = sum > 0.0 && depth >= setup.z_near && depth < *nearest;
+    let visible = sum > 0.0 && depth >= setup.z_near && depth * setup.depth_scale < *nearest;
     if !visible {
         return;
     }
     // Perspective-correct Gouraud: L = Σ e_k L_k / Σ e_k.
     let [l0, l1, l2] = setup.radiance;
-    *nearest = depth;
+    *nearest = depth * setup.depth_scale;
     *radiance = ((l0 * e[0] + l1 * e[1] + l2 * e[2]) / sum).to_f32_array();
 }
 

@@ -51,6 +51,13 @@ use crate::scene::{Camera, CameraFrame};
 /// projected through the eye.
 pub(crate) const NEAR_PLANE_RELATIVE: f64 = 1e-6;
 
+/// A back face's depth is taken this much farther (relatively) in the
+/// z-test: a face and its back-to-back twin tie in depth up to rounding
+/// (about 10⁻¹⁵), and the face seen from its front must win; a true back
+/// face nearer by more than a millionth of its depth (5 µm at 5 m) still
+/// hides what is behind it.
+pub(crate) const BACK_FACE_DEPTH_BIAS: f64 = 1e-6;
+
 /// The camera's sample grid: where each sample column and row looks.
 pub(crate) struct View {
     /// The eye position.
@@ -159,6 +166,11 @@ pub(crate) struct Setup {
     pub z_near: f64,
     /// Vertex radiance as drawn: zero when the triangle is seen from its back.
     pub radiance: [Rgb; 3],
+    /// What a covered sample's depth is multiplied by for the z-test: 1 for
+    /// a triangle seen from its front, 1 + [`BACK_FACE_DEPTH_BIAS`] from
+    /// its back, so that of two faces back to back (a shade or a panel
+    /// modelled as a face each way) the one facing the eye is drawn.
+    pub depth_scale: f64,
     /// Vertices relative to the eye, for exact coverage decisions.
     vertices: [DVec3; 3],
     /// σ = sign D, orienting the edge functions.
@@ -200,10 +212,10 @@ impl Setup {
         }
         // One-sided: the front (n · (eye − p0) > 0, i.e. D < 0) carries the
         // radiance, the back is black.
-        let radiance = if volume < 0.0 {
-            triangle.radiance
+        let (radiance, depth_scale) = if volume < 0.0 {
+            (triangle.radiance, 1.0)
         } else {
-            [Rgb::ZERO; 3]
+            ([Rgb::ZERO; 3], 1.0 + BACK_FACE_DEPTH_BIAS)
         };
         // Near plane relative to the eye's distance h = |D|/|n| from the plane.
         let z_near = NEAR_PLANE_RELATIVE * volume.abs() / normal_length;
@@ -213,6 +225,7 @@ impl Setup {
             volume: volume.abs(),
             z_near,
             radiance,
+            depth_scale,
             vertices: c,
             sigma,
             columns,

@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
+use super::emitting_body::EmittingBody;
 use super::{ShadowCache, SurfaceId, Visibility};
 use crate::photometry::{IntensityDistribution, LUMENS_PER_WATT, PreparedDistribution};
 use crate::rgb::Rgb;
@@ -32,6 +33,10 @@ pub struct PhotometricLuminaire {
     pub multiplier: f64,
     /// Tint, with unit luminance (Rec. 709 weights, isorad's primaries).
     pub color: Rgb,
+    /// The emitting faces it stands for, when it is a lamp modelled as
+    /// faces on many planes ([`PhotometricLuminaire::of_body`]); `None`
+    /// for a photometric file's luminaire.
+    pub body: Option<Arc<EmittingBody>>,
     /// Its radiant power per channel, W (see [`PhotometricLuminaire::power`]).
     power: Rgb,
 }
@@ -73,8 +78,39 @@ impl PhotometricLuminaire {
             c0,
             multiplier,
             color,
+            body: None,
             power,
         }
+    }
+
+    /// The luminaire a lamp modelled as faces on many planes makes: its
+    /// distribution computed from the faces
+    /// ([`EmittingBody::intensity_distribution`]), its centre the faces'
+    /// area centroid, γ = 0 along [`EmittingBody::aim`], tinted by the
+    /// exitance's chromaticity. Its light near the body is the faces'
+    /// exact field, its shadows are cast from points on its faces
+    /// (see `scene/emitting_body.rs`). `None` for a body that emits no
+    /// luminance.
+    #[must_use]
+    pub fn of_body(body: EmittingBody) -> Option<PhotometricLuminaire> {
+        let luminance = body.exitance.luminance();
+        if !(luminance > 0.0 && luminance.is_finite()) {
+            return None;
+        }
+        let aim = body.aim();
+        let c0 = aim.any_orthonormal_vector();
+        let distribution = Arc::new(body.intensity_distribution(aim, c0));
+        let prepared = PreparedDistribution::new(distribution);
+        let name = format!(
+            "emitting body `{}` ({} faces)",
+            body.material,
+            body.face_count()
+        );
+        let color = body.exitance / luminance;
+        let mut luminaire =
+            PhotometricLuminaire::placed(name, &prepared, [body.centre, aim, c0], 1.0, color);
+        luminaire.body = Some(Arc::new(body));
+        Some(luminaire)
     }
 
     /// The (C, γ) angles of the unit direction `direction` from the
@@ -117,6 +153,12 @@ impl PhotometricLuminaire {
     /// the open the result is the point-source law exactly. Each shadow ray
     /// stops a surface offset short of its sample, so a recessed fitting
     /// whose opening lies on the ceiling's plane does not shadow itself.
+    ///
+    /// An emitting body's luminaire gives, within a few of its radii, its
+    /// faces' exact field instead of the far-field law
+    /// ([`EmittingBody::near_factor`], blended as
+    /// [`EmittingBody::far_weight`] says), and its shadows are weighed over
+    /// points of its faces ([`EmittingBody::visible_share`]).
     #[must_use]
     pub fn irradiance_at(
         &self,
@@ -135,22 +177,32 @@ impl PhotometricLuminaire {
         if cos <= 0.0 {
             return Rgb::ZERO;
         }
-        let intensity = self.radiant_intensity(-to_light / r);
-        if intensity == Rgb::ZERO {
+        let far_weight = self.body.as_ref().map_or(1.0, |body| body.far_weight(x));
+        let far = self.radiant_intensity(-to_light / r) * (cos / r2);
+        let unoccluded = match &self.body {
+            Some(body) if far_weight < 1.0 => {
+                let near = body.exitance * body.near_factor(x, normal);
+                near * (1.0 - far_weight) + far * far_weight
+            }
+            _ => far,
+        };
+        if unoccluded == Rgb::ZERO {
             return Rgb::ZERO;
         }
         let seen = self.visible_share(x, normal, surface, visibility);
         if seen == 0.0 {
             return Rgb::ZERO;
         }
-        intensity * (cos / r2 * seen)
+        unoccluded * seen
     }
 
     /// The share of the luminous opening that `x` (on `surface`, whose
     /// front normal is `normal`; [`SurfaceId::NONE`] in free space) sees:
     /// the fraction of [`PhotometricLuminaire::opening_samples`] whose
     /// shadow ray, lifted a surface offset off `x` along `normal` and
-    /// stopping that far short of its sample, is unblocked.
+    /// stopping that far short of its sample, is unblocked. An emitting
+    /// body weighs its points by the light each sends `x`
+    /// ([`EmittingBody::visible_share`]).
     #[must_use]
     pub fn visible_share(
         &self,
@@ -159,6 +211,9 @@ impl PhotometricLuminaire {
         surface: SurfaceId,
         visibility: &Visibility,
     ) -> f64 {
+        if let Some(body) = &self.body {
+            return body.visible_share(x, normal, surface, visibility);
+        }
         let offset = visibility.surface_offset();
         let start = x + normal * offset;
         let samples = self.opening_samples();
@@ -184,6 +239,9 @@ impl PhotometricLuminaire {
     /// Whether the file gives no luminous opening (or none that is finite):
     /// a point source.
     fn is_point(&self) -> bool {
+        if self.body.is_some() {
+            return false;
+        }
         let opening = self.distribution.opening;
         let (width, length) = (opening.width, opening.length.max(0.0));
         width == 0.0 && length == 0.0 || !(width.is_finite() && length.is_finite())
@@ -254,8 +312,9 @@ impl PhotometricLuminaire {
         (value, gradient)
     }
 
-    /// Shadow rays' targets on the luminous opening: the centre alone for a
-    /// point source; otherwise [`OPENING_SAMPLES`] points of a Hammersley
+    /// Shadow rays' targets on the luminous opening: an emitting body's
+    /// points on its faces ([`EmittingBody::shadow_samples`]); the centre
+    /// alone for a point source; otherwise [`OPENING_SAMPLES`] points of a Hammersley
     /// set over the opening's face through the centre, perpendicular to the
     /// aim: a rectangle of the file's width (along C90) by its length (along
     /// C0), either of which may be zero (a line), or a disc of diameter
@@ -268,6 +327,9 @@ impl PhotometricLuminaire {
         let opening = self.distribution.opening;
         let c90 = self.c90();
         let (width, length) = (opening.width, opening.length.max(0.0));
+        if let Some(body) = &self.body {
+            return body.shadow_samples().iter().map(|s| s.position).collect();
+        }
         if self.is_point() {
             return vec![self.position];
         }
@@ -287,13 +349,17 @@ impl PhotometricLuminaire {
     }
 
     /// Points a shadow boundary is cast from: the centre of a point source,
-    /// or the outline of the luminous opening (its rectangle's corners, or
-    /// eight points on its disc's rim).
+    /// the outline of the luminous opening (its rectangle's corners, or
+    /// eight points on its disc's rim), or an emitting body's extreme
+    /// vertices ([`EmittingBody::outline`]).
     #[must_use]
     pub fn opening_corners(&self) -> Vec<DVec3> {
         let opening = self.distribution.opening;
         let c90 = self.c90();
         let (width, length) = (opening.width, opening.length.max(0.0));
+        if let Some(body) = &self.body {
+            return body.outline();
+        }
         if self.is_point() {
             return vec![self.position];
         }

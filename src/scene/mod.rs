@@ -1,6 +1,7 @@
 //! Scenes: planar surfaces with diffuse materials, a camera, and loaders.
 
 mod camera;
+mod emitting_body;
 pub(crate) mod geometry;
 mod load;
 mod luminaire;
@@ -10,6 +11,7 @@ pub(crate) mod surface;
 mod surface_id;
 
 pub use camera::{Camera, CameraFrame};
+pub use emitting_body::{BODY_SAMPLES, BodySample, EmittingBody};
 pub use geometry::Box3;
 pub(crate) use geometry::{
     clip_segment_to_polygon, distance_to_boundary, distance_to_segment, polygon_contains,

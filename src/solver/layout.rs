@@ -49,6 +49,10 @@ pub(crate) struct SolveLayout {
     /// The closed zone each photometric luminaire stands in, whose
     /// vertices alone its light can reach (None: it is not culled).
     pub(crate) luminaire_zones: Vec<Option<usize>>,
+    /// Whether each surface is a face of an emitting body, by surface
+    /// index: its emission is the body's luminaire's light, not its own
+    /// patches' ([`Scene::join_emitting_bodies`]).
+    pub(crate) in_emitting_body: Vec<bool>,
     /// What meshing found (empty when the caller brought the mesh).
     pub(crate) analysis: MeshAnalysis,
     /// The scene's daylight with its portals, if it has a sky.
@@ -106,12 +110,16 @@ impl SolveLayout {
             });
         // A luminaire inside a closed room lights that room alone. Its
         // photometric centre may lie on the ceiling (a recessed fitting):
-        // the zone is found a little way along its aim.
+        // the zone is found a little way along its aim. An emitting body
+        // lights the zone its faces face.
         let luminaire_zones = scene
             .luminaires
             .iter()
             .map(|luminaire| {
                 let zones = &zones.as_ref()?.zones;
+                if let Some(body) = &luminaire.body {
+                    return Some(zones.of(body.surfaces[0]));
+                }
                 let inside =
                     luminaire.position + luminaire.aim * (16.0 * visibility.surface_offset());
                 zones.labels().enclosing(scene, visibility, inside)
@@ -127,6 +135,7 @@ impl SolveLayout {
             patch_areas: mesh.patches.iter().map(|p| p.area).collect(),
             patch_edge: mesh.longest_patch_edge(),
             luminaire_zones,
+            in_emitting_body: scene.in_emitting_body(),
             analysis: MeshAnalysis::default(),
             daylight: DaylightSource::of_scene(scene),
         }

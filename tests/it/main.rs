@@ -17,6 +17,7 @@ mod coplanar_merge;
 mod daylight;
 mod direct_field;
 mod dominance;
+mod emitting_bodies;
 mod export;
 mod fuzz_regressions;
 mod golden;

@@ -340,6 +340,35 @@ fn back_face_is_black_and_occludes() {
 }
 
 #[test]
+fn of_two_faces_back_to_back_the_one_facing_the_eye_is_drawn() {
+    // A shade or a panel modelled as a face each way: the two triangles
+    // share their vertices, tilted and off-axis so that their depths tie
+    // only up to rounding, and either may come first.
+    let eye = DVec3::new(0.3, -0.2, 0.0);
+    let camera = camera(eye, DVec3::new(0.1, 0.2, 3.0), 32, 32, 60.0);
+    let positions = facing(
+        [
+            DVec3::new(-7.0, -6.0, 2.0),
+            DVec3::new(8.0, -5.0, 3.5),
+            DVec3::new(0.5, 9.0, 4.7),
+        ],
+        eye,
+    );
+    let [p0, p1, p2] = positions;
+    let front = flat(positions, Rgb::splat(2.0));
+    let back = flat([p0, p2, p1], Rgb::splat(9.0));
+    let settings = RenderSettings::preview();
+    for triangles in [[front, back], [back, front]] {
+        let image = rasterize(&triangles, &camera, &settings);
+        for j in 8..24 {
+            for i in 8..24 {
+                assert_eq!(image.pixel(i, j), [2.0; 3], "pixel ({i}, {j})");
+            }
+        }
+    }
+}
+
+#[test]
 fn quad_of_two_triangles_has_no_cracks() {
     // An oblique full-screen quad: its diagonal crosses many samples.
     let eye = DVec3::new(0.1, 0.2, -1.0);

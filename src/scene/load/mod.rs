@@ -7,6 +7,7 @@
 mod build;
 mod builtin;
 mod coplanar_merge;
+mod emitting_bodies;
 mod glazing_table;
 mod loaded;
 mod luminaire_tables;

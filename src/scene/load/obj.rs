@@ -80,6 +80,8 @@ pub(crate) fn load_obj_from(
     if merge_coplanar {
         merge_scene_faces(path, &mut scene);
     }
+    // A lamp modelled as faces on many planes is one luminaire.
+    scene.join_emitting_bodies();
     // With luminaires to come, the scene file checks once they are there.
     if !lit_elsewhere {
         check_not_empty(path, &scene)?;

@@ -59,10 +59,12 @@ impl LightState {
         layout: &SolveLayout,
         settings: &SolverSettings,
     ) -> LightState {
-        let emitted = |p: &crate::mesh::Patch| {
-            scene
+        // An emitting body's faces are shot by its luminaire.
+        let emitted = |p: &crate::mesh::Patch| match layout.in_emitting_body[p.surface.index()] {
+            true => Rgb::ZERO,
+            false => scene
                 .material_of(scene.surface(p.surface))
-                .emitted_radiosity()
+                .emitted_radiosity(),
         };
         let unshot: Vec<Rgb> = mesh.patches.iter().map(emitted).collect();
         let powers = mesh.patches.iter().zip(&unshot).map(|(p, b)| *b * p.area);

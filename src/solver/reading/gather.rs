@@ -375,8 +375,14 @@ impl Solution<'_> {
                 self.visibility,
                 SampleStream::new(key, index as u64),
             );
+            // An emitting body's emission comes from its luminaire.
+            let mut radiosity = element.corner_mean(|v| self.radiosity_at(v as usize));
+            if self.in_emitting_body[element.surface.index()] {
+                let material = self.scene.material_of(self.scene.surface(element.surface));
+                radiosity = radiosity - material.emitted_radiosity();
+            }
             sources.push(GatherSource {
-                radiosity: element.corner_mean(|v| self.radiosity_at(v as usize)),
+                radiosity,
                 factor,
                 visibility,
             });

@@ -125,6 +125,7 @@ pub(crate) fn solution_from<'a>(
         shot_irradiance: &term.light.irradiance,
         ambient,
         receiver_insets: &term.layout.receiver_insets,
+        in_emitting_body: &term.layout.in_emitting_body,
         zones: term
             .layout
             .zones

@@ -90,6 +90,10 @@ pub struct Solution<'a> {
     /// How far each surface's boundary vertices gather inside it, by
     /// surface index (the scene's inset past its end).
     pub(crate) receiver_insets: &'a [f64],
+    /// Whether each surface is a face of an emitting body, by surface
+    /// index: a gather takes its emission from the body's luminaire, and
+    /// from the faces only the light they reflect.
+    pub(crate) in_emitting_body: &'a [bool],
     /// The closed zones, ascending, whose ambient term this solution
     /// holds when it was made for some alone
     /// ([`crate::solver::Ambient::For`]); a probe elsewhere
