@@ -123,14 +123,34 @@ fn angle_from_sine_cosine(y: f64, x: f64) -> f64 {
     if x < 0.0 { PI - quadrant } else { quadrant }
 }
 
+/// A polygon none of whose vertices rises above the receiver's plane by
+/// more than this fraction of its farthest vertex's distance lies in that
+/// plane (or behind it), to rounding.
+const IN_PLANE: f64 = 1e-9;
+
 /// Calls `body` with the polygon clipped to the half-space in front of the
-/// receiver, n · (x − point) ≥ 0.
+/// receiver, n · (x − point) ≥ 0; with no vertex at all when it lies in
+/// the receiver's plane or behind it (see [`IN_PLANE`]).
 pub(super) fn with_clipped<R>(
     point: DVec3,
     normal: DVec3,
     polygon: &[DVec3],
     body: impl FnOnce(&[DVec3]) -> R,
 ) -> R {
+    // Wholly behind, or lying in the receiver's plane: seen edge-on, it
+    // subtends no projected solid angle. (Lambert's sum would give a point
+    // inside a coplanar polygon F = 1, its limit from the front: a face
+    // and its back-to-back twin would light each other fully.)
+    let reach = polygon
+        .iter()
+        .map(|&p| (p - point).length())
+        .fold(0.0, f64::max);
+    if polygon
+        .iter()
+        .all(|&p| normal.dot(p - point) <= IN_PLANE * reach)
+    {
+        return body(&[]);
+    }
     // Wholly in front (the usual case): nothing to clip.
     if polygon.iter().all(|&p| normal.dot(p - point) >= 0.0) {
         return body(polygon);
@@ -204,6 +224,31 @@ mod tests {
                 "x={x}: {f} vs {reference}"
             );
         }
+    }
+
+    #[test]
+    fn a_polygon_in_the_receivers_plane_gives_nothing() {
+        // A face and its back-to-back twin (a shade, a panel modelled each
+        // way): a point of one lies inside the other, in its plane, tilted
+        // and off the origin so that its heights are rounding noise. Seen
+        // edge-on, it subtends nothing, whichever way the point faces;
+        // raised clearly off the plane, it sees all of it from the front.
+        let (u, v) = (DVec3::new(0.6, 0.3, -0.2), DVec3::new(-0.1, 0.5, 0.7));
+        let normal = u.cross(v).normalize();
+        let origin = DVec3::new(3.1, -1.7, 12.9);
+        let polygon: Vec<DVec3> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .iter()
+            .map(|&(a, b)| origin + u * a + v * b)
+            .collect();
+        let inside = origin + u * 0.3 - v * 0.1;
+        for facing in [normal, -normal] {
+            assert_eq!(polygon_form_factor(inside, facing, &polygon), 0.0);
+            let (f, g) =
+                crate::radiometry::polygon_form_factor_with_gradient(inside, facing, &polygon);
+            assert_eq!((f, g), (0.0, DVec3::ZERO));
+        }
+        let above = polygon_form_factor(inside - normal * 1e-6, normal, &polygon);
+        assert!((above - 1.0).abs() < 1e-4, "{above}");
     }
 
     #[test]
