@@ -31,6 +31,7 @@ ROOM_X, ROOM_Y, ROOM_Z = 5.0, 2.7, 4.0
 LENS_RADIUS = 0.035
 LENS_CENTRE = (0.6, 1.55, 0.6)
 GLOBE_RADIUS = 0.08
+SHADE = 0.002
 
 MATERIALS = {
     "floor": ((0.35, 0.33, 0.30), None),
@@ -140,11 +141,20 @@ def floor_lamp(obj, rings, segments):
     top_r, bottom_r, top_y, bottom_y = 0.06, 0.2, cy + 0.06, cy - 0.12
     for k in range(shade):
         a0, a1 = 2 * math.pi * k / shade, 2 * math.pi * (k + 1) / shade
-        t = lambda a: (cx + top_r * math.cos(a), top_y, cz + top_r * math.sin(a))
-        b = lambda a: (cx + bottom_r * math.cos(a), bottom_y, cz + bottom_r * math.sin(a))
-        # Inside (facing the lens) and outside, one face each.
-        obj.face([t(a0), t(a1), b(a1), b(a0)], "shade")
+
+        def t(a, out=0.0):
+            r = top_r + out
+            return (cx + r * math.cos(a), top_y, cz + r * math.sin(a))
+
+        def b(a, out=0.0):
+            r = bottom_r + out
+            return (cx + r * math.cos(a), bottom_y, cz + r * math.sin(a))
+
+        # Inside (facing the lens) and, 2 mm out, outside: a shade of some
+        # thickness (faces exactly back to back are ambiguous to a path
+        # tracer, which may hit either).
         obj.face([t(a1), t(a0), b(a0), b(a1)], "shade")
+        obj.face([t(a0, SHADE), t(a1, SHADE), b(a1, SHADE), b(a0, SHADE)], "shade")
     obj.group("lamp_lens", "lens")
     cap(obj, LENS_CENTRE, LENS_RADIUS, math.pi / 2, math.pi, rings, segments, "lens")
 

@@ -143,6 +143,17 @@ mod tests {
     }
 
     #[test]
+    fn a_polygon_in_the_receivers_plane_gives_no_value_and_no_gradient() {
+        // A point inside a square of its own plane, facing either way.
+        let polygon = square(0.0);
+        for normal in [DVec3::Z, DVec3::NEG_Z] {
+            let got =
+                polygon_form_factor_with_gradient(DVec3::new(0.2, -0.3, 0.0), normal, &polygon);
+            assert_eq!(got, (0.0, DVec3::ZERO));
+        }
+    }
+
+    #[test]
     fn value_matches_polygon_form_factor() {
         let polygon = square(1.5);
         for p in [

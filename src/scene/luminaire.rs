@@ -167,25 +167,7 @@ impl PhotometricLuminaire {
         surface: SurfaceId,
         visibility: &Visibility,
     ) -> Rgb {
-        let to_light = self.position - x;
-        let r2 = to_light.length_squared();
-        if r2 <= 0.0 {
-            return Rgb::ZERO;
-        }
-        let r = r2.sqrt();
-        let cos = normal.dot(to_light) / r;
-        if cos <= 0.0 {
-            return Rgb::ZERO;
-        }
-        let far_weight = self.body.as_ref().map_or(1.0, |body| body.far_weight(x));
-        let far = self.radiant_intensity(-to_light / r) * (cos / r2);
-        let unoccluded = match &self.body {
-            Some(body) if far_weight < 1.0 => {
-                let near = body.exitance * body.near_factor(x, normal);
-                near * (1.0 - far_weight) + far * far_weight
-            }
-            _ => far,
-        };
+        let unoccluded = self.unoccluded_irradiance(x, normal);
         if unoccluded == Rgb::ZERO {
             return Rgb::ZERO;
         }
@@ -194,6 +176,35 @@ impl PhotometricLuminaire {
             return Rgb::ZERO;
         }
         unoccluded * seen
+    }
+
+    /// The irradiance it gives `x` facing the unit `normal` with nothing in
+    /// the way, W/m²: E = I(ω) cos θ / r² from the centre, or, near an
+    /// emitting body, its faces' exact field blended into that
+    /// ([`EmittingBody::near_factor`], [`EmittingBody::far_weight`]). Zero
+    /// behind `x`'s plane or at the centre.
+    #[must_use]
+    pub fn unoccluded_irradiance(&self, x: DVec3, normal: DVec3) -> Rgb {
+        let to_light = self.position - x;
+        let r2 = to_light.length_squared();
+        if r2 <= 0.0 || r2.is_nan() {
+            return Rgb::ZERO;
+        }
+        let r = r2.sqrt();
+        let cos = normal.dot(to_light) / r;
+        let far_weight = self.body.as_ref().map_or(1.0, |body| body.far_weight(x));
+        let far = if cos > 0.0 {
+            self.radiant_intensity(-to_light / r) * (cos / r2)
+        } else {
+            Rgb::ZERO
+        };
+        match &self.body {
+            Some(body) if far_weight < 1.0 => {
+                let near = body.exitance * body.near_factor(x, normal);
+                near * (1.0 - far_weight) + far * far_weight
+            }
+            _ => far,
+        }
     }
 
     /// The share of the luminous opening that `x` (on `surface`, whose

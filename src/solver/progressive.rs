@@ -285,7 +285,7 @@ impl Solver {
         let emitter = is_emitter.then(|| {
             let patch = &self.mesh.patches[j];
             let normal = self.scene.surface(patch.surface).normal();
-            Emitter {
+            Emitter::Patch {
                 cell: patch.cell,
                 normal,
             }
@@ -320,7 +320,7 @@ impl Solver {
         let incident = shot_context!(self).luminaire_light(k, &vertices);
         let samples = self.scene.luminaires[k].opening_samples().len();
         self.stats.rays += (vertices.len() * samples) as u64;
-        self.receive(&incident, zone, None, None);
+        self.receive(&incident, zone, Some(Emitter::Luminaire(k)), None);
         self.light.shot_power += self.scene.luminaires[k].power();
         self.light.luminaire_shot[k] = true;
         self.stats.shots += 1;

@@ -39,6 +39,7 @@ mod source_refinement;
 mod square_mesh;
 mod strata;
 mod thin_faces;
+mod two_sided;
 #[cfg(feature = "view")]
 mod view_browser;
 #[cfg(feature = "view")]

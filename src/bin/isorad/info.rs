@@ -10,7 +10,7 @@ use isorad::{
     MeshSettings, Scene, SurfaceId,
     lighting::{AreaLight, ContourMesher, ReceiverAnalysis, area_lights},
     load_scene,
-    meshing::{scene_receiver_analyses, scene_shadow_boundaries},
+    meshing::{ReceiverSurvey, survey_receivers},
     photometry::LUMENS_PER_WATT,
     scene::Visibility,
 };
@@ -65,9 +65,18 @@ pub fn info(args: &InfoArgs) -> anyhow::Result<()> {
     let lights = area_lights(scene);
     let phases = PhaseBars::new(args.quiet);
     let report = |progress| phases.report(progress);
-    let analyses = scene_receiver_analyses(scene, &visibility, &lights, &settings, &report);
     let mesh_settings = mesh_settings.resolve(scene);
-    let boundaries = scene_shadow_boundaries(scene, &visibility, &lights, &mesh_settings, &report);
+    let ReceiverSurvey {
+        analyses,
+        boundaries,
+    } = survey_receivers(
+        scene,
+        &visibility,
+        &lights,
+        &settings,
+        &mesh_settings,
+        &report,
+    );
     phases.finish();
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     writeln!(

@@ -5,6 +5,7 @@
 mod box3;
 pub(crate) mod plane_polygon;
 pub(crate) mod polygon;
+pub(crate) mod repair;
 pub(crate) mod triangulate;
 
 pub use box3::Box3;

@@ -20,6 +20,7 @@
 use glam::{DVec2, DVec3};
 
 use super::plane_polygon::distance_to_segment;
+use super::repair::RepairKind;
 use super::triangulate::{signed_area_2d, triangulate_polygon};
 use crate::scene::surface::{PlaneFrame, Surface, newell_normal};
 
@@ -155,6 +156,8 @@ pub struct CleanedPolygon {
     /// What was repaired or skipped, naming the object; `None` when the face
     /// was used as it is (or projected by less than the tolerance).
     pub warning: Option<String>,
+    /// The kind of repair or skip, when there was one.
+    pub repair: Option<RepairKind>,
 }
 
 /// Turns a raw face into planar surfaces named `object` with `material`.
@@ -168,12 +171,16 @@ pub struct CleanedPolygon {
 /// triangle is always planar). Skips and splits carry a warning.
 #[must_use]
 pub fn clean_polygon(object: &str, material: usize, vertices: &[DVec3]) -> CleanedPolygon {
-    let skipped = |why: String| CleanedPolygon {
+    let skipped = |kind: RepairKind, why: String| CleanedPolygon {
         surfaces: Vec::new(),
         warning: Some(format!("object `{object}`: face skipped: {why}")),
+        repair: Some(kind),
     };
     if vertices.iter().any(|v| !v.is_finite()) {
-        return skipped("it has a non-finite coordinate".into());
+        return skipped(
+            RepairKind::NonFinite,
+            "it has a non-finite coordinate".into(),
+        );
     }
     // Drop repeated vertices, relative to the face's size.
     let raw_diameter = polygon_diameter(vertices);
@@ -182,58 +189,41 @@ pub fn clean_polygon(object: &str, material: usize, vertices: &[DVec3]) -> Clean
         DUPLICATE_RATIO * raw_diameter,
     );
     if distinct.len() < 3 {
-        return skipped(format!(
-            "it has {} distinct vertices, fewer than 3",
-            distinct.len()
-        ));
+        return skipped(
+            RepairKind::TooFewVertices,
+            format!("it has {} distinct vertices, fewer than 3", distinct.len()),
+        );
     }
     // Degenerate: no plane, or an area negligible against the diameter².
     let plane = match best_fit_plane(&distinct) {
         Some(p) if p.area >= DEGENERATE_AREA_RATIO * p.diameter * p.diameter => p,
-        _ => return skipped("its area is zero".into()),
+        _ => return skipped(RepairKind::ZeroArea, "its area is zero".into()),
     };
     // Self-intersecting (a bow-tie): no side is its front, no area its own.
     let plane_points: Vec<DVec2> = distinct.iter().map(|&p| plane.frame.to_plane(p)).collect();
     if let Some((a, b)) = first_crossing(&plane_points) {
-        return skipped(format!(
-            "its edges cross each other (edge {} and edge {} of {}): \
+        return skipped(
+            RepairKind::EdgesCross,
+            format!(
+                "its edges cross each other (edge {} and edge {} of {}): \
              a face must be a simple polygon, its vertices in order around it",
-            a + 1,
-            b + 1,
-            plane_points.len()
-        ));
+                a + 1,
+                b + 1,
+                plane_points.len()
+            ),
+        );
     }
     let planar = plane.max_deviation <= PLANARITY_TOLERANCE * plane.diameter;
     // Touching itself (a keyhole's bridge, or loops meeting at a vertex):
     // split into triangles when it covers its area once, else skip.
-    if let Some((vertex, edge)) = first_touch(&plane_points) {
-        let touch = format!(
-            "its outline touches itself (vertex {} lies on edge {} of {})",
-            vertex + 1,
-            edge + 1,
-            plane_points.len()
-        );
-        let triangles = triangulate_polygon(&plane_points);
-        if !covers_once(&plane_points, &triangles) {
-            return skipped(format!(
-                "{touch} and covers some of its area twice: a face must be a simple \
-                 polygon, its vertices in order around it"
-            ));
-        }
-        let corners = if planar {
-            project_onto_plane(&distinct, &plane.frame)
-        } else {
-            distinct.clone()
+    if let Some(touch) = first_touch(&plane_points) {
+        let outline = Outline {
+            distinct: &distinct,
+            plane: &plane,
+            plane_points: &plane_points,
+            planar,
         };
-        let surfaces = surfaces_of_triangles(object, material, &corners, &triangles);
-        let warning = format!(
-            "object `{object}`: {touch}; split into {} triangles",
-            surfaces.len()
-        );
-        return CleanedPolygon {
-            surfaces,
-            warning: Some(warning),
-        };
+        return split_touching(object, material, &outline, touch.0, touch.1);
     }
     // Nearly planar: project onto the best-fit plane.
     if planar {
@@ -242,8 +232,9 @@ pub fn clean_polygon(object: &str, material: usize, vertices: &[DVec3]) -> Clean
             Some(s) => CleanedPolygon {
                 surfaces: vec![s.with_occluder(distinct)],
                 warning: None,
+                repair: None,
             },
-            None => skipped("its area is zero".into()),
+            None => skipped(RepairKind::ZeroArea, "its area is zero".into()),
         };
     }
     // Clearly non-planar: ear-clip in the best-fit plane.
@@ -258,6 +249,60 @@ pub fn clean_polygon(object: &str, material: usize, vertices: &[DVec3]) -> Clean
     CleanedPolygon {
         surfaces,
         warning: Some(warning),
+        repair: Some(RepairKind::NotPlanar),
+    }
+}
+
+/// A face's outline as [`clean_polygon`] found it: its distinct vertices,
+/// their best-fit plane, their plane coordinates, and whether they lie
+/// within the tolerance of that plane.
+struct Outline<'a> {
+    distinct: &'a [DVec3],
+    plane: &'a PolygonPlane,
+    plane_points: &'a [DVec2],
+    planar: bool,
+}
+
+/// A face whose outline touches itself (its `vertex` on its `edge`): split into
+/// triangles when they cover its area once, else skipped.
+fn split_touching(
+    object: &str,
+    material: usize,
+    outline: &Outline<'_>,
+    vertex: usize,
+    edge: usize,
+) -> CleanedPolygon {
+    let touch = format!(
+        "its outline touches itself (vertex {} lies on edge {} of {})",
+        vertex + 1,
+        edge + 1,
+        outline.plane_points.len()
+    );
+    let triangles = triangulate_polygon(outline.plane_points);
+    if !covers_once(outline.plane_points, &triangles) {
+        return CleanedPolygon {
+            surfaces: Vec::new(),
+            warning: Some(format!(
+                "object `{object}`: face skipped: {touch} and covers some of its area \
+                 twice: a face must be a simple polygon, its vertices in order around it"
+            )),
+            repair: Some(RepairKind::CoversTwice),
+        };
+    }
+    let corners = if outline.planar {
+        project_onto_plane(outline.distinct, &outline.plane.frame)
+    } else {
+        outline.distinct.to_vec()
+    };
+    let surfaces = surfaces_of_triangles(object, material, &corners, &triangles);
+    let warning = format!(
+        "object `{object}`: {touch}; split into {} triangles",
+        surfaces.len()
+    );
+    CleanedPolygon {
+        surfaces,
+        warning: Some(warning),
+        repair: Some(RepairKind::TouchesItself),
     }
 }
 
@@ -405,161 +450,4 @@ fn winding_number(points: &[DVec2], p: DVec2) -> i32 {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn v(x: f64, y: f64, z: f64) -> DVec3 {
-        DVec3::new(x, y, z)
-    }
-
-    #[test]
-    fn plane_of_a_tilted_square() {
-        let square = [v(0., 0., 0.), v(2., 0., 0.), v(2., 2., 1.), v(0., 2., 1.)];
-        let plane = best_fit_plane(&square).unwrap();
-        assert!(plane.max_deviation < 1e-12);
-        assert!((plane.area - 2.0 * 5f64.sqrt()).abs() < 1e-12);
-        assert!((plane.diameter - 3.0).abs() < 1e-12);
-        let n = plane.frame.normal;
-        assert!((n - v(0., -1., 2.).normalize()).length() < 1e-12);
-    }
-
-    #[test]
-    fn projection_lands_on_the_plane() {
-        let quad = [v(0., 0., 0.), v(1., 0., 0.1), v(1., 1., 0.), v(0., 1., 0.1)];
-        let plane = best_fit_plane(&quad).unwrap();
-        assert!((plane.max_deviation - 0.05).abs() < 1e-12);
-        for p in project_onto_plane(&quad, &plane.frame) {
-            assert!(plane.frame.height(p).abs() < 1e-12);
-        }
-    }
-
-    #[test]
-    fn nearly_planar_face_is_projected_silently() {
-        let quad = [
-            v(0., 0., 0.),
-            v(10., 0., 0.05),
-            v(10., 10., 0.),
-            v(0., 10., 0.05),
-        ];
-        let cleaned = clean_polygon("wall", 3, &quad);
-        assert_eq!(cleaned.surfaces.len(), 1);
-        assert!(cleaned.warning.is_none());
-        assert_eq!(cleaned.surfaces[0].material, 3);
-        assert!((cleaned.surfaces[0].area() - 100.0).abs() < 0.01);
-    }
-
-    #[test]
-    fn non_planar_face_is_split_with_warning() {
-        let quad = [v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.3), v(0., 1., 0.)];
-        let cleaned = clean_polygon("bent", 0, &quad);
-        assert_eq!(cleaned.surfaces.len(), 2);
-        let warning = cleaned.warning.unwrap();
-        assert!(warning.contains("`bent`") && warning.contains("2 triangles"));
-        for s in &cleaned.surfaces {
-            assert!(s.normal().z > 0.9, "triangles keep the face's front side");
-        }
-    }
-
-    #[test]
-    fn repeated_and_degenerate_faces() {
-        let repeated = [
-            v(0., 0., 0.),
-            v(0., 0., 0.),
-            v(1., 0., 0.),
-            v(0., 1., 0.),
-            v(0., 0., 0.),
-        ];
-        let cleaned = clean_polygon("r", 0, &repeated);
-        assert_eq!(cleaned.surfaces[0].vertices().len(), 3);
-        assert!(cleaned.warning.is_none());
-        let two = [v(0., 0., 0.), v(1., 0., 0.), v(1., 0., 0.)];
-        let cleaned = clean_polygon("two", 0, &two);
-        assert!(cleaned.surfaces.is_empty());
-        assert!(cleaned.warning.unwrap().contains("`two`"));
-        let line = [v(0., 0., 0.), v(1., 0., 0.), v(2., 0., 0.)];
-        let cleaned = clean_polygon("line", 0, &line);
-        assert!(cleaned.surfaces.is_empty());
-        assert!(cleaned.warning.unwrap().contains("area is zero"));
-    }
-
-    fn flat(points: &[(f64, f64)]) -> Vec<DVec3> {
-        points.iter().map(|&(x, y)| v(x, y, 0.)).collect()
-    }
-
-    fn total_area(cleaned: &CleanedPolygon) -> f64 {
-        cleaned.surfaces.iter().map(Surface::area).sum()
-    }
-
-    #[test]
-    fn keyhole_is_split_into_triangles_covering_it_once() {
-        // A 10 × 10 square with a 4 × 4 hole, joined by a bridge along y = 5.
-        let keyhole = flat(&[
-            (0., 0.),
-            (10., 0.),
-            (10., 10.),
-            (0., 10.),
-            (0., 5.),
-            (3., 5.),
-            (3., 7.),
-            (7., 7.),
-            (7., 3.),
-            (3., 3.),
-            (3., 5.),
-            (0., 5.),
-        ]);
-        let cleaned = clean_polygon("slab", 0, &keyhole);
-        assert!((total_area(&cleaned) - 84.0).abs() < 1e-9, "{cleaned:?}");
-        let warning = cleaned.warning.unwrap();
-        assert!(warning.contains("`slab`") && warning.contains("touches itself"));
-        assert!(cleaned.surfaces.iter().all(|s| s.normal().z > 0.99));
-    }
-
-    #[test]
-    fn two_squares_meeting_at_a_corner_are_kept() {
-        let pinched = flat(&[
-            (0., 0.),
-            (1., 0.),
-            (1., 1.),
-            (2., 1.),
-            (2., 2.),
-            (1., 2.),
-            (1., 1.),
-            (0., 1.),
-        ]);
-        let cleaned = clean_polygon("pinched", 0, &pinched);
-        assert!((total_area(&cleaned) - 2.0).abs() < 1e-12, "{cleaned:?}");
-    }
-
-    #[test]
-    fn outline_going_twice_round_some_area_is_skipped() {
-        // A triangle lobe folded back inside a 10 × 5 rectangle, touching
-        // it at (0, 0) and (5, 0) without crossing (found by fuzzing: the
-        // meshers covered 40 of its 60 units of shoelace area).
-        let folded = flat(&[
-            (0., 0.),
-            (5., 0.),
-            (10., 4.),
-            (0., 0.),
-            (5., 0.),
-            (10., 0.),
-            (10., 5.),
-            (0., 5.),
-            (0., 0.),
-            (5.04, 0.),
-        ]);
-        let cleaned = clean_polygon("folded", 0, &folded);
-        assert!(cleaned.surfaces.is_empty(), "{cleaned:?}");
-        let warning = cleaned.warning.unwrap();
-        assert!(warning.contains("touches itself") && warning.contains("twice"));
-    }
-
-    #[test]
-    fn simple_outlines_do_not_touch() {
-        let l_shape = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)];
-        let points: Vec<DVec2> = l_shape.iter().map(|&(x, y)| DVec2::new(x, y)).collect();
-        assert_eq!(first_touch(&points), None);
-        let cleaned = clean_polygon("l", 0, &flat(&l_shape));
-        assert_eq!(cleaned.surfaces.len(), 1);
-        assert!(cleaned.warning.is_none());
-    }
-}
+mod tests;

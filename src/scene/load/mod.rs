@@ -15,12 +15,14 @@ mod mtl;
 mod obj;
 mod obj_scan;
 mod probe_points;
+mod repair_report;
 mod scene_file;
 mod settings_tables;
 mod sky_tables;
 mod source;
 mod spec;
 mod statement;
+mod two_sided;
 
 pub use builtin::builtin_names;
 pub use coplanar_merge::{MergeReport, merge_coplanar_faces};

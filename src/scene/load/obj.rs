@@ -17,7 +17,6 @@
 
 use std::borrow::Cow;
 use std::cell::RefCell;
-use std::collections::HashMap;
 use std::path::Path;
 
 use glam::DVec3;
@@ -28,14 +27,12 @@ use super::build::check_not_empty;
 use super::coplanar_merge::merge_scene_faces;
 use super::mtl::{parse_mtl, to_material};
 use super::obj_scan::{ObjScan, scan_obj};
+use super::repair_report::RepairReport;
 use super::source::{Disk, SourceFiles};
 use super::statement::{canonical_line, canonical_text, split_statement};
 use crate::scene::geometry::polygon::clean_polygon;
 use crate::scene::material::Material;
 use crate::scene::{Scene, Warning};
-
-/// Warnings kept per object before the rest are only counted.
-const WARNINGS_PER_OBJECT: usize = 10;
 
 /// Loads an OBJ file and the MTL libraries it names (relative to the OBJ's
 /// directory), merging adjacent coplanar faces (see
@@ -195,7 +192,7 @@ fn add_surfaces(
     scene: &mut Scene,
 ) -> Result<()> {
     let mut face = 0; // index into scan.face_lines
-    let mut warned: HashMap<&str, usize> = HashMap::new();
+    let mut report = RepairReport::default();
     for model in models {
         let mesh = &model.mesh;
         let arities = face_arities(mesh);
@@ -224,19 +221,15 @@ fn add_surfaces(
                 });
             }
             let cleaned = clean_polygon(&model.name, material, &vertices);
-            if let Some(message) = cleaned.warning {
-                let count = warned.entry(model.name.as_str()).or_default();
-                *count += 1;
-                if *count <= WARNINGS_PER_OBJECT {
-                    scene.warnings.push(located(path, line, &message));
-                }
+            if let (Some(message), Some(kind)) = (&cleaned.warning, cleaned.repair) {
+                report.note(path, line, &model.name, kind, message, &mut scene.warnings);
             }
             scene.surfaces.extend(cleaned.surfaces);
             start += arity;
             face += 1;
         }
     }
-    summarise_warnings(path, &warned, &mut scene.warnings);
+    report.finish(path, &mut scene.warnings);
     Ok(())
 }
 
@@ -276,35 +269,6 @@ fn missing_material(path: &Path, scan: &ObjScan, object: &str, face_line: Option
         line: usemtl.map(|(l, _)| *l).or(face_line),
         object: object.to_owned(),
         material: usemtl.map(|(_, m)| m.clone()).unwrap_or_default(),
-    }
-}
-
-/// A warning prefixed with the file and line.
-fn located(path: &Path, line: Option<usize>, message: &str) -> Warning {
-    let place = match line {
-        Some(l) => format!("{}:{l}", path.display()),
-        None => path.display().to_string(),
-    };
-    Warning {
-        message: format!("{place}: {message}"),
-    }
-}
-
-/// One warning per object whose warnings were cut at [`WARNINGS_PER_OBJECT`].
-fn summarise_warnings(path: &Path, warned: &HashMap<&str, usize>, warnings: &mut Vec<Warning>) {
-    let mut over: Vec<(&str, usize)> = warned
-        .iter()
-        .filter(|&(_, &n)| n > WARNINGS_PER_OBJECT)
-        .map(|(&o, &n)| (o, n - WARNINGS_PER_OBJECT))
-        .collect();
-    over.sort_unstable();
-    for (object, more) in over {
-        warnings.push(Warning {
-            message: format!(
-                "{}: object `{object}`: {more} more faces repaired or skipped",
-                path.display()
-            ),
-        });
     }
 }
 

@@ -3,6 +3,8 @@
 //! ```toml
 //! obj = "cornell/cornell.obj"          # required, relative to this file
 //! merge_coplanar = true                # default: merge adjacent coplanar faces
+//! two_sided = ["WhitePaint"]           # optional: these materials' faces lit from both sides
+//!                                      #   (`true`: every face; see `two_sided.rs`)
 //! [camera]                             # optional: default frames the scene
 //! position = [278.0, 273.0, -800.0]    # required in [camera]
 //! look_at  = [278.0, 273.0, 0.0]       # required in [camera]
@@ -72,6 +74,7 @@ use super::luminaire_tables::{LuminaireTables, LuminaireToml};
 use super::obj::load_obj_from;
 use super::sky_tables::{SkyTables, SkyToml, SunToml};
 use super::source::{Disk, SourceFiles, line_at};
+use super::two_sided::{TwoSidedToml, apply_two_sided};
 use crate::scene::{Camera, SceneOptions};
 
 #[derive(Deserialize)]
@@ -79,6 +82,7 @@ use crate::scene::{Camera, SceneOptions};
 struct SceneFileToml {
     obj: PathBuf,
     merge_coplanar: Option<bool>,
+    two_sided: Option<Spanned<TwoSidedToml>>,
     camera: Option<CameraToml>,
     /// Read by the solver layer; here only checked to be a table.
     #[serde(rename = "solver")]
@@ -156,6 +160,11 @@ pub(crate) fn load_scene_file_with(
         other => other,
     })?;
     scene.camera = camera;
+    if let Some(spec) = &file.two_sided {
+        apply_two_sided(&mut scene, spec, path, &text)?;
+        // Twins of emitting faces on many planes make bodies of their own.
+        scene.join_emitting_bodies();
+    }
     // The luminaires, each file read once (see `luminaire_tables`).
     let folder = path.parent().unwrap_or(Path::new(""));
     let mut luminaires = LuminaireTables::new(path, &text, folder);

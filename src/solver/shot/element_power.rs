@@ -58,16 +58,33 @@ fn unoccluded_factor(x: DVec3, n: DVec3, emitter: &[DVec3], emitter_normal: DVec
     polygon_form_factor(x, n, emitter).max(0.0)
 }
 
-/// An emitting patch as its shot's receivers see it: its cell and the
-/// normal of its front.
+/// A source of direct light whose unoccluded field is known at any point.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Emitter {
-    pub(crate) cell: Cell,
-    pub(crate) normal: DVec3,
+pub(crate) enum Emitter {
+    /// An emitting patch: its cell and the normal of its front.
+    Patch { cell: Cell, normal: DVec3 },
+    /// Photometric luminaire k of the scene (an emitting body among them):
+    /// its unoccluded irradiance ([`crate::scene::PhotometricLuminaire::unoccluded_irradiance`]).
+    Luminaire(usize),
+}
+
+impl Emitter {
+    /// The unoccluded field at `x` facing `n`: a patch's form factor, or a
+    /// luminaire's irradiance's luminance (any measure proportional to
+    /// the light serves: only ratios are taken).
+    fn unoccluded(&self, scene: &Scene, x: DVec3, n: DVec3) -> f64 {
+        match *self {
+            Emitter::Patch { cell, normal } => unoccluded_factor(x, n, cell.polygon(), normal),
+            Emitter::Luminaire(k) => scene
+                .luminaires
+                .get(k)
+                .map_or(0.0, |l| l.unoccluded_irradiance(x, n).luminance()),
+        }
+    }
 }
 
 /// The power (W) each of the `receivers`' elements receives from the shot
-/// of `emitter` that gave their vertices `incident` irradiance, each at its
+/// of `emitter` (an emitting patch or a luminaire) that gave their vertices `incident` irradiance, each at its
 /// place, in the order of the elements (see the module's documentation).
 /// The receivers' vertices are the elements' corners (the shot's closed
 /// zone, or the whole mesh), in the order of their places: the unoccluded
@@ -81,7 +98,6 @@ pub(crate) fn emitter_shot_powers(
     incident: &[Rgb],
     receivers: &ShotReceivers<'_>,
 ) -> Vec<Rgb> {
-    let (emitter, emitter_normal) = (emitter.cell.polygon(), emitter.normal);
     let ShotReceivers {
         vertices,
         elements,
@@ -94,7 +110,7 @@ pub(crate) fn emitter_shot_powers(
         .map(|&v| {
             let vertex = &mesh.vertices[v as usize];
             let n = normal(vertex.surface);
-            unoccluded_factor(vertex.receiver_position(), n, emitter, emitter_normal)
+            emitter.unoccluded(scene, vertex.receiver_position(), n)
         })
         .collect();
     elements
@@ -110,8 +126,7 @@ pub(crate) fn emitter_shot_powers(
                 return trapezoid;
             }
             let centre = mesh.element_cell(element).centre();
-            let centre =
-                unoccluded_factor(centre, normal(element.surface), emitter, emitter_normal);
+            let centre = emitter.unoccluded(scene, centre, normal(element.surface));
             // Corners and centre, exact for a quadratic: (1/3, 2/3) over a
             // parallelogram, (1/4, 3/4) over a triangle.
             let centre_weight = if element.is_triangle() {
