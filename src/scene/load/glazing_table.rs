@@ -16,6 +16,7 @@ use std::path::Path;
 
 use toml::Spanned;
 
+use super::material_names::no_such_material;
 use super::source::line_at;
 use crate::daylight::pane_diffuse_reflectance;
 use crate::error::{Error, Result};
@@ -53,17 +54,7 @@ pub(super) fn apply_glazing(
             .iter_mut()
             .find(|m| m.name == *name.get_ref())
         else {
-            let names: Vec<&str> = scene
-                .materials
-                .iter()
-                .map(|m| m.name.as_str())
-                .take(12)
-                .collect();
-            let message = format!(
-                "no material of the model is called so; its materials: {}",
-                names.join(", ")
-            );
-            return Err(fault(name.span(), message));
+            return Err(fault(name.span(), no_such_material(scene)));
         };
         material.transmittance = tau;
         material.reflectance = Rgb::splat(pane_diffuse_reflectance(tau));

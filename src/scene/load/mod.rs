@@ -11,6 +11,7 @@ mod emitting_bodies;
 mod glazing_table;
 mod loaded;
 mod luminaire_tables;
+mod material_names;
 mod mtl;
 mod obj;
 mod obj_scan;

@@ -21,6 +21,7 @@ use std::path::Path;
 
 use toml::Spanned;
 
+use super::material_names::no_such_material;
 use super::source::line_at;
 use crate::error::{Error, Result};
 use crate::scene::{Scene, Surface};
@@ -60,7 +61,7 @@ pub(super) fn apply_two_sided(
                         .get(span.clone())
                         .and_then(|value| value.find(&quoted))
                         .map_or(span.start, |k| span.start + k);
-                    return Err(fault(at, unknown_material(scene, name)));
+                    return Err(fault(at, format!("{name:?}: {}", no_such_material(scene))));
                 };
                 chosen.insert(index);
             }
@@ -91,18 +92,4 @@ fn twin(surface: &Surface) -> Option<Surface> {
         reversed(surface.vertices()),
     )?;
     Some(turned.with_occluder(reversed(surface.occluder_vertices())))
-}
-
-/// What is wrong with a `two_sided` name that no material of the model has.
-fn unknown_material(scene: &Scene, name: &str) -> String {
-    let names: Vec<&str> = scene
-        .materials
-        .iter()
-        .map(|m| m.name.as_str())
-        .take(12)
-        .collect();
-    format!(
-        "{name:?}: no material of the model is called so; its materials: {}",
-        names.join(", ")
-    )
 }
