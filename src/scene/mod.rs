@@ -11,7 +11,9 @@ pub(crate) mod surface;
 mod surface_id;
 
 pub use camera::{Camera, CameraFrame};
-pub use emitting_body::{BODY_SAMPLES, BodySample, EmittingBody};
+pub use emitting_body::{
+    BLEND_RADII, BODY_SAMPLES, BodySample, EmittingBody, MAX_EXACT_FACES, NEAR_RADII,
+};
 pub use geometry::Box3;
 pub(crate) use geometry::{
     clip_segment_to_polygon, distance_to_boundary, distance_to_segment, polygon_contains,

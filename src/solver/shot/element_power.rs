@@ -64,7 +64,8 @@ pub(crate) enum Emitter {
     /// An emitting patch: its cell and the normal of its front.
     Patch { cell: Cell, normal: DVec3 },
     /// Photometric luminaire k of the scene (an emitting body among them):
-    /// its unoccluded irradiance ([`crate::scene::PhotometricLuminaire::unoccluded_irradiance`]).
+    /// its unoccluded irradiance
+    /// ([`crate::scene::PhotometricLuminaire::unoccluded_irradiance`]).
     Luminaire(usize),
 }
 
@@ -84,8 +85,9 @@ impl Emitter {
 }
 
 /// The power (W) each of the `receivers`' elements receives from the shot
-/// of `emitter` (an emitting patch or a luminaire) that gave their vertices `incident` irradiance, each at its
-/// place, in the order of the elements (see the module's documentation).
+/// of `emitter` (an emitting patch or a luminaire) that gave their
+/// vertices `incident` irradiance, each at its place, in the order of the
+/// elements (see the module's documentation).
 /// The receivers' vertices are the elements' corners (the shot's closed
 /// zone, or the whole mesh), in the order of their places: the unoccluded
 /// field is read once at each (at its receiver position) and once per
