@@ -130,6 +130,7 @@ mod font;
 mod freed_memory;
 mod fs;
 mod rgb;
+mod union_find;
 
 pub mod calculation;
 pub mod daylight;

@@ -10,6 +10,7 @@ use glam::DVec3;
 
 use crate::rgb::Rgb;
 use crate::scene::{Scene, Surface, SurfaceId};
+use crate::union_find::root;
 
 /// Normals of one area light's surfaces differ by at most this (unit vectors).
 const NORMAL_TOLERANCE: f64 = 1e-6;
@@ -116,15 +117,6 @@ fn is_emitting(scene: &Scene, surface: &Surface) -> bool {
         .materials
         .get(surface.material)
         .is_some_and(|m| m.is_emitter())
-}
-
-/// The representative of `k`'s group, halving the path on the way.
-fn root(parent: &mut [usize], mut k: usize) -> usize {
-    while parent[k] != k {
-        parent[k] = parent[parent[k]];
-        k = parent[k];
-    }
-    k
 }
 
 /// Whether two emitting surfaces are parts of one lamp.

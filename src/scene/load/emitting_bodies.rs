@@ -13,6 +13,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use crate::scene::{EmittingBody, PhotometricLuminaire, Scene, Surface, SurfaceId};
+use crate::union_find::root;
 
 /// Vertices closer than this fraction of the scene's diagonal are shared.
 const WELD: f64 = 1e-6;
@@ -128,13 +129,4 @@ fn spans_planes(scene: &Scene, group: &[SurfaceId], tolerance: f64) -> bool {
                 .iter()
                 .any(|&v| first.frame().height(v).abs() > tolerance)
     })
-}
-
-/// The representative of `k`'s group, halving the path on the way.
-fn root(parent: &mut [usize], mut k: usize) -> usize {
-    while parent[k] != k {
-        parent[k] = parent[parent[k]];
-        k = parent[k];
-    }
-    k
 }
